@@ -1,0 +1,32 @@
+/// @file main.cpp
+/// `granular`: the headless command-line front end of the granular module.
+
+#include <CLI/CLI.hpp>
+#include <cstdio>
+
+#include "export_command.hpp"
+#include "granular/errors.hpp"
+#include "lut_command.hpp"
+#include "run_command.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"granular: a block-cellular-automaton sand simulator"};
+  app.require_subcommand(1);
+  // A later option wins, so scripts can pass defaults and users override them.
+  app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+  granular::cli::add_run_command(app);
+  granular::cli::add_export_command(app);
+  granular::cli::add_lut_command(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const granular::Error& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,15 @@
+#pragma once
+/// @file granular.hpp
+/// Everything a game needs to embed granular: World, its definition, materials, tools, scenes and
+/// grid files.
+
+#include "granular/errors.hpp"
+#include "granular/geometry.hpp"
+#include "granular/grid.hpp"
+#include "granular/grid_io.hpp"
+#include "granular/material.hpp"
+#include "granular/scene.hpp"
+#include "granular/tools.hpp"
+#include "granular/vox_io.hpp"
+#include "granular/world.hpp"
+#include "granular/world_def.hpp"

@@ -1,0 +1,92 @@
+#pragma once
+/// @file grid.hpp
+/// A dense voxel grid on the host: one byte per cell holding a Material value, x fastest, then y,
+/// then z (up). Used for scenes, import/export and reading back a world's state.
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "granular/geometry.hpp"
+#include "granular/material.hpp"
+
+namespace granular {
+
+/// Largest extent allowed along one axis.
+inline constexpr int kMaxGridExtent = 65536;
+
+/// Throws InvalidArgument when `size` has a zero, negative or over-large extent, and OutOfMemory
+/// when `bytes_per_cell * cells` exceeds this machine's physical memory. `what` names the caller's
+/// field in the message (e.g. "WorldDef::size", "scene 'bowl' size").
+void check_grid_size(Int3 size, const std::string& what, double bytes_per_cell = 1.0);
+
+/// "NXxNYxNZ" for messages.
+std::string to_string(Int3 size);
+
+/// Dense host-side grid of cells.
+class Grid {
+ public:
+  /// An empty 0x0x0 grid (only useful as a placeholder to assign into).
+  Grid() = default;
+  /// A grid of `size` void cells. Throws InvalidArgument / OutOfMemory (see check_grid_size).
+  explicit Grid(Int3 size);
+
+  /// Extent per axis.
+  Int3 size() const { return size_; }
+  /// Total number of cells.
+  std::int64_t cell_count() const { return std::int64_t(cells_.size()); }
+  /// The box [0, size).
+  Box bounds() const { return {{0, 0, 0}, size_}; }
+  /// True when `p` lies inside the grid.
+  bool contains(Int3 p) const {
+    return p.x >= 0 && p.y >= 0 && p.z >= 0 && p.x < size_.x && p.y < size_.y && p.z < size_.z;
+  }
+  /// Linear index of an in-grid cell (x fastest).
+  std::size_t index(Int3 p) const {
+    return std::size_t(p.x) + std::size_t(size_.x) * (std::size_t(p.y) + std::size_t(size_.y) * std::size_t(p.z));
+  }
+  /// Material at an in-grid cell (unchecked).
+  Material at(Int3 p) const { return Material(cells_[index(p)]); }
+  /// Sets an in-grid cell (unchecked).
+  void set(Int3 p, Material m) { cells_[index(p)] = to_cell(m); }
+
+  /// Raw cell bytes.
+  std::span<std::uint8_t> cells() { return cells_; }
+  /// Raw cell bytes.
+  std::span<const std::uint8_t> cells() const { return cells_; }
+
+  /// Sets every cell of `box` (clipped to the grid) to `m`.
+  void fill(const Box& box, Material m);
+  /// Cells per material.
+  MaterialCounts count() const;
+  /// 64-bit hash of size and content (see hash_cells).
+  std::uint64_t hash() const;
+
+ private:
+  Int3 size_{0, 0, 0};
+  std::vector<std::uint8_t> cells_;
+};
+
+/// The grid hash: equal for equal size and content on every backend and thread count.
+/// Defined as mix(size) + sum over 8-byte little-endian words w_i (tail zero-padded) of
+/// mix(w_i + (i+1) * 0x9E3779B97F4A7C15), finalised by mix; mix is the splitmix64 finaliser.
+/// The sum makes it order-independent, so GPUs and threads can reduce it in any order.
+std::uint64_t hash_cells(Int3 size, std::span<const std::uint8_t> cells);
+
+/// Partial hash of a word range [first_word, first_word + count) of `cells` (the summand of
+/// hash_cells), for backends that reduce in parallel; combine with finish_hash.
+std::uint64_t hash_words(std::span<const std::uint8_t> cells, std::size_t first_word, std::size_t word_count);
+
+/// Finalises a sum of hash_words partials for a grid of `size`.
+std::uint64_t finish_hash(Int3 size, std::uint64_t partial_sum);
+
+/// The splitmix64 finaliser: a strong 64-bit bijective mix.
+constexpr std::uint64_t mix64(std::uint64_t z) {
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  return z ^ (z >> 31);
+}
+
+}  // namespace granular

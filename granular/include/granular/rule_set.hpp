@@ -1,0 +1,33 @@
+#pragma once
+/// @file rule_set.hpp
+/// A rule set is code: a function from a block's 8 states to a transition (a permutation of the
+/// block's cells). It is compiled into the transition table (Lut) once, validated, and cached.
+
+#include <cstdint>
+#include <string>
+
+#include "granular/block.hpp"
+
+namespace granular {
+
+/// The function a rule set supplies: given a block's cells, where does each cell go.
+/// Must return a permutation and must leave every solid cell in place (the table build checks).
+using BlockRule = Transition (*)(const BlockCells& cells);
+
+/// A named set of block rules.
+struct RuleSet {
+  std::string name;            ///< preset name, e.g. "paper"
+  std::string description;     ///< one line for humans
+  std::uint32_t version = 1;   ///< bump whenever the rule's behaviour changes (part of the cache key)
+  bool random_symmetry = false;  ///< apply a random horizontal symmetry (D4) per block and tick, drawn
+                                 ///< from block_random(seed, tick, position): one table, isotropic result
+  BlockRule transition = nullptr;  ///< the rule itself
+};
+
+/// A 64-bit identity of a rule set's behaviour: its name, version and flags plus the rule's output
+/// on every key over {void, solid, granular} and on 4096 pseudo-random keys over all 8 states. It
+/// keys the on-disk table cache, so a changed rule invalidates a stale table even if nobody bumped
+/// the version.
+std::uint64_t rule_fingerprint(const RuleSet& rules);
+
+}  // namespace granular

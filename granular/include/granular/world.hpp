@@ -1,0 +1,106 @@
+#pragma once
+/// @file world.hpp
+/// The simulated world: a grid of cells, the transition table of its rule set, and the backend that
+/// steps it. A game creates one from a WorldDef and calls step() once per fixed tick.
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "granular/geometry.hpp"
+#include "granular/grid.hpp"
+#include "granular/material.hpp"
+#include "granular/tools.hpp"
+#include "granular/world_def.hpp"
+
+namespace granular {
+
+class Backend;
+class Lut;
+struct RuleSet;
+
+/// A block-cellular-automaton world of sand. Not thread-safe: call it from one thread; it uses its
+/// own worker threads inside step().
+class World {
+ public:
+  /// Creates a world of `def.size` void cells. Throws InvalidArgument for a bad def, OutOfMemory
+  /// when the grid does not fit, BackendError when the requested backend is unavailable.
+  explicit World(const WorldDef& def = {});
+  /// Creates a world whose size and cells are those of `initial` (def.size is ignored).
+  World(const WorldDef& def, const Grid& initial);
+  ~World();
+  World(World&&) noexcept;
+  World& operator=(World&&) noexcept;
+  World(const World&) = delete;
+  World& operator=(const World&) = delete;
+
+  /// Advances `ticks` fixed ticks (each one Margolus partition of the 8-offset cycle). ticks >= 0.
+  void step(int ticks = 1);
+
+  /// Ticks done since creation (the position in the offset cycle is tick() % 8).
+  std::uint64_t tick() const { return tick_; }
+  /// Grid extent.
+  Int3 size() const { return size_; }
+  /// The definition this world was made from (size updated to the actual grid).
+  const WorldDef& def() const { return def_; }
+  /// The backend actually stepping the world.
+  BackendKind backend() const;
+  /// The backend's name with details (e.g. "cpu (2 threads)").
+  std::string backend_description() const;
+  /// The rule set.
+  const RuleSet& rules() const;
+  /// The transition table in use.
+  const Lut& lut() const;
+  /// One-line notices from creation a user should see (backend fallback, table cache problems).
+  const std::vector<std::string>& notices() const { return notices_; }
+  /// Seconds spent obtaining the transition table at creation, and whether it came from the cache.
+  double lut_seconds() const { return lut_seconds_; }
+  /// True when the transition table was loaded from the on-disk cache (or shared in-process).
+  bool lut_from_cache() const { return lut_from_cache_; }
+
+  /// Removes every grain (any material but solid and void) whose cell centre lies in `sphere`.
+  /// Throws InvalidArgument for a non-finite centre, radius <= 0, or a sphere that misses the grid.
+  ChangeReport dig(const Sphere& sphere);
+  /// Turns up to `amount` void cells inside the sphere (centre, radius) into `material`, chosen
+  /// pseudo-randomly (deterministic for the world's seed and tick). Throws InvalidArgument for
+  /// void or an invalid material, amount < 0, or a region missing the grid.
+  ChangeReport pour(Vec3 center, double radius, Material material, std::int64_t amount);
+  /// Sets every cell of `box` to `material` (solid included). Throws InvalidArgument when the
+  /// box is empty or misses the grid.
+  ChangeReport paint(const Box& box, Material material);
+  /// Sets every cell whose centre lies in `sphere` to `material` (the brush form of paint).
+  ChangeReport paint(const Sphere& sphere, Material material);
+
+  /// Cells per material.
+  MaterialCounts count() const;
+  /// 64-bit hash of the grid (identical across backends and thread counts).
+  std::uint64_t hash() const;
+  /// Copies the cells of `box` (which must lie inside the grid) into a vector, x fastest.
+  std::vector<std::uint8_t> read_region(const Box& box) const;
+  /// Copies the cells of `box` into `out` (size box.volume()).
+  void read_region(const Box& box, std::span<std::uint8_t> out) const;
+  /// A copy of the whole grid.
+  Grid snapshot() const;
+  /// Replaces every cell with those of `grid`, which must have this world's size.
+  void load(const Grid& grid);
+
+ private:
+  void init(const Grid& initial);
+  ChangeReport commit_region(const Box& region, bool clipped, const std::vector<std::uint8_t>& before,
+                             const std::vector<std::uint8_t>& after);
+
+  WorldDef def_;
+  Int3 size_{};
+  std::uint64_t tick_ = 0;
+  std::uint64_t tool_calls_ = 0;
+  std::shared_ptr<const RuleSet> rules_;
+  std::shared_ptr<const Lut> lut_;
+  std::unique_ptr<Backend> backend_;
+  std::vector<std::string> notices_;
+  double lut_seconds_ = 0;
+  bool lut_from_cache_ = false;
+};
+
+}  // namespace granular

@@ -1,0 +1,36 @@
+#pragma once
+/// @file backend.hpp
+/// The interface a compute backend implements. World owns one and routes every read, write and
+/// step through it, so tools and queries work the same on every backend.
+
+#include <cstdint>
+#include <span>
+#include <string>
+
+#include "granular/geometry.hpp"
+#include "granular/material.hpp"
+#include "granular/world_def.hpp"
+
+namespace granular {
+
+/// A compute backend holding the world's cells.
+class Backend {
+ public:
+  virtual ~Backend() = default;
+  /// Which kind this is.
+  virtual BackendKind kind() const = 0;
+  /// Name and details for users ("cpu (2 threads)").
+  virtual std::string description() const = 0;
+  /// Runs ticks first_tick .. first_tick + ticks - 1.
+  virtual void step(std::uint64_t first_tick, int ticks) = 0;
+  /// Copies the cells of an in-grid box out (x fastest).
+  virtual void read(const Box& box, std::span<std::uint8_t> out) const = 0;
+  /// Overwrites the cells of an in-grid box.
+  virtual void write(const Box& box, std::span<const std::uint8_t> in) = 0;
+  /// Cells per material.
+  virtual MaterialCounts count() const = 0;
+  /// The grid hash (hash_cells).
+  virtual std::uint64_t hash() const = 0;
+};
+
+}  // namespace granular

@@ -1,0 +1,186 @@
+#include "cpu_step.hpp"
+
+#include <cstring>
+
+#include "granular/material.hpp"
+#include "thread_pool.hpp"
+
+namespace granular {
+
+namespace {
+
+constexpr std::uint64_t kEveryByte = 0x0101010101010101ull;
+constexpr std::uint64_t kOutsideCell = to_cell(Material::Solid);
+
+/// A horizontal symmetry acting on 24-bit keys: each cell's 3 bits move as a unit, so the key is a
+/// bit permutation, applied as three byte-indexed partial tables.
+struct KeySymmetries {
+  BlockKey forward[8][3][256];
+  BlockKey inverse[8][3][256];
+};
+
+constexpr KeySymmetries make_key_symmetries() {
+  KeySymmetries t{};
+  for (int s = 0; s < 8; ++s) {
+    const auto map = horizontal_symmetry(s);
+    std::array<int, 8> inv{};
+    for (int i = 0; i < 8; ++i) inv[map[i]] = i;
+    for (int part = 0; part < 3; ++part)
+      for (int byte = 0; byte < 256; ++byte) {
+        BlockKey fwd = 0, back = 0;
+        for (int b = 0; b < 8; ++b) {
+          if (!((byte >> b) & 1)) continue;
+          const int bit = part * 8 + b, cell = bit / 3, lane = bit % 3;
+          fwd |= BlockKey(1) << (3 * map[cell] + lane);
+          back |= BlockKey(1) << (3 * inv[cell] + lane);
+        }
+        t.forward[s][part][byte] = fwd;
+        t.inverse[s][part][byte] = back;
+      }
+  }
+  return t;
+}
+
+const KeySymmetries kKeySymmetry = make_key_symmetries();
+
+inline BlockKey permute_key(BlockKey k, const BlockKey (&table)[3][256]) {
+  return table[0][k & 0xFFu] | table[1][(k >> 8) & 0xFFu] | table[2][k >> 16];
+}
+
+inline std::uint64_t load_pair(const std::uint8_t* p) {
+  std::uint16_t v;
+  std::memcpy(&v, p, 2);
+  return v;
+}
+
+inline void store_pair(std::uint8_t* p, std::uint64_t v) {
+  const auto w = std::uint16_t(v);
+  std::memcpy(p, &w, 2);
+}
+
+inline std::uint64_t load_word(const std::uint8_t* p) {
+  std::uint64_t v;
+  std::memcpy(&v, p, 8);
+  return v;
+}
+
+/// The block's 8 bytes (cell i in byte i, each < 8) packed to its 24-bit key.
+inline BlockKey pack_key(std::uint64_t v) {
+  std::uint64_t t = (v | (v >> 5)) & 0x003F003F003F003Full;
+  t = (t | (t >> 10)) & 0x00000FFF00000FFFull;
+  return BlockKey((t | (t >> 20)) & 0xFFFFFFu);
+}
+
+/// The inverse of pack_key.
+inline std::uint64_t unpack_key(BlockKey k) {
+  std::uint64_t t = (std::uint64_t(k) & 0xFFFu) | ((std::uint64_t(k) & 0xFFF000u) << 20);
+  t = (t & 0x0000003F0000003Full) | ((t & 0x00000FC000000FC0ull) << 10);
+  return (t & 0x0007000700070007ull) | ((t & 0x0038003800380038ull) << 5);
+}
+
+/// The key of the block after this tick's rule.
+template <bool kRandom>
+inline BlockKey next_key(const StepContext& c, BlockKey key, int x0, int y0, int z0) {
+  if constexpr (kRandom) {
+    const int s = int(block_random(c.seed, c.tick, x0, y0, z0) & 7u);
+    return permute_key(c.result[permute_key(key, kKeySymmetry.forward[s])], kKeySymmetry.inverse[s]);
+  } else {
+    return c.result[key];
+  }
+}
+
+/// A block with at least one cell outside the grid: outside cells read as solid, never written.
+template <bool kRandom>
+void boundary_block(const StepContext& c, int x0, int y0, int z0) {
+  const std::size_t sy = std::size_t(c.size.x), sz = sy * std::size_t(c.size.y);
+  std::uint64_t v = 0;
+  for (int i = 0; i < 8; ++i) {
+    const int x = x0 + (i & 1), y = y0 + ((i >> 1) & 1), z = z0 + ((i >> 2) & 1);
+    const bool inside = x >= 0 && y >= 0 && z >= 0 && x < c.size.x && y < c.size.y && z < c.size.z;
+    const std::uint64_t cell = inside ? c.cells[std::size_t(x) + sy * std::size_t(y) + sz * std::size_t(z)] : kOutsideCell;
+    v |= cell << (8 * i);
+  }
+  const BlockKey key = pack_key(v);
+  const BlockKey next = next_key<kRandom>(c, key, x0, y0, z0);
+  if (next == key) return;
+  const std::uint64_t out = unpack_key(next);
+  for (int i = 0; i < 8; ++i) {
+    const int x = x0 + (i & 1), y = y0 + ((i >> 1) & 1), z = z0 + ((i >> 2) & 1);
+    if (x >= 0 && y >= 0 && z >= 0 && x < c.size.x && y < c.size.y && z < c.size.z)
+      c.cells[std::size_t(x) + sy * std::size_t(y) + sz * std::size_t(z)] = std::uint8_t(out >> (8 * i));
+  }
+}
+
+/// A block fully inside the grid; rows r[0..3] are (y0,z0), (y0+1,z0), (y0,z0+1), (y0+1,z0+1).
+/// Branch-free: a uniform block's key maps to itself, and the store rewrites the same bytes.
+template <bool kRandom>
+inline void interior_block(const StepContext& c, std::uint8_t* const* r, int x0, int y0, int z0) {
+  const std::uint64_t v = load_pair(r[0] + x0) | (load_pair(r[1] + x0) << 16) | (load_pair(r[2] + x0) << 32) |
+                          (load_pair(r[3] + x0) << 48);
+  const std::uint64_t out = unpack_key(next_key<kRandom>(c, pack_key(v), x0, y0, z0));
+  store_pair(r[0] + x0, out);
+  store_pair(r[1] + x0, out >> 16);
+  store_pair(r[2] + x0, out >> 32);
+  store_pair(r[3] + x0, out >> 48);
+}
+
+template <bool kRandom>
+void step_layer(const StepContext& c, int layer) {
+  const BlockOffset o = block_offset(c.tick);
+  const int nx = c.size.x, ny = c.size.y, nz = c.size.z;
+  const int z0 = 2 * layer - o.z;
+  const int blocks_x = block_count(nx, o.x), blocks_y = block_count(ny, o.y);
+  const std::size_t sy = std::size_t(nx), sz = sy * std::size_t(ny);
+  const bool z_inside = z0 >= 0 && z0 + 1 < nz;
+  for (int by = 0; by < blocks_y; ++by) {
+    const int y0 = 2 * by - o.y;
+    if (!z_inside || y0 < 0 || y0 + 1 >= ny) {
+      for (int bx = 0; bx < blocks_x; ++bx) boundary_block<kRandom>(c, 2 * bx - o.x, y0, z0);
+      continue;
+    }
+    std::uint8_t* base = c.cells + sy * std::size_t(y0) + sz * std::size_t(z0);
+    std::uint8_t* const rows[4] = {base, base + sy, base + sz, base + sz + sy};
+    int x = -o.x;
+    if (x < 0) {
+      boundary_block<kRandom>(c, x, y0, z0);
+      x += 2;
+    }
+    const int x_end = x + ((nx - x) / 2) * 2;  // blocks starting in [x, x_end) lie inside
+    // Eight blocks (16 bytes per row) at a time: skip them when all 64 cells are equal, since a
+    // permutation of equal cells changes nothing.
+    for (; x + 16 <= x_end; x += 16) {
+      const std::uint64_t ref = (std::uint64_t(rows[0][x]) & 0xFFu) * kEveryByte;
+      std::uint64_t diff = 0;
+      for (int r = 0; r < 4; ++r) diff |= (load_word(rows[r] + x) ^ ref) | (load_word(rows[r] + x + 8) ^ ref);
+      if (diff == 0) continue;
+      for (int k = 0; k < 16; k += 2) interior_block<kRandom>(c, rows, x + k, y0, z0);
+    }
+    for (; x < x_end; x += 2) interior_block<kRandom>(c, rows, x, y0, z0);
+    if (x_end < nx) boundary_block<kRandom>(c, x_end, y0, z0);
+  }
+}
+
+}  // namespace
+
+std::vector<BlockKey> derive_result_table(std::span<const Transition> lut, int threads) {
+  std::vector<BlockKey> result(lut.size());
+  ThreadPool pool(threads);
+  constexpr int kChunks = 64;
+  pool.run(kChunks, [&](int chunk) {
+    const std::size_t first = lut.size() * std::size_t(chunk) / kChunks, last = lut.size() * std::size_t(chunk + 1) / kChunks;
+    for (std::size_t k = first; k < last; ++k)
+      result[k] = encode_key(apply_transition(decode_key(BlockKey(k)), lut[k]));
+  });
+  return result;
+}
+
+int block_layers(const StepContext& context) { return block_count(context.size.z, block_offset(context.tick).z); }
+
+void step_block_layer(const StepContext& context, int layer) {
+  if (context.random_symmetry)
+    step_layer<true>(context, layer);
+  else
+    step_layer<false>(context, layer);
+}
+
+}  // namespace granular

@@ -1,0 +1,305 @@
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cerrno>
+#include <climits>
+#include <cstdio>
+#include <cstring>
+#include <memory>
+#include <new>
+
+#include "granular/errors.hpp"
+#include "granular/grid_io.hpp"
+#include "granular/vox_io.hpp"
+
+namespace granular {
+
+namespace {
+
+struct FileCloser {
+  void operator()(std::FILE* f) const { std::fclose(f); }
+};
+using FilePtr = std::unique_ptr<std::FILE, FileCloser>;
+
+std::string quoted(const std::filesystem::path& p) { return "'" + p.string() + "'"; }
+
+std::string system_reason(int err) { return std::strerror(err); }
+
+FilePtr open_for_reading(const std::filesystem::path& path, struct stat& info) {
+  FilePtr f(std::fopen(path.c_str(), "rb"));
+  if (!f) {
+    const int err = errno;
+    throw FileError("cannot open " + quoted(path) + " for reading: " + system_reason(err));
+  }
+  if (fstat(fileno(f.get()), &info) != 0) {
+    const int err = errno;
+    throw FileError("cannot read " + quoted(path) + ": " + system_reason(err));
+  }
+  if (S_ISDIR(info.st_mode)) throw FileError("cannot read " + quoted(path) + ": " + system_reason(EISDIR));
+  return f;
+}
+
+void read_exactly(std::FILE* f, std::uint8_t* dst, std::size_t n, const std::filesystem::path& path, std::size_t at) {
+  const std::size_t got = std::fread(dst, 1, n, f);
+  if (got == n) return;
+  const int err = errno;
+  if (std::ferror(f))
+    throw FileError("cannot read " + quoted(path) + " at byte " + std::to_string(at + got) + ": " + system_reason(err));
+  throw FileError("cannot read " + quoted(path) + ": the file ended at byte " + std::to_string(at + got) + " while " +
+                  std::to_string(at + n) + " bytes were expected (was it modified while being read?)");
+}
+
+std::uint32_t get_u32(std::span<const std::uint8_t> b, std::size_t at) {
+  return std::uint32_t(b[at]) | (std::uint32_t(b[at + 1]) << 8) | (std::uint32_t(b[at + 2]) << 16) |
+         (std::uint32_t(b[at + 3]) << 24);
+}
+
+void put_u32(std::uint8_t* dst, std::uint32_t v) {
+  for (int i = 0; i < 4; ++i) dst[i] = std::uint8_t(v >> (8 * i));
+}
+
+std::string printable_bytes(std::span<const std::uint8_t> b) {
+  static const char* kHex = "0123456789ABCDEF";
+  std::string s = "\"";
+  for (std::uint8_t c : b) {
+    if (c >= 0x20 && c < 0x7F && c != '"' && c != '\\') {
+      s += char(c);
+    } else {
+      s += "\\x";
+      s += kHex[c >> 4];
+      s += kHex[c & 15];
+    }
+  }
+  return s + "\"";
+}
+
+constexpr const char* kHeaderFields[5] = {"magic", "version", "nx", "ny", "nz"};
+
+/// Validates the raw header held in the first bytes of `head` for a file of `total` bytes and
+/// returns the grid size it declares.
+Int3 parse_raw_header(std::span<const std::uint8_t> head, std::uint64_t total, const std::string& src) {
+  const std::size_t magic_have = std::size_t(std::min<std::uint64_t>(total, 4));
+  if (!std::equal(head.begin(), head.begin() + std::ptrdiff_t(magic_have), kRawMagic)) {
+    throw ParseError(src + ": not a raw grid file: bad magic " + printable_bytes(head.first(magic_have)) +
+                     " at byte 0 (expected \"GRAW\")");
+  }
+  if (total < kRawHeaderSize) {
+    const std::size_t field = std::size_t(total / 4);
+    throw ParseError(src + ": truncated header: the file has " + std::to_string(total) +
+                     " bytes and ends inside field " + kHeaderFields[field] + " (bytes " + std::to_string(field * 4) +
+                     ".." + std::to_string(field * 4 + 3) + "); a raw grid header is " +
+                     std::to_string(kRawHeaderSize) + " bytes (magic, version, nx, ny, nz)");
+  }
+  const std::uint32_t version = get_u32(head, 4);
+  if (version != kRawVersion)
+    throw ParseError(src + ": unsupported raw grid version " + std::to_string(version) +
+                     " (field version, bytes 4..7); this build reads version " + std::to_string(kRawVersion));
+  std::uint32_t dims[3];
+  for (int a = 0; a < 3; ++a) {
+    dims[a] = get_u32(head, 8 + 4 * std::size_t(a));
+    if (dims[a] > std::uint32_t(INT_MAX))
+      throw ParseError(src + ": header field " + kHeaderFields[2 + a] + " (bytes " + std::to_string(8 + 4 * a) + ".." +
+                       std::to_string(11 + 4 * a) + ") = " + std::to_string(dims[a]) + " exceeds the maximum extent " +
+                       std::to_string(kMaxGridExtent));
+  }
+  const Int3 size{int(dims[0]), int(dims[1]), int(dims[2])};
+  try {
+    check_grid_size(size, src + ": header fields nx, ny, nz (bytes 8..19)");
+  } catch (const InvalidArgument& e) {
+    throw ParseError(e.what());
+  }
+  const std::uint64_t cells = std::uint64_t(dims[0]) * dims[1] * dims[2];
+  const std::uint64_t body = total - kRawHeaderSize;
+  if (body < cells)
+    throw ParseError(src + ": truncated body: header says " + to_string(size) + " = " + std::to_string(cells) +
+                     " cells but only " + std::to_string(body) + " bytes follow the " + std::to_string(kRawHeaderSize) +
+                     "-byte header");
+  if (body > cells)
+    throw ParseError(src + ": " + std::to_string(body - cells) + " trailing bytes after the last cell: header says " +
+                     to_string(size) + " = " + std::to_string(cells) + " cells, so the file should be " +
+                     std::to_string(cells + kRawHeaderSize) + " bytes but it is " + std::to_string(total));
+  return size;
+}
+
+/// Throws ParseError naming the first cell whose value is not a material.
+void check_raw_cells(std::span<const std::uint8_t> cells, Int3 size, const std::string& src) {
+  const auto bad = [](std::uint8_t v) { return !is_valid_material_value(v); };
+  const auto first = std::find_if(cells.begin(), cells.end(), bad);
+  if (first == cells.end()) return;
+  const std::size_t i = std::size_t(first - cells.begin());
+  const std::size_t plane = std::size_t(size.x) * std::size_t(size.y);
+  const std::size_t x = i % std::size_t(size.x), y = (i / std::size_t(size.x)) % std::size_t(size.y), z = i / plane;
+  const auto total = std::count_if(first, cells.end(), bad);
+  throw ParseError(src + ": invalid cell value " + std::to_string(unsigned(*first)) + " at byte offset " +
+                   std::to_string(kRawHeaderSize + i) + " (cell x=" + std::to_string(x) + ", y=" + std::to_string(y) +
+                   ", z=" + std::to_string(z) + "); cell values must be 0.." + std::to_string(kMaterialCount - 1) +
+                   " (" + std::to_string(total) + " invalid cells in total)");
+}
+
+std::array<std::uint8_t, kRawHeaderSize> raw_header(const Grid& grid, const char* caller) {
+  if (grid.cell_count() == 0)
+    throw InvalidArgument(std::string(caller) + ": the grid is empty (" + to_string(grid.size()) +
+                          "); there is nothing to encode");
+  std::array<std::uint8_t, kRawHeaderSize> h{};
+  std::copy(std::begin(kRawMagic), std::end(kRawMagic), h.begin());
+  put_u32(h.data() + 4, kRawVersion);
+  put_u32(h.data() + 8, std::uint32_t(grid.size().x));
+  put_u32(h.data() + 12, std::uint32_t(grid.size().y));
+  put_u32(h.data() + 16, std::uint32_t(grid.size().z));
+  return h;
+}
+
+/// Removes the temporary file of a failed atomic write and throws the FileError describing it.
+[[noreturn]] void fail_atomic_write(const std::filesystem::path& path, const std::filesystem::path& tmp,
+                                    const std::string& step, int err) {
+  std::error_code ignored;
+  std::filesystem::remove(tmp, ignored);
+  const bool kept = std::filesystem::exists(path, ignored);
+  throw FileError("cannot write " + quoted(path) + ": " + step + ": " + system_reason(err) +
+                  (kept ? " (the existing file was left untouched)" : ""));
+}
+
+enum class GridFormat { Raw, Vox };
+
+GridFormat format_of(const std::filesystem::path& path, const char* action) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  if (ext == ".raw") return GridFormat::Raw;
+  if (ext == ".vox") return GridFormat::Vox;
+  const std::string what =
+      ext.empty() ? "has no extension" : "has the unknown extension '" + path.extension().string() + "'";
+  throw InvalidArgument(std::string("cannot ") + action + " grid " + quoted(path) + ": the file name " + what +
+                        "; accepted grid file extensions are .raw and .vox");
+}
+
+}  // namespace
+
+std::vector<std::uint8_t> read_file_bytes(const std::filesystem::path& path) {
+  struct stat info {};
+  FilePtr f = open_for_reading(path, info);
+  std::vector<std::uint8_t> bytes;
+  int read_error = 0;
+  try {
+    if (S_ISREG(info.st_mode)) bytes.reserve(std::size_t(info.st_size) + 1);
+    constexpr std::size_t kBlock = std::size_t(1) << 20;
+    for (;;) {
+      const std::size_t at = bytes.size();
+      const std::size_t want = bytes.capacity() > at ? bytes.capacity() - at : kBlock;
+      bytes.resize(at + want);
+      const std::size_t got = std::fread(bytes.data() + at, 1, want, f.get());
+      read_error = errno;
+      bytes.resize(at + got);
+      if (got < want) break;
+    }
+  } catch (const std::bad_alloc&) {
+    throw OutOfMemory("cannot read " + quoted(path) + ": not enough memory to hold its " +
+                      std::to_string(std::uint64_t(info.st_size)) + " bytes");
+  }
+  if (std::ferror(f.get())) throw FileError("cannot read " + quoted(path) + ": " + system_reason(read_error));
+  return bytes;
+}
+
+void write_file_atomic(const std::filesystem::path& path, std::initializer_list<std::span<const std::uint8_t>> parts) {
+  std::filesystem::path tmp = path;
+  tmp += ".tmp-" + std::to_string(getpid());
+  std::FILE* f = std::fopen(tmp.c_str(), "wb");
+  if (!f) {
+    const int err = errno;
+    fail_atomic_write(path, tmp, "cannot create the temporary file " + quoted(tmp), err);
+  }
+  for (std::span<const std::uint8_t> part : parts) {
+    if (part.empty()) continue;
+    if (std::fwrite(part.data(), 1, part.size(), f) != part.size()) {
+      const int err = errno;
+      std::fclose(f);
+      fail_atomic_write(path, tmp, "writing the temporary file " + quoted(tmp) + " failed", err);
+    }
+  }
+  if (std::fflush(f) != 0 || fsync(fileno(f)) != 0) {
+    const int err = errno;
+    std::fclose(f);
+    fail_atomic_write(path, tmp, "flushing the temporary file " + quoted(tmp) + " failed", err);
+  }
+  if (std::fclose(f) != 0) {
+    const int err = errno;
+    fail_atomic_write(path, tmp, "closing the temporary file " + quoted(tmp) + " failed", err);
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    const int err = errno;
+    fail_atomic_write(path, tmp, "renaming the temporary file " + quoted(tmp) + " over it failed", err);
+  }
+}
+
+std::vector<std::uint8_t> encode_raw(const Grid& grid) {
+  const auto header = raw_header(grid, "encode_raw");
+  const auto cells = grid.cells();
+  std::vector<std::uint8_t> out;
+  try {
+    out.reserve(header.size() + cells.size());
+  } catch (const std::bad_alloc&) {
+    throw OutOfMemory("encode_raw: could not allocate " + std::to_string(header.size() + cells.size()) +
+                      " bytes for a " + to_string(grid.size()) + " grid");
+  }
+  out.insert(out.end(), header.begin(), header.end());
+  out.insert(out.end(), cells.begin(), cells.end());
+  return out;
+}
+
+Grid decode_raw(std::span<const std::uint8_t> bytes, const std::string& source_name) {
+  const Int3 size = parse_raw_header(bytes.first(std::min(bytes.size(), kRawHeaderSize)), bytes.size(), source_name);
+  const auto body = bytes.subspan(kRawHeaderSize);
+  check_raw_cells(body, size, source_name);
+  Grid grid(size);
+  std::copy(body.begin(), body.end(), grid.cells().begin());
+  return grid;
+}
+
+void save_raw(const Grid& grid, const std::filesystem::path& path) {
+  const auto header = raw_header(grid, "save_raw");
+  write_file_atomic(path, {std::span<const std::uint8_t>(header), grid.cells()});
+}
+
+Grid load_raw(const std::filesystem::path& path) {
+  struct stat info {};
+  FilePtr f = open_for_reading(path, info);
+  if (!S_ISREG(info.st_mode)) {
+    f.reset();
+    return decode_raw(read_file_bytes(path), path.string());
+  }
+  const std::string src = path.string();
+  const std::uint64_t total = std::uint64_t(info.st_size);
+  std::array<std::uint8_t, kRawHeaderSize> head{};
+  const std::size_t head_size = std::size_t(std::min<std::uint64_t>(total, kRawHeaderSize));
+  read_exactly(f.get(), head.data(), head_size, path, 0);
+  const Int3 size = parse_raw_header(std::span<const std::uint8_t>(head).first(head_size), total, src);
+  Grid grid(size);
+  read_exactly(f.get(), grid.cells().data(), grid.cells().size(), path, kRawHeaderSize);
+  check_raw_cells(grid.cells(), size, src);
+  return grid;
+}
+
+void save_grid(const Grid& grid, const std::filesystem::path& path) {
+  switch (format_of(path, "save")) {
+    case GridFormat::Raw:
+      save_raw(grid, path);
+      return;
+    case GridFormat::Vox:
+      save_vox(grid, path);
+      return;
+  }
+}
+
+Grid load_grid(const std::filesystem::path& path) {
+  switch (format_of(path, "load")) {
+    case GridFormat::Raw:
+      return load_raw(path);
+    case GridFormat::Vox:
+      return load_vox(path);
+  }
+  return Grid();
+}
+
+}  // namespace granular

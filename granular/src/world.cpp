@@ -1,0 +1,272 @@
+#include "granular/world.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <mutex>
+
+#include "backend.hpp"
+#include "cpu_backend.hpp"
+#include "granular/errors.hpp"
+#include "granular/lut.hpp"
+#include "granular/rule_presets.hpp"
+#include "granular/rule_set.hpp"
+#include "thread_pool.hpp"
+
+namespace granular {
+
+const char* backend_name(BackendKind kind) noexcept {
+  switch (kind) {
+    case BackendKind::Auto: return "auto";
+    case BackendKind::Cpu: return "cpu";
+    case BackendKind::Cuda: return "cuda";
+  }
+  return "unknown";
+}
+
+namespace {
+
+constexpr int kMaxThreads = 1024;
+
+/// Tables are 64 MiB: worlds of one process share them while any is alive.
+std::shared_ptr<const Lut> shared_lut(const RuleSet& rules, const WorldDef& def, int threads, double& seconds,
+                                      bool& from_cache, std::string& notice) {
+  static std::mutex mutex;
+  static std::map<std::uint64_t, std::weak_ptr<const Lut>> live;
+  const std::uint64_t fingerprint = rule_fingerprint(rules);
+  std::lock_guard lock(mutex);
+  if (auto lut = live[fingerprint].lock()) {
+    seconds = 0;
+    from_cache = true;
+    return lut;
+  }
+  LutCacheOptions options;
+  options.enabled = def.use_lut_cache;
+  options.directory = def.lut_cache_dir;
+  options.threads = threads;
+  LutObtained got = obtain_lut(rules, options);
+  seconds = got.seconds;
+  from_cache = got.from_cache;
+  notice = got.notice;
+  live[fingerprint] = got.lut;
+  return got.lut;
+}
+
+std::string format_vec(const Vec3& v) {
+  return "(" + std::to_string(v.x) + ", " + std::to_string(v.y) + ", " + std::to_string(v.z) + ")";
+}
+
+void check_material(Material m, const char* tool) {
+  if (!is_valid_material_value(to_cell(m)))
+    throw InvalidArgument(std::string(tool) + ": material value " + std::to_string(unsigned(to_cell(m))) +
+                          " is not a valid state (0..7)");
+}
+
+/// The in-grid box of cells a sphere can touch; throws when it misses the grid entirely.
+Box sphere_region(const Sphere& s, Int3 size, const char* tool, bool& clipped) {
+  const Vec3& c = s.center;
+  if (!std::isfinite(c.x) || !std::isfinite(c.y) || !std::isfinite(c.z))
+    throw InvalidArgument(std::string(tool) + ": sphere centre " + format_vec(c) + " is not finite");
+  if (!std::isfinite(s.radius) || s.radius <= 0)
+    throw InvalidArgument(std::string(tool) + ": sphere radius " + std::to_string(s.radius) + " must be > 0");
+  const double lo[3] = {std::ceil(c.x - s.radius - 0.5), std::ceil(c.y - s.radius - 0.5), std::ceil(c.z - s.radius - 0.5)};
+  const double hi[3] = {std::floor(c.x + s.radius - 0.5) + 1, std::floor(c.y + s.radius - 0.5) + 1,
+                        std::floor(c.z + s.radius - 0.5) + 1};
+  const int n[3] = {size.x, size.y, size.z};
+  int bmin[3], bmax[3];
+  clipped = false;
+  for (int a = 0; a < 3; ++a) {
+    if (lo[a] < 0 || hi[a] > n[a]) clipped = true;
+    bmin[a] = int(std::max(lo[a], 0.0));
+    bmax[a] = int(std::min(hi[a], double(n[a])));
+    if (bmin[a] >= bmax[a] || lo[a] >= hi[a])
+      throw InvalidArgument(std::string(tool) + ": sphere at " + format_vec(c) + " with radius " +
+                            std::to_string(s.radius) + " covers no cell of the " + to_string(size) + " grid");
+  }
+  return {{bmin[0], bmin[1], bmin[2]}, {bmax[0], bmax[1], bmax[2]}};
+}
+
+template <class Fn>
+void for_each_cell_in_sphere(const Box& region, const Sphere& s, Fn&& fn) {
+  const double r2 = s.radius * s.radius;
+  std::size_t i = 0;
+  for (int z = region.min.z; z < region.max.z; ++z)
+    for (int y = region.min.y; y < region.max.y; ++y)
+      for (int x = region.min.x; x < region.max.x; ++x, ++i) {
+        const double dx = x + 0.5 - s.center.x, dy = y + 0.5 - s.center.y, dz = z + 0.5 - s.center.z;
+        if (dx * dx + dy * dy + dz * dz <= r2) fn(i, Int3{x, y, z});
+      }
+}
+
+std::string box_string(const Box& b) {
+  return "[" + std::to_string(b.min.x) + "," + std::to_string(b.min.y) + "," + std::to_string(b.min.z) + ")-[" +
+         std::to_string(b.max.x) + "," + std::to_string(b.max.y) + "," + std::to_string(b.max.z) + ")";
+}
+
+void check_cells(std::span<const std::uint8_t> cells, Int3 size, const char* what) {
+  for (std::size_t i = 0; i < cells.size(); ++i)
+    if (!is_valid_material_value(cells[i])) {
+      const std::size_t x = i % std::size_t(size.x), y = (i / std::size_t(size.x)) % std::size_t(size.y),
+                        z = i / (std::size_t(size.x) * std::size_t(size.y));
+      throw InvalidArgument(std::string(what) + ": cell (" + std::to_string(x) + ", " + std::to_string(y) + ", " +
+                            std::to_string(z) + ") holds " + std::to_string(unsigned(cells[i])) +
+                            ", not a valid state (0..7)");
+    }
+}
+
+}  // namespace
+
+World::World(const WorldDef& def) : def_(def) {
+  check_grid_size(def.size, "WorldDef::size");
+  init(Grid(def.size));
+}
+
+World::World(const WorldDef& def, const Grid& initial) : def_(def) {
+  if (initial.cell_count() == 0) throw InvalidArgument("World: the initial grid is empty (0 cells)");
+  check_cells(initial.cells(), initial.size(), "World: initial grid");
+  init(initial);
+}
+
+World::~World() = default;
+World::World(World&&) noexcept = default;
+World& World::operator=(World&&) noexcept = default;
+
+void World::init(const Grid& initial) {
+  if (def_.threads < 0 || def_.threads > kMaxThreads)
+    throw InvalidArgument("WorldDef::threads = " + std::to_string(def_.threads) + "; use 0 (all hardware threads) or 1.." +
+                          std::to_string(kMaxThreads));
+  size_ = initial.size();
+  def_.size = size_;
+  rules_ = make_rule_set(def_.rules);
+  const int threads = def_.threads > 0 ? def_.threads : hardware_threads();
+  BackendKind kind = def_.backend;
+  if (kind == BackendKind::Cuda)
+    throw BackendError("WorldDef::backend = cuda, but this build of granular has no CUDA backend; use cpu or auto");
+  if (kind == BackendKind::Auto) {
+    notices_.push_back("backend auto: no CUDA backend in this build; using the CPU");
+    kind = BackendKind::Cpu;
+  }
+  std::string notice;
+  lut_ = shared_lut(*rules_, def_, threads, lut_seconds_, lut_from_cache_, notice);
+  if (!notice.empty()) notices_.push_back(notice);
+  backend_ = std::make_unique<CpuBackend>(initial, lut_, rules_->random_symmetry, def_.seed, threads);
+}
+
+void World::step(int ticks) {
+  if (ticks < 0) throw InvalidArgument("World::step: ticks = " + std::to_string(ticks) + " must be >= 0");
+  if (ticks == 0) return;
+  backend_->step(tick_, ticks);
+  tick_ += std::uint64_t(ticks);
+}
+
+BackendKind World::backend() const { return backend_->kind(); }
+std::string World::backend_description() const { return backend_->description(); }
+const RuleSet& World::rules() const { return *rules_; }
+const Lut& World::lut() const { return *lut_; }
+MaterialCounts World::count() const { return backend_->count(); }
+std::uint64_t World::hash() const { return backend_->hash(); }
+
+std::vector<std::uint8_t> World::read_region(const Box& box) const {
+  std::vector<std::uint8_t> out(std::size_t(std::max<std::int64_t>(box.volume(), 0)));
+  read_region(box, out);
+  return out;
+}
+
+void World::read_region(const Box& box, std::span<std::uint8_t> out) const {
+  const Box inside = intersect(box, Box{{0, 0, 0}, size_});
+  if (box.empty() || !(inside == box))
+    throw InvalidArgument("World::read_region: box " + box_string(box) + " is empty or not inside the " +
+                          to_string(size_) + " grid");
+  if (out.size() != std::size_t(box.volume()))
+    throw InvalidArgument("World::read_region: output holds " + std::to_string(out.size()) + " bytes; the box has " +
+                          std::to_string(box.volume()) + " cells");
+  backend_->read(box, out);
+}
+
+Grid World::snapshot() const {
+  Grid g(size_);
+  backend_->read(g.bounds(), g.cells());
+  return g;
+}
+
+void World::load(const Grid& grid) {
+  if (!(grid.size() == size_))
+    throw InvalidArgument("World::load: grid is " + to_string(grid.size()) + " but the world is " + to_string(size_));
+  check_cells(grid.cells(), grid.size(), "World::load");
+  backend_->write(grid.bounds(), grid.cells());
+}
+
+ChangeReport World::commit_region(const Box& region, bool clipped, const std::vector<std::uint8_t>& before,
+                                  const std::vector<std::uint8_t>& after) {
+  ChangeReport report;
+  report.region = region;
+  report.clipped = clipped;
+  for (std::size_t i = 0; i < before.size(); ++i)
+    if (before[i] != after[i]) {
+      ++report.cells_changed;
+      ++report.removed[before[i]];
+      ++report.added[after[i]];
+    }
+  if (report.cells_changed > 0) backend_->write(region, after);
+  ++tool_calls_;
+  return report;
+}
+
+ChangeReport World::dig(const Sphere& sphere) {
+  bool clipped = false;
+  const Box region = sphere_region(sphere, size_, "dig", clipped);
+  const auto before = read_region(region);
+  auto after = before;
+  for_each_cell_in_sphere(region, sphere, [&](std::size_t i, Int3) {
+    if (after[i] != to_cell(Material::Solid)) after[i] = to_cell(Material::Void);
+  });
+  return commit_region(region, clipped, before, after);
+}
+
+ChangeReport World::pour(Vec3 center, double radius, Material material, std::int64_t amount) {
+  check_material(material, "pour");
+  if (material == Material::Void) throw InvalidArgument("pour: material is void; pour a material (dig removes grains)");
+  if (amount < 0) throw InvalidArgument("pour: amount = " + std::to_string(amount) + " must be >= 0");
+  const Sphere sphere{center, radius};
+  bool clipped = false;
+  const Box region = sphere_region(sphere, size_, "pour", clipped);
+  const auto before = read_region(region);
+  auto after = before;
+  // Pick `amount` of the sphere's void cells by a hash of (seed, tick, call, position): a spray
+  // that looks random yet is the same on every backend and every run with this seed.
+  const std::uint64_t salt = mix64(def_.seed ^ mix64(tick_ * 0x9E3779B97F4A7C15ull + tool_calls_));
+  std::vector<std::pair<std::uint64_t, std::size_t>> candidates;
+  for_each_cell_in_sphere(region, sphere, [&](std::size_t i, Int3 p) {
+    if (before[i] == to_cell(Material::Void))
+      candidates.emplace_back(mix64(salt ^ (std::uint64_t(p.x) | std::uint64_t(p.y) << 21 | std::uint64_t(p.z) << 42)), i);
+  });
+  if (std::int64_t(candidates.size()) > amount) {
+    std::nth_element(candidates.begin(), candidates.begin() + amount, candidates.end());
+    candidates.resize(std::size_t(amount));
+  }
+  for (const auto& c : candidates) after[c.second] = to_cell(material);
+  return commit_region(region, clipped, before, after);
+}
+
+ChangeReport World::paint(const Box& box, Material material) {
+  check_material(material, "paint");
+  if (box.empty()) throw InvalidArgument("paint: box " + box_string(box) + " is empty");
+  const Box region = intersect(box, Box{{0, 0, 0}, size_});
+  if (region.empty())
+    throw InvalidArgument("paint: box " + box_string(box) + " lies outside the " + to_string(size_) + " grid");
+  const auto before = read_region(region);
+  const std::vector<std::uint8_t> after(before.size(), to_cell(material));
+  return commit_region(region, !(region == box), before, after);
+}
+
+ChangeReport World::paint(const Sphere& sphere, Material material) {
+  check_material(material, "paint");
+  bool clipped = false;
+  const Box region = sphere_region(sphere, size_, "paint", clipped);
+  const auto before = read_region(region);
+  auto after = before;
+  for_each_cell_in_sphere(region, sphere, [&](std::size_t i, Int3) { after[i] = to_cell(material); });
+  return commit_region(region, clipped, before, after);
+}
+
+}  // namespace granular

@@ -1,0 +1,343 @@
+#include <doctest/doctest.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <random>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "granular/errors.hpp"
+#include "granular/grid.hpp"
+#include "granular/grid_io.hpp"
+
+namespace fs = std::filesystem;
+using namespace granular;
+
+namespace {
+
+/// A fresh directory under the system temp dir, removed with everything in it at scope exit.
+class TempDir {
+ public:
+  TempDir() {
+    static std::atomic<int> counter{0};
+    path_ =
+        fs::temp_directory_path() / ("granular_grid_io_" + std::to_string(getpid()) + "_" + std::to_string(counter++));
+    fs::remove_all(path_);
+    fs::create_directories(path_);
+  }
+  ~TempDir() {
+    std::error_code ignored;
+    fs::permissions(path_, fs::perms::owner_all, fs::perm_options::add, ignored);
+    fs::remove_all(path_, ignored);
+  }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  fs::path operator/(const std::string& name) const { return path_ / name; }
+  const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
+
+Grid random_grid(Int3 size, unsigned seed) {
+  Grid g(size);
+  std::mt19937 rng(seed);
+  for (auto& c : g.cells()) c = std::uint8_t(rng() % kMaterialCount);
+  return g;
+}
+
+std::vector<std::uint8_t> file_bytes(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+void write_bytes(const fs::path& p, const std::vector<std::uint8_t>& b) {
+  std::ofstream out(p, std::ios::binary);
+  out.write(reinterpret_cast<const char*>(b.data()), std::streamsize(b.size()));
+}
+
+void put_u32(std::vector<std::uint8_t>& b, std::size_t at, std::uint32_t v) {
+  for (int i = 0; i < 4; ++i) b[at + std::size_t(i)] = std::uint8_t(v >> (8 * i));
+}
+
+std::vector<std::uint8_t> raw_header(std::uint32_t nx, std::uint32_t ny, std::uint32_t nz) {
+  std::vector<std::uint8_t> b(20);
+  std::memcpy(b.data(), "GRAW", 4);
+  put_u32(b, 4, 1);
+  put_u32(b, 8, nx);
+  put_u32(b, 12, ny);
+  put_u32(b, 16, nz);
+  return b;
+}
+
+/// Runs `f`, requires that it throws exactly an `E`, and returns the message.
+template <class E, class F>
+std::string error_of(F&& f) {
+  try {
+    f();
+  } catch (const E& e) {
+    return e.what();
+  } catch (const std::exception& e) {
+    FAIL("wrong exception type, message: " << e.what());
+    return {};
+  }
+  FAIL("no exception was thrown");
+  return {};
+}
+
+void check_has(const std::string& msg, std::initializer_list<std::string_view> parts) {
+  for (std::string_view p : parts)
+    CHECK_MESSAGE(msg.find(p) != std::string::npos, "expected '" << p << "' in: " << msg);
+}
+
+/// Checks that `bytes` fail with a ParseError naming the source and `parts`, both in memory and
+/// from a file (which takes load_raw's streaming path).
+void check_raw_rejected(const std::vector<std::uint8_t>& bytes, std::initializer_list<std::string_view> parts) {
+  const std::string mem = error_of<ParseError>([&] { decode_raw(bytes, "memory-grid.raw"); });
+  check_has(mem, {"memory-grid.raw"});
+  check_has(mem, parts);
+  TempDir dir;
+  const fs::path p = dir / "bad_input.raw";
+  write_bytes(p, bytes);
+  const std::string file = error_of<ParseError>([&] { load_raw(p); });
+  check_has(file, {p.string()});
+  check_has(file, parts);
+  const std::string dispatched = error_of<ParseError>([&] { load_grid(p); });
+  check_has(dispatched, {p.string()});
+}
+
+}  // namespace
+
+TEST_CASE("raw: encoded layout is the documented header then one byte per cell") {
+  Grid g({7, 5, 3});
+  g.set({2, 3, 1}, Material::Granular);
+  g.set({6, 4, 2}, Material::Reserved7);
+  const auto b = encode_raw(g);
+  REQUIRE(b.size() == 20 + 7 * 5 * 3);
+  CHECK(std::string(b.begin(), b.begin() + 4) == "GRAW");
+  const std::vector<std::uint8_t> fields(b.begin() + 4, b.begin() + 20);
+  CHECK(fields == std::vector<std::uint8_t>{1, 0, 0, 0, 7, 0, 0, 0, 5, 0, 0, 0, 3, 0, 0, 0});
+  CHECK(b[20 + 2 + 7 * (3 + 5 * 1)] == 2);
+  CHECK(b[20 + 6 + 7 * (4 + 5 * 2)] == 7);
+  CHECK(b[20] == 0);
+  CHECK(std::count(b.begin() + 20, b.end(), 0) == 7 * 5 * 3 - 2);
+}
+
+TEST_CASE("raw: random grids round-trip exactly, in memory and through files") {
+  TempDir dir;
+  const Int3 sizes[] = {{1, 1, 1}, {7, 5, 3}, {16, 16, 16}, {33, 1, 9}, {2, 300, 2}};
+  unsigned seed = 1;
+  for (Int3 s : sizes) {
+    CAPTURE(to_string(s));
+    const Grid g = random_grid(s, seed++);
+    const Grid mem = decode_raw(encode_raw(g), "mem");
+    CHECK(mem.size() == s);
+    CHECK(std::equal(mem.cells().begin(), mem.cells().end(), g.cells().begin(), g.cells().end()));
+    const fs::path p = dir / ("grid_" + to_string(s) + ".raw");
+    save_raw(g, p);
+    CHECK(file_bytes(p) == encode_raw(g));
+    const Grid back = load_raw(p);
+    CHECK(back.size() == s);
+    CHECK(back.hash() == g.hash());
+    CHECK(std::equal(back.cells().begin(), back.cells().end(), g.cells().begin(), g.cells().end()));
+  }
+}
+
+TEST_CASE("raw: missing or unreadable files raise FileError with the path and the reason") {
+  TempDir dir;
+  const fs::path missing = dir / "does_not_exist.raw";
+  const std::string m = error_of<FileError>([&] { load_raw(missing); });
+  check_has(m, {missing.string(), std::strerror(ENOENT)});
+  const std::string d = error_of<FileError>([&] { load_raw(dir.path()); });
+  check_has(d, {dir.path().string(), std::strerror(EISDIR)});
+  const std::string r = error_of<FileError>([&] { read_file_bytes(missing); });
+  check_has(r, {missing.string(), std::strerror(ENOENT)});
+}
+
+TEST_CASE("raw: malformed headers are rejected with the field at fault") {
+  const auto valid = encode_raw(random_grid({7, 5, 3}, 9));
+
+  SUBCASE("bad magic") {
+    auto b = valid;
+    b[3] = 'X';
+    check_raw_rejected(b, {"bad magic", "\"GRAX\"", "expected \"GRAW\""});
+  }
+  SUBCASE("a file of another format") {
+    check_raw_rejected({'V', 'O', 'X', ' ', 150, 0, 0, 0}, {"not a raw grid file", "\"VOX \""});
+  }
+  SUBCASE("empty file") { check_raw_rejected({}, {"truncated header", "has 0 bytes", "magic"}); }
+  SUBCASE("unsupported version") {
+    auto b = valid;
+    put_u32(b, 4, 2);
+    check_raw_rejected(b, {"unsupported raw grid version 2", "bytes 4..7", "version 1"});
+  }
+  SUBCASE("truncated header") {
+    const std::vector<std::uint8_t> b(valid.begin(), valid.begin() + 14);
+    check_raw_rejected(b, {"truncated header", "has 14 bytes", "field ny", "bytes 12..15"});
+  }
+  SUBCASE("zero extent") {
+    auto b = valid;
+    put_u32(b, 8, 0);
+    check_raw_rejected(b, {"nx, ny, nz", "0x5x3", "zero extent along x"});
+  }
+  SUBCASE("extent over the maximum") {
+    auto b = raw_header(7, 100000, 3);
+    check_raw_rejected(b, {"100000", "exceeds the maximum extent 65536", "along y"});
+  }
+  SUBCASE("extent that does not fit an int") {
+    auto b = raw_header(7, 5, 0xFFFFFFFFu);
+    check_raw_rejected(b, {"field nz", "bytes 16..19", "4294967295", "maximum extent"});
+  }
+}
+
+TEST_CASE("raw: malformed bodies are rejected with sizes, offsets and values") {
+  SUBCASE("truncated body") {
+    auto b = raw_header(64, 64, 64);
+    b.resize(20 + 1000, 1);
+    check_raw_rejected(b, {"truncated body", "header says 64x64x64 = 262144 cells but only 1000 bytes follow"});
+  }
+  SUBCASE("trailing bytes") {
+    auto b = encode_raw(random_grid({7, 5, 3}, 3));
+    b.insert(b.end(), {0, 0, 0});
+    check_raw_rejected(b, {"3 trailing bytes", "7x5x3 = 105 cells", "should be 125 bytes but it is 128"});
+  }
+  SUBCASE("cell value out of range") {
+    auto b = encode_raw(random_grid({7, 5, 3}, 4));
+    b[20 + 2 + 7 * (3 + 5 * 1)] = 9;
+    b[20 + 104] = 200;
+    check_raw_rejected(b, {"invalid cell value 9", "byte offset 78", "x=2, y=3, z=1", "2 invalid cells"});
+  }
+  SUBCASE("value 8 is the first invalid one") {
+    auto b = encode_raw(Grid({2, 2, 2}));
+    b[20] = 8;
+    check_raw_rejected(b, {"invalid cell value 8", "byte offset 20", "x=0, y=0, z=0"});
+  }
+}
+
+TEST_CASE("raw: a header larger than memory is refused before allocating") {
+  const auto b = raw_header(65536, 65536, 65536);
+  try {
+    decode_raw(b, "huge.raw");
+    FAIL("a 65536^3 header with no body was accepted");
+  } catch (const OutOfMemory& e) {
+    check_has(e.what(), {"huge.raw", "65536x65536x65536"});
+  } catch (const ParseError& e) {
+    check_has(e.what(), {"huge.raw", "truncated body"});
+  }
+}
+
+TEST_CASE("raw: a failed save leaves an existing file untouched") {
+  TempDir dir;
+  const Grid g = random_grid({7, 5, 3}, 5);
+
+  SUBCASE("target directory does not exist") {
+    const fs::path p = dir / "no_such_dir" / "out.raw";
+    const std::string m = error_of<FileError>([&] { save_raw(g, p); });
+    check_has(m, {p.string(), std::strerror(ENOENT), "temporary file"});
+    CHECK_FALSE(fs::exists(p.parent_path()));
+  }
+  SUBCASE("target is an existing directory: rename fails, directory and its content stay") {
+    const fs::path target = dir / "occupied.raw";
+    fs::create_directory(target);
+    write_bytes(target / "keep.txt", {'k'});
+    const std::string m = error_of<FileError>([&] { save_raw(g, target); });
+    check_has(m, {target.string(), "renaming"});
+    CHECK(fs::is_directory(target));
+    CHECK(file_bytes(target / "keep.txt") == std::vector<std::uint8_t>{'k'});
+    CHECK(std::distance(fs::directory_iterator(dir.path()), fs::directory_iterator()) == 1);
+  }
+  SUBCASE("read-only directory: existing file keeps its bytes") {
+    const fs::path sub = dir / "readonly";
+    fs::create_directory(sub);
+    const fs::path target = sub / "existing.raw";
+    const std::vector<std::uint8_t> before = {'o', 'l', 'd'};
+    write_bytes(target, before);
+    fs::permissions(sub, fs::perms::owner_read | fs::perms::owner_exec);
+    if (access(sub.c_str(), W_OK) == 0) {
+      MESSAGE("running with privileges that ignore directory permissions; read-only case not checkable");
+    } else {
+      const std::string m = error_of<FileError>([&] { save_raw(g, target); });
+      check_has(m, {target.string(), std::strerror(EACCES), "left untouched"});
+      CHECK(file_bytes(target) == before);
+    }
+    fs::permissions(sub, fs::perms::owner_all);
+  }
+  SUBCASE("empty grid: InvalidArgument, nothing written") {
+    const fs::path target = dir / "existing.raw";
+    write_bytes(target, {'o', 'l', 'd'});
+    const std::string m = error_of<InvalidArgument>([&] { save_raw(Grid(), target); });
+    check_has(m, {"empty", "0x0x0"});
+    CHECK(file_bytes(target) == std::vector<std::uint8_t>{'o', 'l', 'd'});
+  }
+}
+
+TEST_CASE("raw: saving over an existing file replaces it and leaves no temporary") {
+  TempDir dir;
+  const fs::path p = dir / "over.raw";
+  write_bytes(p, std::vector<std::uint8_t>(5000, 0xAB));
+  const Grid g = random_grid({3, 4, 5}, 6);
+  save_raw(g, p);
+  CHECK(file_bytes(p) == encode_raw(g));
+  CHECK(std::distance(fs::directory_iterator(dir.path()), fs::directory_iterator()) == 1);
+}
+
+TEST_CASE("write_file_atomic concatenates its parts and read_file_bytes reads them back") {
+  TempDir dir;
+  const fs::path p = dir / "parts.bin";
+  const std::vector<std::uint8_t> a = {1, 2, 3}, b = {}, c = {4, 5};
+  write_file_atomic(p, {a, b, c});
+  CHECK(read_file_bytes(p) == std::vector<std::uint8_t>{1, 2, 3, 4, 5});
+  write_file_atomic(p, {});
+  CHECK(read_file_bytes(p).empty());
+}
+
+TEST_CASE("load_grid / save_grid dispatch on the extension") {
+  TempDir dir;
+  const Grid g = random_grid({9, 4, 6}, 7);
+
+  SUBCASE(".raw") {
+    const fs::path p = dir / "scene.raw";
+    save_grid(g, p);
+    CHECK(file_bytes(p) == encode_raw(g));
+    CHECK(load_grid(p).hash() == g.hash());
+  }
+  SUBCASE(".vox") {
+    const fs::path p = dir / "scene.vox";
+    save_grid(g, p);
+    const auto b = file_bytes(p);
+    REQUIRE(b.size() > 8);
+    CHECK(std::string(b.begin(), b.begin() + 4) == "VOX ");
+    const Grid back = load_grid(p);
+    CHECK(back.size() == g.size());
+    CHECK(back.hash() == g.hash());
+  }
+  SUBCASE("upper-case extension") {
+    const fs::path p = dir / "SCENE.RAW";
+    save_grid(g, p);
+    const auto b = file_bytes(p);
+    REQUIRE(b.size() > 4);
+    CHECK(std::string(b.begin(), b.begin() + 4) == "GRAW");
+    CHECK(load_grid(p).hash() == g.hash());
+  }
+  SUBCASE("unknown extension") {
+    const fs::path p = dir / "scene.png";
+    const std::string s = error_of<InvalidArgument>([&] { save_grid(g, p); });
+    check_has(s, {p.string(), "'.png'", ".raw", ".vox"});
+    CHECK_FALSE(fs::exists(p));
+    write_bytes(p, {1, 2, 3});
+    const std::string l = error_of<InvalidArgument>([&] { load_grid(p); });
+    check_has(l, {p.string(), "'.png'", ".raw", ".vox"});
+  }
+  SUBCASE("no extension") {
+    const fs::path p = dir / "scene";
+    const std::string s = error_of<InvalidArgument>([&] { save_grid(g, p); });
+    check_has(s, {p.string(), "no extension", ".raw", ".vox"});
+  }
+}
