@@ -15,6 +15,8 @@
 
 #include "granular/errors.hpp"
 #include "granular/scene.hpp"
+#include "granular/world.hpp"
+#include "test_support.hpp"
 
 using namespace granular;
 
@@ -649,3 +651,27 @@ TEST_CASE("scene: load_scene reports unreadable files and names the file in pars
   CHECK(thrown);
   std::filesystem::remove_all(dir);
 }
+
+#if defined(GRANULAR_TEST_ASSET_DIR)
+// Needs World's definitions, so only in the full build (whose test target defines GRANULAR_TEST_ASSET_DIR).
+TEST_CASE("scene: run_emitters pours `rate` cells on each tick in [start, stop) and none after") {
+  const Scene scene = parse_scene(R"({"name": "e", "description": "d", "size": [1, 1, 1], "default_n": 16, "min_n": 1,
+      "shapes": [{"type": "box", "material": "solid", "min": [0, 0, 0], "max": [1, 1, 0.125]}],
+      "emitters": [{"center": [0.5, 0.5, 0.75], "radius": 0.2, "rate": 5, "start": 2, "stop": 6}]})",
+                                  "emit.json");
+  const SceneInstance s = instantiate(scene);
+  REQUIRE(s.emitters.size() == 1);
+  World world(test::test_def(s.grid.size()), s.grid);
+  const std::uint64_t solid = count_of(s.grid, Material::Solid);
+  for (std::uint64_t tick = 0; tick < 12; ++tick) {
+    CAPTURE(tick);
+    REQUIRE(world.tick() == tick);
+    run_emitters(world, s.emitters);
+    const std::uint64_t active_ticks = tick < 2 ? 0 : std::min<std::uint64_t>(tick, 5) - 1;
+    CHECK(world.count()[to_cell(Material::Granular)] == 5 * active_ticks);
+    CHECK(world.count()[to_cell(Material::Solid)] == solid);
+    world.step(1);
+  }
+  CHECK(world.count()[to_cell(Material::Granular)] == 20);
+}
+#endif

@@ -1,34 +1,14 @@
 #include "granular/rule_presets.hpp"
 
-#include <numeric>
 #include <utility>
 
 #include "granular/errors.hpp"
 #include "granular/material.hpp"
+#include "paper_rule.hpp"
 
 namespace granular {
 
 namespace {
-
-constexpr std::uint8_t kVoid = to_cell(Material::Void);
-constexpr std::uint8_t kGrain = to_cell(Material::Granular);
-
-/// Tracks which original cell sits at each block position while rules move cells around.
-class BlockState {
- public:
-  explicit BlockState(const BlockCells& cells) : cells_(cells) { std::iota(at_.begin(), at_.end(), std::uint8_t(0)); }
-  std::uint8_t state(int position) const { return cells_[at_[position]]; }
-  void swap(int p, int q) { std::swap(at_[p], at_[q]); }
-  Transition transition() const {
-    std::array<std::uint8_t, 8> dest{};
-    for (int p = 0; p < 8; ++p) dest[at_[p]] = std::uint8_t(p);
-    return encode_transition(dest);
-  }
-
- private:
-  BlockCells cells_;
-  std::array<std::uint8_t, 8> at_{};
-};
 
 RuleSet make_preset(std::string name, std::string description, bool random_symmetry) {
   RuleSet r;
@@ -37,31 +17,13 @@ RuleSet make_preset(std::string name, std::string description, bool random_symme
   r.version = 1;
   r.random_symmetry = random_symmetry;
   r.transition = &paper_transition;
+  r.device_rule = "paper";
   return r;
 }
 
 }  // namespace
 
-Transition paper_transition(const BlockCells& cells) {
-  BlockState b(cells);
-  // Gravity: a grain in the top layer falls into the void below it.
-  for (int column = 0; column < 4; ++column)
-    if (b.state(column + 4) == kGrain && b.state(column) == kVoid) b.swap(column + 4, column);
-  // Flow: a grain resting on something topples into a neighbouring bottom cell when both that
-  // cell and the cell above it are void (the path over the edge is clear).
-  for (int column = 0; column < 4; ++column) {
-    const int top = column + 4;
-    if (b.state(top) != kGrain) continue;
-    for (int flip : {1, 2, 3}) {
-      const int target = column ^ flip;
-      if (b.state(target) == kVoid && b.state(target + 4) == kVoid) {
-        b.swap(top, target);
-        break;
-      }
-    }
-  }
-  return b.transition();
-}
+Transition paper_transition(const BlockCells& cells) { return rules::paper_rule(encode_key(cells)); }
 
 std::shared_ptr<const RuleSet> make_rule_set(std::string_view name) {
   if (name == "paper")

@@ -22,6 +22,8 @@ struct RuleSet {
   bool random_symmetry = false;  ///< apply a random horizontal symmetry (D4) per block and tick, drawn
                                  ///< from block_random(seed, tick, position): one table, isotropic result
   BlockRule transition = nullptr;  ///< the rule itself
+  std::string device_rule;  ///< name of the same rule compiled for GPUs ("paper"), empty when none:
+                            ///< a GPU backend builds the table on the device from it
 };
 
 /// A 64-bit identity of a rule set's behaviour: its name, version and flags plus the rule's output
