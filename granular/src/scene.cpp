@@ -27,6 +27,7 @@ namespace granular {
 namespace {
 
 using scene_detail::JsonFields;
+using scene_detail::number_text;
 
 /// Largest N a scene accepts (far beyond any grid that fits in memory).
 constexpr std::int64_t kMaxN = 1 << 24;
@@ -114,7 +115,7 @@ std::int64_t resolve_count(const ScaledCount& c, int n, const std::string& what)
   double v = c.value;
   for (int i = 0; i < c.n_power; ++i) v *= double(n);
   if (v > kMaxCount)
-    throw InvalidArgument(what + ": " + std::to_string(c.value) + " resolves to " + std::to_string(v) +
+    throw InvalidArgument(what + ": " + number_text(c.value) + " resolves to " + number_text(v) +
                           " at N=" + std::to_string(n) + ", which is too large");
   return std::llround(v);
 }
@@ -130,17 +131,17 @@ Emitter resolve_emitter(const EmitterDef& def, int n, Int3 size, const std::stri
   const double c[3] = {e.center.x, e.center.y, e.center.z};
   for (int a = 0; a < 3; ++a)
     if (c[a] < 0 || c[a] > extent[a])
-      throw InvalidArgument(where + ".center[" + std::to_string(a) + "]: " + std::to_string(def.center[a]) +
+      throw InvalidArgument(where + ".center[" + std::to_string(a) + "]: " + number_text(def.center[a]) +
                             " lies outside the " + to_string(size) + " grid at N=" + std::to_string(n));
   e.radius = cells(def.radius, "radius");
   if (e.radius <= 0)
-    throw InvalidArgument(where + ".radius: " + std::to_string(def.radius) + " rounds to zero cells at N=" +
+    throw InvalidArgument(where + ".radius: " + number_text(def.radius) + " rounds to zero cells at N=" +
                           std::to_string(n));
   e.material = def.material;
   const std::string rate_key = count_key(def.rate, "rate", "rate_per_n2");
   e.rate = resolve_count(def.rate, n, where + "." + rate_key);
   if (e.rate < 1)
-    throw InvalidArgument(where + "." + rate_key + ": " + std::to_string(def.rate.value) +
+    throw InvalidArgument(where + "." + rate_key + ": " + number_text(def.rate.value) +
                           " rounds to 0 cells per tick at N=" + std::to_string(n) + "; use a larger value or N");
   e.start = std::uint64_t(resolve_count(def.start, n, where + "." + count_key(def.start, "start", "start_per_n")));
   e.stop = std::numeric_limits<std::uint64_t>::max();
@@ -257,7 +258,7 @@ Int3 scene_size(const Scene& scene, int n) {
     const std::string field = scene.source + ": size[" + std::to_string(a) + "]";
     extent[a] = scene_detail::cell_boundary(scene_detail::to_sixteenths(scene.size[a], n, field));
     if (extent[a] < 1)
-      throw InvalidArgument(field + ": " + std::to_string(scene.size[a]) + " times N=" + std::to_string(n) +
+      throw InvalidArgument(field + ": " + number_text(scene.size[a]) + " times N=" + std::to_string(n) +
                             " rounds to zero cells");
   }
   const Int3 size{int(extent[0]), int(extent[1]), int(extent[2])};

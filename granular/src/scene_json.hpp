@@ -4,9 +4,11 @@
 /// name the source, the field path ("shapes[2].radius") and the offending value.
 
 #include <array>
+#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <initializer_list>
+#include <limits>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -25,6 +27,13 @@ inline constexpr double kMaxFraction = 1000.0;
 /// The valid material names, for messages.
 inline constexpr const char* kMaterialNames =
     "void, solid, granular (or sand), liquid, gas, state5, state6, state7";
+
+/// The shortest text that reads back as `v` ("0.1", "863", "1e+30"), for messages.
+inline std::string number_text(double v) {
+  char buffer[32];
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer, v);
+  return std::string(buffer, result.ptr);
+}
 
 /// A JSON value as short text for messages.
 inline std::string describe(const nlohmann::json& value) {
@@ -141,7 +150,7 @@ class JsonFields {
   std::int64_t integer(std::string_view key, std::string_view needed_by, std::int64_t min) const {
     const nlohmann::json& v = require(key, needed_by);
     if (!v.is_number_integer()) fail(key, "expected an integer");
-    if (v.is_number_unsigned() ? v.get<std::uint64_t>() > std::uint64_t(INT64_MAX) : false)
+    if (v.is_number_unsigned() && v.get<std::uint64_t>() > std::uint64_t(std::numeric_limits<std::int64_t>::max()))
       fail(key, "is too large");
     const std::int64_t i = v.get<std::int64_t>();
     if (i < min) fail(key, "must be at least " + std::to_string(min));

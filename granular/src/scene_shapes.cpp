@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 #include <type_traits>
 
 #include "granular/errors.hpp"
@@ -16,13 +15,6 @@ __extension__ using Wide = __int128;
 
 /// Type names accepted in "type", for messages.
 constexpr const char* kShapeTypes = "box, sphere, cylinder, cone (or frustum), bowl";
-
-std::string number_text(double v) {
-  std::ostringstream s;
-  s.precision(17);
-  s << v;
-  return s.str();
-}
 
 BoxShape parse_box(const JsonFields& f) {
   f.check_known({"type", "material", "only", "min", "max"}, "a box");

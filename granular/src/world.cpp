@@ -13,6 +13,10 @@
 #include "granular/rule_set.hpp"
 #include "thread_pool.hpp"
 
+#ifdef GRANULAR_HAS_CUDA
+#include "granular_cuda/cuda_backend_factory.hpp"
+#endif
+
 namespace granular {
 
 const char* backend_name(BackendKind kind) noexcept {
@@ -139,17 +143,34 @@ void World::init(const Grid& initial) {
   def_.size = size_;
   rules_ = make_rule_set(def_.rules);
   const int threads = def_.threads > 0 ? def_.threads : hardware_threads();
-  BackendKind kind = def_.backend;
-  if (kind == BackendKind::Cuda)
-    throw BackendError("WorldDef::backend = cuda, but this build of granular has no CUDA backend; use cpu or auto");
-  if (kind == BackendKind::Auto) {
-    notices_.push_back("backend auto: no CUDA backend in this build; using the CPU");
-    kind = BackendKind::Cpu;
-  }
+  [[maybe_unused]] const BackendKind kind = choose_backend(def_.backend);
   std::string notice;
   lut_ = shared_lut(*rules_, def_, threads, lut_seconds_, lut_from_cache_, notice);
   if (!notice.empty()) notices_.push_back(notice);
+#ifdef GRANULAR_HAS_CUDA
+  if (kind == BackendKind::Cuda) {
+    backend_ = make_cuda_backend(initial, lut_, *rules_, def_.seed);
+    return;
+  }
+#endif
   backend_ = std::make_unique<CpuBackend>(initial, lut_, rules_->random_symmetry, def_.seed, threads);
+}
+
+BackendKind World::choose_backend(BackendKind wanted) {
+#ifdef GRANULAR_HAS_CUDA
+  std::string why;
+  if (wanted == BackendKind::Cpu) return BackendKind::Cpu;
+  if (cuda_device_available(&why)) return BackendKind::Cuda;
+  if (wanted == BackendKind::Cuda)
+    throw BackendError("WorldDef::backend = cuda, but no CUDA device is usable: " + why + "; use cpu or auto");
+  notices_.push_back("backend auto: no usable CUDA device (" + why + "); using the CPU");
+  return BackendKind::Cpu;
+#else
+  if (wanted == BackendKind::Cuda)
+    throw BackendError("WorldDef::backend = cuda, but this build of granular has no CUDA backend; use cpu or auto");
+  if (wanted == BackendKind::Auto) notices_.push_back("backend auto: no CUDA backend in this build; using the CPU");
+  return BackendKind::Cpu;
+#endif
 }
 
 void World::step(int ticks) {

@@ -88,6 +88,7 @@ class World {
 
  private:
   void init(const Grid& initial);
+  BackendKind choose_backend(BackendKind wanted);
   ChangeReport commit_region(const Box& region, bool clipped, const std::vector<std::uint8_t>& before,
                              const std::vector<std::uint8_t>& after);
 

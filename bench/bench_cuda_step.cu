@@ -1,0 +1,274 @@
+/// @file bench_cuda_step.cu
+/// GPU step throughput on the paper's bowl scene, dense stepping, in one process:
+///   (1) paper     the paper's layout: one int32 per cell, the full 8^8 uint32 permutation table in
+///                 global memory, one CUDA block of 256 threads per horizontal layer of blocks
+///                 (interior blocks only, as in the paper), gather-key-lookup-permute-scatter;
+///   (2) backend   the CUDA backend's own step kernel (step_kernel.cuh): a byte per cell and the
+///                 result table, one thread per block; also with the isotropic rule's random symmetry;
+///   (3) memcpy    a device-to-device copy of the grid's bytes: the bandwidth ceiling (a copy reads
+///                 and writes one byte per cell, the least any step can move).
+/// Prints cell-updates per second and ratios, and writes bench_cuda.csv.
+///
+///   bench_cuda_step [output-dir]      (default: $OUT when set, else the current directory)
+///   environment: GRANULAR_BENCH_SIZES="256,512,1024,2048"  GRANULAR_BENCH_TICKS=64
+
+#include <cuda_runtime.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <exception>
+#include <filesystem>
+#include <fstream>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "cuda_check.cuh"
+#include "cuda_device.cuh"
+#include "cuda_stream.cuh"
+#include "device_buffer.cuh"
+#include "granular/block.hpp"
+#include "granular/errors.hpp"
+#include "granular/scene.hpp"
+#include "reduce_kernels.cuh"
+#include "step_kernel.cuh"
+#include "table_kernels.cuh"
+
+namespace {
+
+using namespace granular;
+
+/// Threads per CUDA block of the paper's kernel.
+constexpr int kPaperThreads = 256;
+
+/// One tick in the paper's layout: CUDA block b takes block layer b (z0 = 2b - offset.z); its
+/// threads stride over the layer's interior blocks; edge blocks are left alone, as in the paper.
+__global__ void __launch_bounds__(kPaperThreads) paper_step_kernel(int* cells, Int3 size, const Transition* lut,
+                                                                    std::uint64_t tick) {
+  const BlockOffset o = block_offset(tick);
+  const int z0 = 2 * int(blockIdx.x) - o.z;
+  if (z0 < 0 || z0 + 1 >= size.z) return;
+  const int xs = o.x, ys = o.y;  // first interior block corner along x and y
+  const int nbx = (size.x - xs) / 2, nby = (size.y - ys) / 2;
+  const std::int64_t sy = size.x, sz = sy * size.y;
+  for (int b = int(threadIdx.x); b < nbx * nby; b += kPaperThreads) {
+    const int x0 = xs + 2 * (b % nbx), y0 = ys + 2 * (b / nbx);
+    int* const base = cells + x0 + sy * y0 + sz * z0;
+    std::int64_t at[8];
+    int cell[8];
+    BlockKey key = 0;
+#pragma unroll
+    for (int i = 0; i < 8; ++i) {
+      at[i] = std::int64_t(i & 1) + sy * ((i >> 1) & 1) + sz * (i >> 2);
+      cell[i] = base[at[i]];
+      key |= BlockKey(cell[i]) << (3 * i);
+    }
+    const Transition t = lut[key];
+#pragma unroll
+    for (int i = 0; i < 8; ++i) base[at[destination(t, i)]] = cell[i];
+  }
+}
+
+/// Widens byte cells to int32 cells.
+__global__ void widen_kernel(const std::uint8_t* in, int* out, std::uint64_t n) {
+  for (std::uint64_t i = std::uint64_t(blockIdx.x) * blockDim.x + threadIdx.x; i < n;
+       i += std::uint64_t(gridDim.x) * blockDim.x)
+    out[i] = in[i];
+}
+
+/// One measured variant at one N.
+struct Row {
+  int n = 0;
+  std::uint64_t cells = 0;
+  std::string variant;
+  double seconds_per_tick = 0;
+  double bytes_per_cell = 0;
+  double updates_per_s() const { return double(cells) / seconds_per_tick; }
+};
+
+int env_int(const char* name, int fallback) {
+  const char* v = std::getenv(name);
+  return v && *v ? std::atoi(v) : fallback;
+}
+
+std::vector<int> bench_sizes() {
+  const char* v = std::getenv("GRANULAR_BENCH_SIZES");
+  std::vector<int> sizes;
+  std::stringstream s(v && *v ? v : "256,512,1024,2048");
+  for (std::string item; std::getline(s, item, ',');)
+    if (!item.empty()) sizes.push_back(std::atoi(item.c_str()));
+  return sizes;
+}
+
+std::size_t free_device_bytes() {
+  std::size_t free_bytes = 0, total = 0;
+  cuda::check(cudaMemGetInfo(&free_bytes, &total), "cudaMemGetInfo");
+  return free_bytes;
+}
+
+/// Runs `warmup` then `ticks` calls of tick(t) (t counting from 0) and returns seconds per call.
+template <class Tick>
+double time_ticks(cuda::Stream& stream, int warmup, int ticks, Tick&& tick) {
+  for (int t = 0; t < warmup; ++t) tick(std::uint64_t(t));
+  stream.synchronize("warm-up");
+  cuda::Event start, stop;
+  start.record(stream.get());
+  for (int t = warmup; t < warmup + ticks; ++t) tick(std::uint64_t(t));
+  stop.record(stream.get());
+  return double(stop.ms_since(start)) / 1000.0 / ticks;
+}
+
+/// Cells per material on the device, for the mass check.
+std::vector<unsigned long long> device_counts(const std::uint8_t* cells, std::uint64_t n, int sm_count,
+                                              cuda::Stream& stream) {
+  cuda::DeviceBuffer<unsigned long long> counts(kMaterialCount, "counters");
+  cuda::check(cudaMemsetAsync(counts.data(), 0, counts.bytes(), stream.get()), "cudaMemsetAsync");
+  cuda::count_kernel<<<cuda::reduce_blocks(n, sm_count), cuda::kReduceThreads, 0, stream.get()>>>(cells, n, counts.data());
+  cuda::check_launch("count kernel");
+  std::vector<unsigned long long> host(kMaterialCount);
+  cuda::check(cudaMemcpyAsync(host.data(), counts.data(), counts.bytes(), cudaMemcpyDeviceToHost, stream.get()),
+              "cudaMemcpyAsync");
+  stream.synchronize("count");
+  return host;
+}
+
+std::filesystem::path output_dir(int argc, char** argv) {
+  if (argc > 1) return argv[1];
+  const char* out = std::getenv("OUT");
+  if (out && *out) return out;
+  return std::filesystem::current_path();
+}
+
+int run(int argc, char** argv) {
+  const std::filesystem::path out_dir = output_dir(argc, argv);
+  std::filesystem::create_directories(out_dir);
+  const int ticks = env_int("GRANULAR_BENCH_TICKS", 64), warmup = 8;
+  const cuda::DeviceInfo device = cuda::acquire_device();
+  std::printf("device: %s, %d SMs; %d timed ticks after %d warm-up ticks per variant\n", cuda::describe(device).c_str(),
+              device.sm_count, ticks, warmup);
+
+  cuda::Stream stream;
+  const std::size_t table_bytes = std::size_t(kBlockKeyCount) * sizeof(Transition);
+  cuda::DeviceBuffer<Transition> lut(kBlockKeyCount, "the transition table");
+  cuda::DeviceBuffer<BlockKey> result(kBlockKeyCount, "the result table");
+  cuda::launch_paper_lut(lut.data(), stream.get());
+  cuda::launch_result_table(lut.data(), result.data(), stream.get());
+  stream.synchronize("building the tables");
+
+  const Scene scene = load_scene(find_scene("bowl"));
+  std::vector<Row> rows;
+  for (const int n : bench_sizes()) {
+    const Int3 size = scene_size(scene, n);
+    const std::uint64_t cells = std::uint64_t(size.x) * std::uint64_t(size.y) * std::uint64_t(size.z);
+    if (cuda::cell_buffer_bytes(cells) > free_device_bytes()) {
+      std::printf("N=%d: %s grid (%llu bytes) does not fit in device memory; skipped\n", n, to_string(size).c_str(),
+                  (unsigned long long)cells);
+      continue;
+    }
+    std::printf("N=%d: building the scene on the host...\n", n);
+    std::fflush(stdout);
+    const SceneInstance inst = instantiate(scene, n);
+    cuda::DeviceBuffer<std::uint8_t> bytes(cuda::cell_buffer_bytes(cells), "the grid's cells");
+    auto upload = [&] {
+      cuda::check(cudaMemcpy(bytes.data(), inst.grid.cells().data(), cells, cudaMemcpyHostToDevice), "upload");
+    };
+    const unsigned fill_blocks = unsigned(device.sm_count) * 8;
+
+    // (1) the paper's layout.
+    if (std::uint64_t(cells) * 4 < free_device_bytes()) {
+      upload();
+      cuda::DeviceBuffer<int> wide(cells, "int32 cells");
+      widen_kernel<<<fill_blocks, 256, 0, stream.get()>>>(bytes.data(), wide.data(), cells);
+      cuda::check_launch("widen kernel");
+      const unsigned layers = unsigned(block_count(size.z, 1));
+      const double s = time_ticks(stream, warmup, ticks, [&](std::uint64_t t) {
+        paper_step_kernel<<<layers, kPaperThreads, 0, stream.get()>>>(wide.data(), size, lut.data(), t);
+      });
+      cuda::check_launch("paper step kernel");
+      rows.push_back({n, cells, "paper_int32_lut", s, (4.0 * double(cells) + double(table_bytes)) / double(cells)});
+    } else {
+      std::printf("N=%d: (1) the paper's int32 layout needs %.2f GB; it does not fit in device memory, skipped\n", n,
+                  4.0 * double(cells) / 1e9);
+    }
+
+    // (2) this backend's kernel, for both rule sets.
+    for (const bool random_symmetry : {false, true}) {
+      upload();
+      const auto before = device_counts(bytes.data(), cells, device.sm_count, stream);
+      cuda::StepParams p;
+      p.cells = bytes.data();
+      p.size = size;
+      p.result = result.data();
+      p.seed = 1;
+      const cuda::StepShape shape = cuda::step_shape(size);
+      const double s = time_ticks(stream, warmup, ticks, [&](std::uint64_t t) {
+        p.tick = t;
+        cuda::launch_step(p, random_symmetry, shape, stream.get());
+      });
+      stream.synchronize("backend step");
+      const auto after = device_counts(bytes.data(), cells, device.sm_count, stream);
+      if (before != after) std::printf("N=%d: WARNING: the backend kernel did not conserve the materials\n", n);
+      rows.push_back({n, cells, random_symmetry ? "backend_u8_isotropic" : "backend_u8_paper", s,
+                      (double(cuda::cell_buffer_bytes(cells)) + double(table_bytes)) / double(cells)});
+    }
+
+    // (3) the bandwidth ceiling.
+    if (cuda::cell_buffer_bytes(cells) < free_device_bytes()) {
+      cuda::DeviceBuffer<std::uint8_t> copy(cuda::cell_buffer_bytes(cells), "the copy's target");
+      const double s = time_ticks(stream, warmup, ticks, [&](std::uint64_t) {
+        cuda::check(cudaMemcpyAsync(copy.data(), bytes.data(), cells, cudaMemcpyDeviceToDevice, stream.get()),
+                    "cudaMemcpyAsync (device to device)");
+      });
+      rows.push_back({n, cells, "memcpy_d2d", s, 2.0});
+    } else {
+      std::printf("N=%d: no room for a second copy of the grid; (3) skipped\n", n);
+    }
+  }
+
+  std::printf("\n%6s %14s %-22s %14s %16s %12s\n", "N", "cells", "variant", "ms/tick", "cell-updates/s", "bytes/cell");
+  for (const Row& r : rows)
+    std::printf("%6d %14llu %-22s %14.4f %16.4g %12.3f\n", r.n, (unsigned long long)r.cells, r.variant.c_str(),
+                r.seconds_per_tick * 1e3, r.updates_per_s(), r.bytes_per_cell);
+  std::printf("\n%6s %22s %22s %26s\n", "N", "backend/paper", "backend/memcpy", "isotropic/paper-rule");
+  auto find = [&](int n, const char* variant) -> std::optional<Row> {
+    for (const Row& r : rows)
+      if (r.n == n && r.variant == variant) return r;
+    return std::nullopt;
+  };
+  for (const int n : bench_sizes()) {
+    const auto backend = find(n, "backend_u8_paper");
+    if (!backend) continue;
+    const auto paper = find(n, "paper_int32_lut"), copy = find(n, "memcpy_d2d"), iso = find(n, "backend_u8_isotropic");
+    auto ratio = [&](const std::optional<Row>& a, const std::optional<Row>& b) {
+      char text[32] = "n/a";
+      if (a && b) std::snprintf(text, sizeof text, "%.3f", a->updates_per_s() / b->updates_per_s());
+      return std::string(text);
+    };
+    std::printf("%6d %22s %22s %26s\n", n, ratio(backend, paper).c_str(), ratio(backend, copy).c_str(),
+                ratio(iso, backend).c_str());
+  }
+  std::printf("(memcpy cells/s = bytes copied per second; a step reads every cell and writes only moved ones)\n");
+
+  const std::filesystem::path csv = out_dir / "bench_cuda.csv";
+  std::ofstream file(csv);
+  file << "N,cells,variant,seconds_per_tick,cell_updates_per_s,bytes_per_cell\n";
+  for (const Row& r : rows)
+    file << r.n << ',' << r.cells << ',' << r.variant << ',' << r.seconds_per_tick << ',' << r.updates_per_s() << ','
+         << r.bytes_per_cell << '\n';
+  file.close();
+  if (!file) throw FileError("could not write " + csv.string());
+  std::printf("wrote %s\n", csv.string().c_str());
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "bench_cuda_step: error: %s\n", e.what());
+    return 1;
+  }
+}

@@ -1,0 +1,45 @@
+#pragma once
+/// @file cuda_backend_factory.hpp
+/// The CUDA backend's entry points, as plain C++ (no CUDA types): the library's World and the tests
+/// include this with an ordinary C++ compiler and link the granular_cuda library.
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "backend.hpp"
+#include "granular/block.hpp"
+#include "granular/geometry.hpp"
+#include "granular/grid.hpp"
+#include "granular/lut.hpp"
+#include "granular/rule_set.hpp"
+
+namespace granular {
+
+/// True when a CUDA device is usable (a driver, a device, and kernels of this build that run on
+/// it); otherwise `why` (when given) says why (no driver, no device, unsupported architecture...).
+bool cuda_device_available(std::string* why = nullptr);
+
+/// Bytes the CUDA backend needs on the device for a grid of `size`: one byte per cell (rounded up
+/// to whole 8-byte words) plus the 64 MiB transition table and the 64 MiB result table derived
+/// from it on the device.
+std::uint64_t cuda_bytes_needed(Int3 size);
+
+/// Throws OutOfMemory, naming the grid size, the bytes needed and the bytes free on the device, when
+/// a grid of `size` does not fit in the device's free memory; BackendError when no device is usable;
+/// InvalidArgument for a non-positive extent. Allocates nothing.
+void check_cuda_fits(Int3 size);
+
+/// Creates the CUDA backend holding a copy of `initial`. Throws BackendError (no GPU, CUDA failure,
+/// with the CUDA error string) or OutOfMemory (with the grid size, bytes needed and bytes free on
+/// the device); InvalidArgument for an empty grid or a null table.
+std::unique_ptr<Backend> make_cuda_backend(const Grid& initial, std::shared_ptr<const Lut> lut, const RuleSet& rules,
+                                           std::uint64_t seed);
+
+/// Builds the transition table for `rules` on the GPU (rules.device_rule must be "paper", else
+/// InvalidArgument), returns the 16,777,216 entries (copied back), and the kernel time in
+/// milliseconds in `kernel_ms` when given. Throws BackendError as make_cuda_backend.
+std::vector<Transition> build_lut_on_gpu(const RuleSet& rules, float* kernel_ms = nullptr);
+
+}  // namespace granular

@@ -1,0 +1,194 @@
+#include <cuda_runtime.h>
+
+#include <memory>
+#include <string>
+
+#include "backend.hpp"
+#include "cuda_check.cuh"
+#include "cuda_device.cuh"
+#include "cuda_stream.cuh"
+#include "device_buffer.cuh"
+#include "granular/block.hpp"
+#include "granular/errors.hpp"
+#include "granular/grid.hpp"
+#include "granular/lut.hpp"
+#include "granular/rule_set.hpp"
+#include "granular_cuda/cuda_backend_factory.hpp"
+#include "reduce_kernels.cuh"
+#include "step_kernel.cuh"
+#include "table_kernels.cuh"
+
+namespace granular {
+
+namespace {
+
+/// The device current and the grid checked to fit, before anything is allocated.
+cuda::DeviceInfo prepare_device(Int3 size) {
+  cuda::DeviceInfo device = cuda::acquire_device();
+  cuda::check_fits(device, size);
+  return device;
+}
+
+/// Steps a byte-per-cell grid on a CUDA device: the same cells, result table and block arithmetic
+/// as the CPU backend, so both produce the same grid after any number of ticks. Every call runs
+/// on the backend's own stream and returns once the device has finished.
+class CudaBackend final : public Backend {
+ public:
+  /// Uploads `initial` and derives the result table from `lut` on the device.
+  CudaBackend(const Grid& initial, const Lut& lut, bool random_symmetry, std::uint64_t seed)
+      : device_(prepare_device(initial.size())),
+        size_(initial.size()),
+        cell_count_(std::uint64_t(initial.cell_count())),
+        random_symmetry_(random_symmetry),
+        seed_(seed),
+        shape_(cuda::step_shape(initial.size())),
+        cells_(cuda::cell_buffer_bytes(cell_count_), "the grid's cells"),
+        result_(kBlockKeyCount, "the result table"),
+        scratch_(kMaterialCount, "reduction counters") {
+    cudaStream_t s = stream_.get();
+    if (cells_.bytes() > cell_count_)  // the tail of the last word, read (masked) by the reductions
+      cuda::check(cudaMemsetAsync(cells_.data() + cell_count_, 0, cells_.bytes() - cell_count_, s),
+                  "cudaMemsetAsync (cells)");
+    cuda::check(cudaMemcpyAsync(cells_.data(), initial.cells().data(), cell_count_, cudaMemcpyHostToDevice, s),
+                "cudaMemcpyAsync (upload cells)");
+    cuda::DeviceBuffer<Transition> table(kBlockKeyCount, "the transition table");
+    cuda::check(cudaMemcpyAsync(table.data(), lut.entries().data(), table.bytes(), cudaMemcpyHostToDevice, s),
+                "cudaMemcpyAsync (upload transition table)");
+    cuda::launch_result_table(table.data(), result_.data(), s);
+    stream_.synchronize("building the result table");
+  }
+
+  BackendKind kind() const override { return BackendKind::Cuda; }
+  std::string description() const override { return cuda::describe(device_); }
+
+  void step(std::uint64_t first_tick, int ticks) override {
+    activate();
+    cuda::StepParams p;
+    p.cells = cells_.data();
+    p.size = size_;
+    p.result = result_.data();
+    p.seed = seed_;
+    for (int i = 0; i < ticks; ++i) {
+      p.tick = first_tick + std::uint64_t(i);
+      cuda::launch_step(p, random_symmetry_, shape_, stream_.get());
+    }
+    stream_.synchronize("step");
+  }
+
+  void read(const Box& box, std::span<std::uint8_t> out) const override {
+    check_box(box, out.size(), "read");
+    copy_out(box, out.data());
+  }
+
+  void write(const Box& box, std::span<const std::uint8_t> in) override {
+    check_box(box, in.size(), "write");
+    copy_in(box, in.data());
+  }
+
+  MaterialCounts count() const override {
+    activate();
+    cudaStream_t s = stream_.get();
+    cuda::check(cudaMemsetAsync(scratch_.data(), 0, scratch_.bytes(), s), "cudaMemsetAsync (counters)");
+    cuda::count_kernel<<<cuda::reduce_blocks(cell_count_, device_.sm_count), cuda::kReduceThreads, 0, s>>>(
+        cells_.data(), cell_count_, scratch_.data());
+    cuda::check_launch("count kernel launch");
+    unsigned long long counts[kMaterialCount] = {};
+    cuda::check(cudaMemcpyAsync(counts, scratch_.data(), sizeof counts, cudaMemcpyDeviceToHost, s),
+                "cudaMemcpyAsync (counts)");
+    stream_.synchronize("count");
+    MaterialCounts out{};
+    for (int m = 0; m < kMaterialCount; ++m) out[std::size_t(m)] = counts[m];
+    return out;
+  }
+
+  std::uint64_t hash() const override {
+    activate();
+    cudaStream_t s = stream_.get();
+    cuda::check(cudaMemsetAsync(scratch_.data(), 0, sizeof(unsigned long long), s), "cudaMemsetAsync (hash)");
+    cuda::hash_kernel<<<cuda::reduce_blocks(cell_count_, device_.sm_count), cuda::kReduceThreads, 0, s>>>(
+        cells_.data(), cell_count_, scratch_.data());
+    cuda::check_launch("hash kernel launch");
+    unsigned long long sum = 0;
+    cuda::check(cudaMemcpyAsync(&sum, scratch_.data(), sizeof sum, cudaMemcpyDeviceToHost, s),
+                "cudaMemcpyAsync (hash)");
+    stream_.synchronize("hash");
+    return finish_hash(size_, sum);
+  }
+
+ private:
+  /// Makes the backend's device current on the calling thread.
+  void activate() const { cuda::check(cudaSetDevice(device_.index), "cudaSetDevice"); }
+
+  /// Throws InvalidArgument unless `box` is a non-empty in-grid box of `bytes` cells.
+  void check_box(const Box& box, std::size_t bytes, const char* what) const {
+    if (box.empty() || !(intersect(box, Box{{0, 0, 0}, size_}) == box) || std::uint64_t(box.volume()) != bytes)
+      throw InvalidArgument(std::string("cuda backend: ") + what + ": the box must be a non-empty box inside the " +
+                            to_string(size_) + " grid with as many cells as the buffer holds (" +
+                            std::to_string(bytes) + ")");
+  }
+
+  /// Calls copy(device_offset, host_offset, width, height) for the pieces of `box`: one contiguous
+  /// run of `width` bytes (height 1) when the box spans whole xy slices, else per z slice `height`
+  /// rows of `width` bytes, the device's rows size.x bytes apart and the host's packed.
+  template <class Copy>
+  void for_each_piece(const Box& box, Copy&& copy) const {
+    const Int3 e = box.extent();
+    const std::size_t sy = std::size_t(size_.x), sz = sy * std::size_t(size_.y);
+    const std::size_t origin = std::size_t(box.min.x) + sy * std::size_t(box.min.y) + sz * std::size_t(box.min.z);
+    if (e.x == size_.x && e.y == size_.y) {
+      copy(origin, std::size_t(0), sz * std::size_t(e.z), std::size_t(1));
+      return;
+    }
+    const std::size_t w = std::size_t(e.x), h = std::size_t(e.y);
+    for (int z = 0; z < e.z; ++z) copy(origin + sz * std::size_t(z), w * h * std::size_t(z), w, h);
+  }
+
+  /// Copies the cells of `box` out to `host` (x fastest, no padding).
+  void copy_out(const Box& box, std::uint8_t* host) const {
+    activate();
+    const std::size_t pitch = std::size_t(size_.x);
+    for_each_piece(box, [&](std::size_t d, std::size_t o, std::size_t w, std::size_t h) {
+      const cudaError_t status =
+          h == 1 ? cudaMemcpyAsync(host + o, cells_.data() + d, w, cudaMemcpyDeviceToHost, stream_.get())
+                 : cudaMemcpy2DAsync(host + o, w, cells_.data() + d, pitch, w, h, cudaMemcpyDeviceToHost, stream_.get());
+      cuda::check(status, "copying cells to the host");
+    });
+    stream_.synchronize("read");
+  }
+
+  /// Copies `host` (x fastest, no padding) into the cells of `box`.
+  void copy_in(const Box& box, const std::uint8_t* host) {
+    activate();
+    const std::size_t pitch = std::size_t(size_.x);
+    for_each_piece(box, [&](std::size_t d, std::size_t o, std::size_t w, std::size_t h) {
+      const cudaError_t status =
+          h == 1 ? cudaMemcpyAsync(cells_.data() + d, host + o, w, cudaMemcpyHostToDevice, stream_.get())
+                 : cudaMemcpy2DAsync(cells_.data() + d, pitch, host + o, w, w, h, cudaMemcpyHostToDevice, stream_.get());
+      cuda::check(status, "copying cells to the device");
+    });
+    stream_.synchronize("write");
+  }
+
+  cuda::DeviceInfo device_;
+  Int3 size_;
+  std::uint64_t cell_count_;
+  bool random_symmetry_;
+  std::uint64_t seed_;
+  cuda::StepShape shape_;
+  cuda::Stream stream_;
+  cuda::DeviceBuffer<std::uint8_t> cells_;
+  cuda::DeviceBuffer<BlockKey> result_;
+  cuda::DeviceBuffer<unsigned long long> scratch_;
+};
+
+}  // namespace
+
+std::unique_ptr<Backend> make_cuda_backend(const Grid& initial, std::shared_ptr<const Lut> lut, const RuleSet& rules,
+                                           std::uint64_t seed) {
+  if (initial.cell_count() == 0) throw InvalidArgument("cuda backend: the initial grid is empty (0 cells)");
+  if (!lut || lut->entries().size() != kBlockKeyCount)
+    throw InvalidArgument("cuda backend: a full transition table (16,777,216 entries) is required");
+  return std::make_unique<CudaBackend>(initial, *lut, rules.random_symmetry, seed);
+}
+
+}  // namespace granular
