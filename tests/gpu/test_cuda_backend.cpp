@@ -1,0 +1,259 @@
+/// @file test_cuda_backend.cpp
+/// The CUDA backend against the CPU reference: the same grid hash after any number of ticks, on
+/// any size (odd ones included), seed and rule set; the same counts, regions and tool results; the
+/// GPU-built transition table equal to the CPU's; and the device-memory error path.
+
+#include <doctest/doctest.h>
+
+#include <cstdint>
+#include <optional>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "../test_support.hpp"
+#include "granular/errors.hpp"
+#include "granular/lut.hpp"
+#include "granular/rule_presets.hpp"
+#include "granular/rule_set.hpp"
+#include "granular/world.hpp"
+#include "granular_cuda/cuda_backend_factory.hpp"
+
+using namespace granular;
+using granular::test::random_grid;
+using granular::test::random_size;
+
+namespace {
+
+/// A WorldDef for `backend` (the CPU with 2 threads) with the build tree's table cache.
+WorldDef def_for(BackendKind backend, const char* rules, std::uint64_t seed) {
+  WorldDef def;
+  def.rules = rules;
+  def.seed = seed;
+  def.backend = backend;
+  def.threads = 2;
+  return def;
+}
+
+/// The same initial grid on the CPU and on the GPU.
+struct WorldPair {
+  World cpu;
+  World gpu;
+  WorldPair(const Grid& initial, const char* rules, std::uint64_t seed)
+      : cpu(def_for(BackendKind::Cpu, rules, seed), initial), gpu(def_for(BackendKind::Cuda, rules, seed), initial) {}
+  void step(int ticks) {
+    cpu.step(ticks);
+    gpu.step(ticks);
+  }
+};
+
+/// "" when both worlds hold the same cells, else the first differing cell and both values.
+std::string first_difference(const World& cpu, const World& gpu) {
+  const Grid a = cpu.snapshot(), b = gpu.snapshot();
+  for (int z = 0; z < a.size().z; ++z)
+    for (int y = 0; y < a.size().y; ++y)
+      for (int x = 0; x < a.size().x; ++x)
+        if (a.at({x, y, z}) != b.at({x, y, z}))
+          return "first difference at (" + std::to_string(x) + ", " + std::to_string(y) + ", " + std::to_string(z) +
+                 "): cpu " + std::to_string(unsigned(to_cell(a.at({x, y, z})))) + ", gpu " +
+                 std::to_string(unsigned(to_cell(b.at({x, y, z})))) + " at tick " + std::to_string(cpu.tick());
+  return {};
+}
+
+/// Requires equal hashes; names the first differing cell when they are not.
+void require_same(const WorldPair& w) {
+  const std::uint64_t cpu = w.cpu.hash(), gpu = w.gpu.hash();
+  if (cpu != gpu) FAIL_CHECK(first_difference(w.cpu, w.gpu));
+  REQUIRE(gpu == cpu);
+}
+
+}  // namespace
+
+TEST_CASE("cuda: the GPU-built transition table equals the CPU's Lut::build bit for bit") {
+  const auto rules = make_rule_set("paper");
+  float ms = -1;
+  const std::vector<Transition> gpu = build_lut_on_gpu(*rules, &ms);
+  MESSAGE("GPU transition table kernel: " << ms << " ms for 16,777,216 keys");
+  CHECK(ms >= 0);
+  const Lut cpu = Lut::build(*rules, 0);
+  REQUIRE(gpu.size() == cpu.entries().size());
+  std::uint64_t mismatches = 0;
+  std::int64_t first = -1;
+  for (std::size_t k = 0; k < gpu.size(); ++k)
+    if (gpu[k] != cpu.entries()[k]) {
+      if (first < 0) first = std::int64_t(k);
+      ++mismatches;
+    }
+  CAPTURE(first);
+  CHECK(mismatches == 0);
+  const Lut wrapped = Lut::from_entries(gpu, rule_fingerprint(*rules), 0);
+  CHECK(wrapped.content_hash() == cpu.content_hash());
+
+  RuleSet no_device_rule = *rules;
+  no_device_rule.device_rule.clear();
+  CHECK_THROWS_AS(build_lut_on_gpu(no_device_rule), InvalidArgument);
+}
+
+TEST_CASE("cuda: a world on the GPU uses the CUDA backend and describes its device") {
+  World gpu(def_for(BackendKind::Cuda, "paper", 1), random_grid({9, 8, 7}, 3));
+  CHECK(gpu.backend() == BackendKind::Cuda);
+  const std::string description = gpu.backend_description();
+  CAPTURE(description);
+  CHECK(description.rfind("cuda (", 0) == 0);
+  CHECK(description.find(", sm_") != std::string::npos);
+}
+
+TEST_CASE("cuda: make_cuda_backend holds an exact copy of the grid") {
+  const auto rules = make_rule_set("paper");
+  const auto lut = std::make_shared<const Lut>(Lut::build(*rules, 0));
+  for (const Int3 size : {Int3{1, 1, 1}, Int3{3, 5, 7}, Int3{8, 8, 8}, Int3{17, 1, 9}, Int3{64, 33, 20}}) {
+    CAPTURE(size.x);
+    CAPTURE(size.y);
+    CAPTURE(size.z);
+    const Grid g = random_grid(size, 11, 20, 40);
+    const auto backend = make_cuda_backend(g, lut, *rules, 5);
+    CHECK(backend->kind() == BackendKind::Cuda);
+    CHECK(backend->hash() == g.hash());
+    CHECK(backend->count() == g.count());
+    Grid back(size);
+    backend->read(g.bounds(), back.cells());
+    CHECK(back.hash() == g.hash());
+  }
+  CHECK_THROWS_AS(make_cuda_backend(Grid({4, 4, 4}), nullptr, *rules, 0), InvalidArgument);
+}
+
+TEST_CASE("cuda: same hash as the CPU after 1, 7, 8, 100 and 1000 ticks on 20 random scenes") {
+  std::mt19937_64 rng(20261123);
+  for (int scene = 0; scene < 20; ++scene) {
+    const char* rules = scene % 2 == 0 ? "paper" : "isotropic";
+    const Int3 size = random_size(rng, 1, 70);
+    const int solid = int(rng() % 30), granular = 5 + int(rng() % 70);
+    const std::uint64_t seed = rng();
+    CAPTURE(scene);
+    CAPTURE(rules);
+    CAPTURE(size.x);
+    CAPTURE(size.y);
+    CAPTURE(size.z);
+    CAPTURE(solid);
+    CAPTURE(granular);
+    CAPTURE(seed);
+    const Grid initial = random_grid(size, rng(), solid, granular);
+    WorldPair w(initial, rules, seed);
+    REQUIRE(w.gpu.backend() == BackendKind::Cuda);
+    require_same(w);
+    int done = 0;
+    for (const int checkpoint : {1, 7, 8, 100, 1000}) {
+      CAPTURE(checkpoint);
+      w.step(checkpoint - done);
+      done = checkpoint;
+      require_same(w);
+    }
+    CHECK(w.gpu.count() == initial.count());
+  }
+}
+
+TEST_CASE("cuda: same hash as the CPU over a 10,000-tick run of a 96^3 scene") {
+  const Int3 size{96, 96, 96};
+  const Grid initial = random_grid(size, 96, 12, 45);
+  WorldPair w(initial, "isotropic", 4242);
+  int done = 0;
+  for (const int checkpoint : {1, 9, 250, 1000, 2500, 5000, 7500, 10000}) {
+    CAPTURE(checkpoint);
+    w.step(checkpoint - done);
+    done = checkpoint;
+    require_same(w);
+  }
+  CHECK(w.gpu.count() == initial.count());
+  CHECK(w.gpu.tick() == 10000);
+}
+
+TEST_CASE("cuda: dig, pour and paint between ticks give the same worlds as on the CPU") {
+  for (const char* rules : {"paper", "isotropic"}) {
+    CAPTURE(rules);
+    const Int3 size{61, 48, 57};
+    std::mt19937_64 rng(777);
+    WorldPair w(random_grid(size, 5, 8, 30), rules, 99);
+    std::uniform_real_distribution<double> ux(-4.0, size.x + 4.0), uy(-4.0, size.y + 4.0), uz(-4.0, size.z + 4.0);
+    std::uniform_real_distribution<double> radius(1.0, 9.0);
+    for (int round = 0; round < 20; ++round) {
+      CAPTURE(round);
+      const Vec3 c{ux(rng), uy(rng), uz(rng)};
+      const double r = radius(rng);
+      const std::int64_t amount = std::int64_t(rng() % 400);
+      const Int3 lo{int(c.x) - 3, int(c.y) - 3, int(c.z) - 2};
+      const Box box{lo, {lo.x + 1 + int(rng() % 12), lo.y + 1 + int(rng() % 12), lo.z + 1 + int(rng() % 6)}};
+      const Material paint_material = round % 8 == 2 ? Material::Solid : Material::Granular;
+      // The same tool call on either world; nullopt when it refused a region missing the grid.
+      auto apply = [&](World& world) -> std::optional<ChangeReport> {
+        try {
+          switch (round % 4) {
+            case 0: return world.dig({c, r});
+            case 1: return world.pour(c, r, Material::Granular, amount);
+            case 2: return world.paint(box, paint_material);
+            default: return world.paint(Sphere{c, r}, Material::Void);
+          }
+        } catch (const InvalidArgument&) {
+          return std::nullopt;
+        }
+      };
+      const auto a = apply(w.cpu), b = apply(w.gpu);
+      REQUIRE(a.has_value() == b.has_value());
+      if (a) {
+        CHECK(a->cells_changed == b->cells_changed);
+        CHECK(a->added == b->added);
+        CHECK(a->removed == b->removed);
+      }
+      require_same(w);
+      w.step(50);
+      require_same(w);
+      REQUIRE(w.gpu.count() == w.cpu.count());
+    }
+    CHECK(w.gpu.tick() == 1000);
+  }
+}
+
+TEST_CASE("cuda: count, read_region, snapshot and load agree with the CPU") {
+  std::mt19937_64 rng(31337);
+  for (const Int3 size : {Int3{1, 1, 1}, Int3{1, 70, 1}, Int3{7, 3, 5}, Int3{33, 17, 41}, Int3{64, 64, 64}}) {
+    CAPTURE(size.x);
+    CAPTURE(size.y);
+    CAPTURE(size.z);
+    WorldPair w(random_grid(size, rng(), 15, 40), "isotropic", rng());
+    w.step(37);
+    require_same(w);
+    CHECK(w.gpu.count() == w.cpu.count());
+    CHECK(w.gpu.snapshot().hash() == w.gpu.hash());
+    CHECK(w.gpu.snapshot().count() == w.gpu.count());
+    for (int i = 0; i < 25; ++i) {
+      std::uniform_int_distribution<int> dx(0, size.x - 1), dy(0, size.y - 1), dz(0, size.z - 1);
+      const int x0 = dx(rng), y0 = dy(rng), z0 = dz(rng);
+      const Box box = i == 0 ? Box{{0, 0, 0}, size}
+                             : Box{{x0, y0, z0},
+                                   {x0 + 1 + int(rng() % unsigned(size.x - x0)), y0 + 1 + int(rng() % unsigned(size.y - y0)),
+                                    z0 + 1 + int(rng() % unsigned(size.z - z0))}};
+      CHECK(w.gpu.read_region(box) == w.cpu.read_region(box));
+    }
+    const Grid other = random_grid(size, rng(), 5, 50);
+    w.cpu.load(other);
+    w.gpu.load(other);
+    CHECK(w.gpu.hash() == other.hash());
+    require_same(w);
+    w.step(9);
+    require_same(w);
+  }
+}
+
+TEST_CASE("cuda: a grid too large for the device is refused with OutOfMemory naming its size") {
+  CHECK_NOTHROW(check_cuda_fits({64, 64, 64}));
+  CHECK_THROWS_AS(check_cuda_fits({8192, 8192, 8192}), OutOfMemory);
+  try {
+    check_cuda_fits({8192, 8192, 8192});
+  } catch (const OutOfMemory& e) {
+    const std::string message = e.what();
+    MESSAGE(message);
+    CHECK(message.find("8192x8192x8192") != std::string::npos);
+    CHECK(message.find("free") != std::string::npos);
+  }
+  CHECK(cuda_bytes_needed({8192, 8192, 8192}) == 8192ull * 8192 * 8192 + 128ull * 1024 * 1024);
+  CHECK_THROWS_AS(check_cuda_fits({0, 4, 4}), InvalidArgument);
+}
