@@ -3,6 +3,7 @@
 /// Whole-grid reductions on the device: the grid hash's word sum (hash_cells in grid.hpp) and the
 /// per-material histogram. Both read the cells as 8-byte little-endian words; the buffer is
 /// allocated in whole words, and bytes past the last cell are masked, whatever they hold.
+/// Kernels and launchers here are static: every translation unit including this gets its own copy.
 
 #include <cuda_runtime.h>
 
@@ -49,7 +50,7 @@ __device__ inline unsigned long long block_sum(unsigned long long v) {
 
 /// Adds sum over words i of mix64(w_i + (i + 1) * kHashGolden) into *sum (mod 2^64; the tail word
 /// zero-padded as in hash_words). Launch with kReduceThreads threads per CUDA block, any grid.
-__global__ void __launch_bounds__(kReduceThreads) hash_kernel(const std::uint8_t* cells, std::uint64_t n,
+static __global__ void __launch_bounds__(kReduceThreads) hash_kernel(const std::uint8_t* cells, std::uint64_t n,
                                                                unsigned long long* sum) {
   const std::uint64_t words = (n + 7) / 8;
   std::uint64_t local = 0;
@@ -62,7 +63,7 @@ __global__ void __launch_bounds__(kReduceThreads) hash_kernel(const std::uint8_t
 
 /// Adds the number of cells holding each material 0..7 into counts[0..7] (cells with other
 /// values are not counted, as on the CPU). Launch with kReduceThreads threads per CUDA block.
-__global__ void __launch_bounds__(kReduceThreads) count_kernel(const std::uint8_t* cells, std::uint64_t n,
+static __global__ void __launch_bounds__(kReduceThreads) count_kernel(const std::uint8_t* cells, std::uint64_t n,
                                                                 unsigned long long* counts) {
   const std::uint64_t words = (n + 7) / 8;
   unsigned long long local[kMaterialCount] = {};

@@ -1,14 +1,22 @@
 #pragma once
 /// @file step_kernel.cuh
-/// One tick of the Margolus partition on the device: one thread per 2x2x2 block. Shared by the
-/// CUDA backend and the CUDA benchmark, so both run exactly the same code.
+/// One tick of the Margolus partition on the device. Shared by the CUDA backend and the CUDA
+/// benchmark, so both run exactly the same code.
+///
+/// Each thread takes a group of kGroupBlocks consecutive blocks of one row (same y0, z0). A group
+/// entirely inside the grid is read as four 8-byte row segments (each from two aligned words), and
+/// skipped when all 32 cells are equal; its blocks are then packed to keys, looked up and only the
+/// changed cells stored. A group touching the grid's edge goes block by block through the general
+/// path, where cells outside the grid read as solid and are never written.
 ///
 /// Identity with the CPU backend (cpu_step.cpp) holds by construction: the offset, block counts,
 /// block origins, random draw and symmetry maps come from the same constexpr functions of
-/// block.hpp; cells outside the grid read as solid and are never written; the key is looked up in
-/// the same result table (derived on the device from the same transition table). With random
-/// symmetry the block is viewed in the drawn frame (cell i moves to map[i]), looked up, and moved
-/// back (the cell at map[i] returns to i), which is what the CPU's forward and inverse key tables do.
+/// block.hpp; the key is looked up in the same result table (derived on the device from the same
+/// transition table); blocks of one tick are disjoint, so the order of work does not matter. With
+/// random symmetry the block is viewed in the drawn frame (cell i moves to map[i]), looked up, and
+/// moved back (the cell at map[i] returns to i), which is what the CPU's forward and inverse key
+/// tables do. A block of 8 equal cells is left alone: any permutation of it is itself.
+/// Kernels and launchers here are static: every translation unit including this gets its own copy.
 
 #include <cuda_runtime.h>
 
@@ -23,6 +31,9 @@ namespace granular::cuda {
 /// Threads per CUDA block of the step kernel.
 inline constexpr int kStepThreads = 256;
 
+/// Consecutive blocks along x stepped by one thread (8 bytes of each of the group's 4 rows).
+inline constexpr int kGroupBlocks = 4;
+
 /// The state of a cell outside the grid (Material::Solid).
 inline constexpr std::uint32_t kOutsideCell = 1;
 
@@ -31,7 +42,8 @@ inline constexpr BlockKey kUniformKeyUnit = 0x249249u;  // octal 11111111
 
 /// Everything one tick of the step kernel reads.
 struct StepParams {
-  std::uint8_t* cells = nullptr;     ///< the grid on the device, x fastest, one byte per cell
+  std::uint8_t* cells = nullptr;     ///< the grid on the device, x fastest, one byte per cell, in a
+                                     ///< buffer of whole 8-byte words (cuda_device.cuh)
   Int3 size{};                       ///< grid extent
   const BlockKey* result = nullptr;  ///< device result table: per key, the key after its transition
   std::uint64_t seed = 0;            ///< world seed (random symmetry)
@@ -43,20 +55,29 @@ __device__ inline std::int64_t block_cell_offset(int i, std::int64_t sy, std::in
   return std::int64_t(i & 1) + sy * ((i >> 1) & 1) + sz * (i >> 2);
 }
 
-/// The tick's blocks; thread (x, y) of CUDA block (bx, by, bz) takes Margolus block
-/// (bx * blockDim.x + x, by * blockDim.y + y, bz), so a warp covers consecutive blocks of one row.
+/// The key of the block at (x0, y0, z0) after this tick's rule (`key` is its key now).
 template <bool kRandom>
-__global__ void __launch_bounds__(kStepThreads) step_kernel(StepParams p) {
-  const BlockOffset o = block_offset(p.tick);
-  const int bx = int(blockIdx.x * blockDim.x + threadIdx.x);
-  const int by = int(blockIdx.y * blockDim.y + threadIdx.y);
-  const int bz = int(blockIdx.z);
-  if (bx >= block_count(p.size.x, o.x) || by >= block_count(p.size.y, o.y) || bz >= block_count(p.size.z, o.z))
-    return;
-  const int x0 = 2 * bx - o.x, y0 = 2 * by - o.y, z0 = 2 * bz - o.z;
+__device__ inline BlockKey next_key(const StepParams& p, BlockKey key, int x0, int y0, int z0) {
+  if constexpr (kRandom) {
+    const auto map = horizontal_symmetry(int(block_random(p.seed, p.tick, x0, y0, z0) & 7u));
+    BlockKey viewed = 0;
+#pragma unroll
+    for (int i = 0; i < 8; ++i) viewed |= ((key >> (3 * i)) & 7u) << (3 * map[i]);
+    const BlockKey after = __ldg(p.result + viewed);
+    BlockKey next = 0;
+#pragma unroll
+    for (int i = 0; i < 8; ++i) next |= ((after >> (3 * map[i])) & 7u) << (3 * i);
+    return next;
+  } else {
+    return __ldg(p.result + key);
+  }
+}
+
+/// One block, any position: cells outside the grid read as solid and are never written.
+template <bool kRandom>
+__device__ inline void step_edge_block(const StepParams& p, int x0, int y0, int z0) {
   const std::int64_t sy = p.size.x, sz = sy * p.size.y;
   const std::int64_t origin = std::int64_t(x0) + sy * y0 + sz * z0;
-
   std::uint32_t cell[8];
   bool inside[8];
   BlockKey key = 0;
@@ -67,21 +88,8 @@ __global__ void __launch_bounds__(kStepThreads) step_kernel(StepParams p) {
     cell[i] = inside[i] ? (p.cells[origin + block_cell_offset(i, sy, sz)] & 7u) : kOutsideCell;
     key |= cell[i] << (3 * i);
   }
-  // A permutation of 8 equal cells changes nothing: skip the lookup (the CPU skips such runs too).
   if (key == cell[0] * kUniformKeyUnit) return;
-
-  BlockKey next = 0;
-  if constexpr (kRandom) {
-    const auto map = horizontal_symmetry(int(block_random(p.seed, p.tick, x0, y0, z0) & 7u));
-    BlockKey viewed = 0;
-#pragma unroll
-    for (int i = 0; i < 8; ++i) viewed |= cell[i] << (3 * map[i]);
-    const BlockKey after = __ldg(p.result + viewed);
-#pragma unroll
-    for (int i = 0; i < 8; ++i) next |= ((after >> (3 * map[i])) & 7u) << (3 * i);
-  } else {
-    next = __ldg(p.result + key);
-  }
+  const BlockKey next = next_key<kRandom>(p, key, x0, y0, z0);
   if (next == key) return;
 #pragma unroll
   for (int i = 0; i < 8; ++i) {
@@ -90,26 +98,92 @@ __global__ void __launch_bounds__(kStepThreads) step_kernel(StepParams p) {
   }
 }
 
+/// The 8 bytes of the grid buffer starting at byte `at` (any alignment), from the one or two
+/// aligned words holding them; both lie inside the buffer since the 8 bytes do.
+__device__ inline std::uint64_t load_bytes8(const std::uint8_t* cells, std::int64_t at) {
+  const auto* word = reinterpret_cast<const std::uint64_t*>(cells + (at & ~std::int64_t(7)));
+  const unsigned shift = unsigned(at & 7) * 8;
+  const std::uint64_t low = word[0];
+  return shift == 0 ? low : (low >> shift) | (word[1] << (64 - shift));
+}
+
+/// Block order bytes (cell i in byte i, each < 8) packed to a key: cpu_step.cpp's pack_key.
+__device__ inline BlockKey pack_block_bytes(std::uint64_t v) {
+  std::uint64_t t = (v | (v >> 5)) & 0x003F003F003F003Full;
+  t = (t | (t >> 10)) & 0x00000FFF00000FFFull;
+  return BlockKey((t | (t >> 20)) & 0xFFFFFFu);
+}
+
+/// kGroupBlocks blocks starting at (x0, y0, z0), all of whose cells lie inside the grid.
+template <bool kRandom>
+__device__ inline void step_inside_group(const StepParams& p, int x0, int y0, int z0) {
+  constexpr std::uint64_t kEveryByte = 0x0101010101010101ull;
+  const std::int64_t sy = p.size.x, sz = sy * p.size.y;
+  const std::int64_t origin = std::int64_t(x0) + sy * y0 + sz * z0;
+  // Row r holds the group's cells at (dy, dz) = (r & 1, r >> 1): cells 2r and 2r+1 of each block.
+  std::uint64_t row[4];
+#pragma unroll
+  for (int r = 0; r < 4; ++r) row[r] = load_bytes8(p.cells, origin + sy * (r & 1) + sz * (r >> 1)) & (7 * kEveryByte);
+  const std::uint64_t same = (row[0] & 0xFFu) * kEveryByte;
+  if (((row[0] ^ same) | (row[1] ^ same) | (row[2] ^ same) | (row[3] ^ same)) == 0) return;
+#pragma unroll
+  for (int k = 0; k < kGroupBlocks; ++k) {
+    std::uint64_t v = 0;
+#pragma unroll
+    for (int r = 0; r < 4; ++r) v |= ((row[r] >> (16 * k)) & 0xFFFFu) << (16 * r);
+    if (v == (v & 0xFFu) * kEveryByte) continue;
+    const BlockKey key = pack_block_bytes(v);
+    const BlockKey next = next_key<kRandom>(p, key, x0 + 2 * k, y0, z0);
+    if (next == key) continue;
+#pragma unroll
+    for (int i = 0; i < 8; ++i) {
+      const std::uint32_t value = (next >> (3 * i)) & 7u;
+      if (value != ((key >> (3 * i)) & 7u))
+        p.cells[origin + 2 * k + block_cell_offset(i, sy, sz)] = std::uint8_t(value);
+    }
+  }
+}
+
+/// The tick's blocks: thread (x, y) of CUDA block (bx, by, bz) takes the group of kGroupBlocks
+/// blocks starting at block ((bx * blockDim.x + x) * kGroupBlocks, by * blockDim.y + y, bz), so a
+/// warp reads 32 consecutive 8-byte segments of each of 4 rows.
+template <bool kRandom>
+static __global__ void __launch_bounds__(kStepThreads) step_kernel(StepParams p) {
+  const BlockOffset o = block_offset(p.tick);
+  const int first = int(blockIdx.x * blockDim.x + threadIdx.x) * kGroupBlocks;
+  const int by = int(blockIdx.y * blockDim.y + threadIdx.y);
+  const int bz = int(blockIdx.z);
+  const int blocks_x = block_count(p.size.x, o.x);
+  if (first >= blocks_x || by >= block_count(p.size.y, o.y) || bz >= block_count(p.size.z, o.z)) return;
+  const int x0 = 2 * first - o.x, y0 = 2 * by - o.y, z0 = 2 * bz - o.z;
+  if (x0 >= 0 && x0 + 2 * kGroupBlocks <= p.size.x && y0 >= 0 && y0 + 1 < p.size.y && z0 >= 0 && z0 + 1 < p.size.z) {
+    step_inside_group<kRandom>(p, x0, y0, z0);
+    return;
+  }
+  for (int k = 0; k < kGroupBlocks && first + k < blocks_x; ++k) step_edge_block<kRandom>(p, x0 + 2 * k, y0, z0);
+}
+
 /// Grid and block shape of the step kernel for a grid of `size`, the same for all 8 offsets (the
 /// largest block counts; threads past a tick's counts return at once).
 struct StepShape {
-  dim3 grid;   ///< CUDA blocks: (rows of x blocks, y blocks, z layers)
+  dim3 grid;   ///< CUDA blocks: (row pieces along x, rows along y, block layers along z)
   dim3 block;  ///< threads: a power of two >= 32 along x, the rest of kStepThreads along y
 };
 
-/// The launch shape for a grid of `size`: threads along x cover the x blocks (at most
-/// kStepThreads), the remaining threads of the CUDA block cover further rows along y.
+/// The launch shape for a grid of `size`: threads along x cover the row's block groups (at most
+/// kStepThreads of them), the remaining threads of the CUDA block cover further rows along y.
 inline StepShape step_shape(Int3 size) {
-  const int bxn = block_count(size.x, 1), byn = block_count(size.y, 1), bzn = block_count(size.z, 1);
+  const int groups = (block_count(size.x, 1) + kGroupBlocks - 1) / kGroupBlocks;
+  const int rows = block_count(size.y, 1), layers = block_count(size.z, 1);
   int bdx = 32;
-  while (bdx < bxn && bdx < kStepThreads) bdx *= 2;
+  while (bdx < groups && bdx < kStepThreads) bdx *= 2;
   const int bdy = kStepThreads / bdx;
-  return {dim3(unsigned((bxn + bdx - 1) / bdx), unsigned((byn + bdy - 1) / bdy), unsigned(bzn)),
+  return {dim3(unsigned((groups + bdx - 1) / bdx), unsigned((rows + bdy - 1) / bdy), unsigned(layers)),
           dim3(unsigned(bdx), unsigned(bdy), 1)};
 }
 
 /// Enqueues one tick (p.tick) on `stream`; checks the launch (BackendError), not its completion.
-inline void launch_step(const StepParams& p, bool random_symmetry, const StepShape& shape, cudaStream_t stream) {
+static inline void launch_step(const StepParams& p, bool random_symmetry, const StepShape& shape, cudaStream_t stream) {
   if (random_symmetry)
     step_kernel<true><<<shape.grid, shape.block, 0, stream>>>(p);
   else

@@ -2,6 +2,7 @@
 /// @file table_kernels.cuh
 /// Device kernels over the 16,777,216 block keys: the paper rule's transition table, and the
 /// result table (per key, the key after its transition) that the step kernel looks up.
+/// Kernels and launchers here are static: every translation unit including this gets its own copy.
 
 #include <cuda_runtime.h>
 
@@ -17,25 +18,25 @@ namespace granular::cuda {
 inline constexpr int kTableThreads = 256;
 
 /// out[k] = paper_rule(k): the very function the CPU's "paper" rule evaluates.
-__global__ void paper_lut_kernel(Transition* out) {
+static __global__ void paper_lut_kernel(Transition* out) {
   const std::uint32_t key = blockIdx.x * blockDim.x + threadIdx.x;
   if (key < kBlockKeyCount) out[key] = rules::paper_rule(key);
 }
 
 /// result[k] = encode_key(apply_transition(decode_key(k), lut[k])), as the CPU's derive_result_table.
-__global__ void result_table_kernel(const Transition* lut, BlockKey* result) {
+static __global__ void result_table_kernel(const Transition* lut, BlockKey* result) {
   const std::uint32_t key = blockIdx.x * blockDim.x + threadIdx.x;
   if (key < kBlockKeyCount) result[key] = encode_key(apply_transition(decode_key(key), lut[key]));
 }
 
 /// Enqueues paper_lut_kernel over all keys into `out` (kBlockKeyCount entries).
-inline void launch_paper_lut(Transition* out, cudaStream_t stream) {
+static inline void launch_paper_lut(Transition* out, cudaStream_t stream) {
   paper_lut_kernel<<<kBlockKeyCount / kTableThreads, kTableThreads, 0, stream>>>(out);
   check_launch("transition table kernel launch");
 }
 
 /// Enqueues result_table_kernel over all keys (`lut` and `result` hold kBlockKeyCount entries).
-inline void launch_result_table(const Transition* lut, BlockKey* result, cudaStream_t stream) {
+static inline void launch_result_table(const Transition* lut, BlockKey* result, cudaStream_t stream) {
   result_table_kernel<<<kBlockKeyCount / kTableThreads, kTableThreads, 0, stream>>>(lut, result);
   check_launch("result table kernel launch");
 }

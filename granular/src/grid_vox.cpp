@@ -440,7 +440,9 @@ void read_chunks(std::span<const std::uint8_t> bytes, std::size_t begin, std::si
       throw ParseError(src + ": truncated chunk header at offset " + std::to_string(at) + ": only " +
                        std::to_string(end - at) + " bytes are left before the end of the MAIN chunk at offset " +
                        std::to_string(end) + ", a chunk header needs " + std::to_string(kChunkHeaderSize));
-    const std::string name = "'" + printable(bytes.subspan(at, 4)) + "'";
+    std::string name(1, '\'');  // appended: GCC 12 warns falsely on "'" + string (-Wrestrict)
+    name.append(printable(bytes.subspan(at, 4)));
+    name.push_back('\'');
     const std::uint64_t content = get_u32(bytes, at + 4);
     const std::uint64_t children = get_u32(bytes, at + 8);
     const std::uint64_t room = end - at - kChunkHeaderSize;
