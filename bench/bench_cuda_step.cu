@@ -192,8 +192,16 @@ int run(int argc, char** argv) {
                   4.0 * double(cells) / 1e9);
     }
 
-    // (2) this backend's kernel, for both rule sets.
-    for (const bool random_symmetry : {false, true}) {
+    // (2) this backend's kernel: both rule sets right after the release (most 32-cell groups
+    // uniform), and the paper rule mid-fall (N/2 ticks in: the falling column is rarefied into
+    // alternating layers, so most blocks are mixed: the worst case for the uniform-group skip).
+    struct Variant {
+      bool random_symmetry;
+      int start_tick;
+      const char* name;
+    };
+    for (const Variant v : {Variant{false, 0, "backend_u8_paper"}, Variant{true, 0, "backend_u8_isotropic"},
+                            Variant{false, n / 2, "backend_u8_paper_midfall"}}) {
       upload();
       const auto before = device_counts(bytes.data(), cells, device.sm_count, stream);
       cuda::StepParams p;
@@ -202,15 +210,18 @@ int run(int argc, char** argv) {
       p.result = result.data();
       p.seed = 1;
       const cuda::StepShape shape = cuda::step_shape(size);
+      for (int t = 0; t < v.start_tick; ++t) {
+        p.tick = std::uint64_t(t);
+        cuda::launch_step(p, v.random_symmetry, shape, stream.get());
+      }
       const double s = time_ticks(stream, warmup, ticks, [&](std::uint64_t t) {
-        p.tick = t;
-        cuda::launch_step(p, random_symmetry, shape, stream.get());
+        p.tick = std::uint64_t(v.start_tick) + t;
+        cuda::launch_step(p, v.random_symmetry, shape, stream.get());
       });
       stream.synchronize("backend step");
       const auto after = device_counts(bytes.data(), cells, device.sm_count, stream);
       if (before != after) std::printf("N=%d: WARNING: the backend kernel did not conserve the materials\n", n);
-      rows.push_back({n, cells, random_symmetry ? "backend_u8_isotropic" : "backend_u8_paper", s,
-                      (double(cuda::cell_buffer_bytes(cells)) + double(table_bytes)) / double(cells)});
+      rows.push_back({n, cells, v.name, s, (double(cuda::cell_buffer_bytes(cells)) + double(table_bytes)) / double(cells)});
     }
 
     // (3) the bandwidth ceiling.
@@ -230,7 +241,8 @@ int run(int argc, char** argv) {
   for (const Row& r : rows)
     std::printf("%6d %14llu %-22s %14.4f %16.4g %12.3f\n", r.n, (unsigned long long)r.cells, r.variant.c_str(),
                 r.seconds_per_tick * 1e3, r.updates_per_s(), r.bytes_per_cell);
-  std::printf("\n%6s %22s %22s %26s\n", "N", "backend/paper", "backend/memcpy", "isotropic/paper-rule");
+  std::printf("\n%6s %22s %22s %26s %24s\n", "N", "backend/paper", "backend/memcpy", "isotropic/paper-rule",
+              "midfall/paper-layout");
   auto find = [&](int n, const char* variant) -> std::optional<Row> {
     for (const Row& r : rows)
       if (r.n == n && r.variant == variant) return r;
@@ -239,14 +251,15 @@ int run(int argc, char** argv) {
   for (const int n : bench_sizes()) {
     const auto backend = find(n, "backend_u8_paper");
     if (!backend) continue;
-    const auto paper = find(n, "paper_int32_lut"), copy = find(n, "memcpy_d2d"), iso = find(n, "backend_u8_isotropic");
+    const auto paper = find(n, "paper_int32_lut"), copy = find(n, "memcpy_d2d"), iso = find(n, "backend_u8_isotropic"),
+               midfall = find(n, "backend_u8_paper_midfall");
     auto ratio = [&](const std::optional<Row>& a, const std::optional<Row>& b) {
       char text[32] = "n/a";
       if (a && b) std::snprintf(text, sizeof text, "%.3f", a->updates_per_s() / b->updates_per_s());
       return std::string(text);
     };
-    std::printf("%6d %22s %22s %26s\n", n, ratio(backend, paper).c_str(), ratio(backend, copy).c_str(),
-                ratio(iso, backend).c_str());
+    std::printf("%6d %22s %22s %26s %24s\n", n, ratio(backend, paper).c_str(), ratio(backend, copy).c_str(),
+                ratio(iso, backend).c_str(), ratio(midfall, paper).c_str());
   }
   std::printf("(memcpy cells/s = bytes copied per second; a step reads every cell and writes only moved ones)\n");
 

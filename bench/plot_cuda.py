@@ -16,6 +16,7 @@ LABELS = {
     "paper_int32_lut": "(1) paper layout: int32 cells, permutation table",
     "backend_u8_paper": "(2) CUDA backend, paper rule",
     "backend_u8_isotropic": "(2) CUDA backend, isotropic rule",
+    "backend_u8_paper_midfall": "(2) CUDA backend, paper rule, mid-fall (worst case)",
     "memcpy_d2d": "(3) device-to-device copy (bytes/s)",
 }
 
