@@ -16,9 +16,13 @@
 #include "granular/errors.hpp"
 #include "granular/grid.hpp"
 #include "granular/grid_io.hpp"
+#include "test_support.hpp"
 
 namespace fs = std::filesystem;
 using namespace granular;
+
+using granular::test::check_has;
+using granular::test::error_of;
 
 namespace {
 
@@ -77,25 +81,6 @@ std::vector<std::uint8_t> raw_header(std::uint32_t nx, std::uint32_t ny, std::ui
   return b;
 }
 
-/// Runs `f`, requires that it throws exactly an `E`, and returns the message.
-template <class E, class F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const E& e) {
-    return e.what();
-  } catch (const std::exception& e) {
-    FAIL("wrong exception type, message: " << e.what());
-    return {};
-  }
-  FAIL("no exception was thrown");
-  return {};
-}
-
-void check_has(const std::string& msg, std::initializer_list<std::string_view> parts) {
-  for (std::string_view p : parts)
-    CHECK_MESSAGE(msg.find(p) != std::string::npos, "expected '" << p << "' in: " << msg);
-}
 
 /// Checks that `bytes` fail with a ParseError naming the source and `parts`, both in memory and
 /// from a file (which takes load_raw's streaming path).

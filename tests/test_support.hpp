@@ -3,8 +3,13 @@
 /// The shared test context: world definitions that use the build tree's table cache, and random
 /// scene generators used by the conservation and determinism tests.
 
+#include <doctest/doctest.h>
+
 #include <cstdint>
+#include <initializer_list>
 #include <random>
+#include <string>
+#include <string_view>
 
 #include "granular/grid.hpp"
 #include "granular/world.hpp"
@@ -40,6 +45,27 @@ inline Grid random_grid(Int3 size, std::uint64_t seed, int solid_percent = 10, i
 inline Int3 random_size(std::mt19937_64& rng, int lo, int hi) {
   std::uniform_int_distribution<int> d(lo, hi);
   return {d(rng), d(rng), d(rng)};
+}
+
+/// Runs `f`, requires that it throws exactly an `E` (a FAIL otherwise), and returns the message.
+template <class E, class F>
+std::string error_of(F&& f) {
+  try {
+    f();
+  } catch (const E& e) {
+    return e.what();
+  } catch (const std::exception& e) {
+    FAIL("wrong exception type, message: " << e.what());
+    return {};
+  }
+  FAIL("no exception was thrown");
+  return {};
+}
+
+/// Checks that `msg` contains every one of `parts`.
+inline void check_has(const std::string& msg, std::initializer_list<std::string_view> parts) {
+  for (std::string_view p : parts)
+    CHECK_MESSAGE(msg.find(p) != std::string::npos, "expected '" << p << "' in: " << msg);
 }
 
 }  // namespace granular::test

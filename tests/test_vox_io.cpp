@@ -18,9 +18,13 @@
 #include "granular/grid.hpp"
 #include "granular/grid_io.hpp"
 #include "granular/vox_io.hpp"
+#include "test_support.hpp"
 
 namespace fs = std::filesystem;
 using namespace granular;
+
+using granular::test::check_has;
+using granular::test::error_of;
 
 namespace {
 
@@ -165,24 +169,6 @@ bool same_cells(const Grid& a, const Grid& b) {
 
 std::int64_t non_void(const Grid& g) { return g.cell_count() - std::int64_t(g.count()[0]); }
 
-template <class E, class F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const E& e) {
-    return e.what();
-  } catch (const std::exception& e) {
-    FAIL("wrong exception type, message: " << e.what());
-    return {};
-  }
-  FAIL("no exception was thrown");
-  return {};
-}
-
-void check_has(const std::string& msg, std::initializer_list<std::string_view> parts) {
-  for (std::string_view p : parts)
-    CHECK_MESSAGE(msg.find(p) != std::string::npos, "expected '" << p << "' in: " << msg);
-}
 
 /// Checks that `bytes` fail with a ParseError naming the source and `parts`, in memory and from a file.
 void check_vox_rejected(const Bytes& bytes, std::initializer_list<std::string_view> parts) {
