@@ -41,6 +41,14 @@ inline Grid random_grid(Int3 size, std::uint64_t seed, int solid_percent = 10, i
   return g;
 }
 
+/// A random grid over all 8 states (reserved ones included), uniformly.
+inline Grid random_grid_all_states(Int3 size, std::uint64_t seed) {
+  Grid g(size);
+  std::mt19937_64 rng(seed);
+  for (auto& c : g.cells()) c = std::uint8_t(rng() % kMaterialCount);
+  return g;
+}
+
 /// A random size with each extent in [lo, hi] (odd ones included).
 inline Int3 random_size(std::mt19937_64& rng, int lo, int hi) {
   std::uniform_int_distribution<int> d(lo, hi);
