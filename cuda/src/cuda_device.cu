@@ -25,6 +25,8 @@ std::string unusable_reason() {
   cudaError_t status = cudaGetDeviceCount(&count);
   if (status != cudaSuccess) {
     cudaGetLastError();
+    if (status == cudaErrorNoDevice || status == cudaErrorInsufficientDriver)
+      return "no NVIDIA GPU with a working driver on this machine (cudaGetDeviceCount: " + error_text(status) + ")";
     return "cudaGetDeviceCount failed: " + error_text(status);
   }
   if (count == 0) return "the CUDA driver reports no device";
