@@ -4,13 +4,16 @@
 ///                 global memory, one CUDA block of 256 threads per horizontal layer of blocks
 ///                 (interior blocks only, as in the paper), gather-key-lookup-permute-scatter;
 ///   (2) backend   the CUDA backend's own step kernel (step_kernel.cuh): a byte per cell and the
-///                 result table, one thread per block; also with the isotropic rule's random symmetry;
+///                 result table, one thread per 4 blocks; also with the isotropic rule's random
+///                 symmetry; and its fused two-tick kernel (step_pair_kernel.cuh), one launch per
+///                 even-odd pair of ticks, right after the release and mid-fall;
 ///   (3) memcpy    a device-to-device copy of the grid's bytes: the bandwidth ceiling (a copy reads
 ///                 and writes one byte per cell, the least any step can move).
 /// Prints cell-updates per second and ratios, and writes bench_cuda.csv.
 ///
 ///   bench_cuda_step [output-dir]      (default: $OUT when set, else the current directory)
 ///   environment: GRANULAR_BENCH_SIZES="256,512,1024,2048"  GRANULAR_BENCH_TICKS=64
+///                GRANULAR_BENCH_PAIR_CHUNKS="16,32,64" (extra pair rows with fixed chunk heights)
 
 #include <cuda_runtime.h>
 
@@ -33,6 +36,7 @@
 #include "granular/scene.hpp"
 #include "reduce_kernels.cuh"
 #include "step_kernel.cuh"
+#include "step_pair_kernel.cuh"
 #include "table_kernels.cuh"
 
 namespace {
@@ -99,6 +103,16 @@ std::vector<int> bench_sizes() {
   for (std::string item; std::getline(s, item, ',');)
     if (!item.empty()) sizes.push_back(std::atoi(item.c_str()));
   return sizes;
+}
+
+/// Fixed chunk heights of the pair kernel to measure besides the backend's own choice.
+std::vector<int> pair_chunks() {
+  const char* v = std::getenv("GRANULAR_BENCH_PAIR_CHUNKS");
+  std::vector<int> chunks;
+  std::stringstream s(v && *v ? v : "");
+  for (std::string item; std::getline(s, item, ',');)
+    if (!item.empty()) chunks.push_back(std::atoi(item.c_str()));
+  return chunks;
 }
 
 std::size_t free_device_bytes() {
@@ -195,13 +209,24 @@ int run(int argc, char** argv) {
     // (2) this backend's kernel: both rule sets right after the release (most 32-cell groups
     // uniform), and the paper rule mid-fall (N/2 ticks in: the falling column is rarefied into
     // alternating layers, so most blocks are mixed: the worst case for the uniform-group skip).
+    // The fused two-tick kernel (step_pair_kernel.cuh) runs the same states: one launch per 2
+    // ticks, timed over the same number of ticks and reported per tick. chunk 0 is the backend's
+    // own choice of chunk height; GRANULAR_BENCH_PAIR_CHUNKS="16,32,64" adds rows for fixed ones.
     struct Variant {
       bool random_symmetry;
       int start_tick;
-      const char* name;
+      std::string name;
+      bool pair = false;
+      int chunk = 0;
     };
-    for (const Variant v : {Variant{false, 0, "backend_u8_paper"}, Variant{true, 0, "backend_u8_isotropic"},
-                            Variant{false, n / 2, "backend_u8_paper_midfall"}}) {
+    std::vector<Variant> variants = {{false, 0, "backend_u8_paper"},
+                                     {false, 0, "backend_u8_pair_paper", true},
+                                     {true, 0, "backend_u8_isotropic"},
+                                     {false, n / 2, "backend_u8_paper_midfall"},
+                                     {false, n / 2, "backend_u8_pair_midfall", true}};
+    for (const int chunk : pair_chunks())
+      variants.push_back({false, n / 2, "backend_u8_pair_midfall_h" + std::to_string(chunk), true, chunk});
+    for (const Variant& v : variants) {
       upload();
       const auto before = device_counts(bytes.data(), cells, device.sm_count, stream);
       cuda::StepParams p;
@@ -210,18 +235,77 @@ int run(int argc, char** argv) {
       p.result = result.data();
       p.seed = 1;
       const cuda::StepShape shape = cuda::step_shape(size);
+      const cuda::PairShape pair = cuda::pair_shape(size, v.chunk);
+      const std::size_t halo_bytes = cuda::pair_halo_bytes(size, pair);
+      std::optional<cuda::DeviceBuffer<std::uint8_t>> halo;
+      if (v.pair && halo_bytes > 0) halo.emplace(halo_bytes, "the pair kernel's halo");
       for (int t = 0; t < v.start_tick; ++t) {
         p.tick = std::uint64_t(t);
         cuda::launch_step(p, v.random_symmetry, shape, stream.get());
       }
-      const double s = time_ticks(stream, warmup, ticks, [&](std::uint64_t t) {
-        p.tick = std::uint64_t(v.start_tick) + t;
-        cuda::launch_step(p, v.random_symmetry, shape, stream.get());
-      });
+      double s = 0;
+      if (v.pair) {
+        const int first = v.start_tick + v.start_tick % 2;  // pairs start at an even tick
+        if (first != v.start_tick) {
+          p.tick = std::uint64_t(v.start_tick);
+          cuda::launch_step(p, v.random_symmetry, shape, stream.get());
+        }
+        s = time_ticks(stream, warmup / 2, ticks / 2, [&](std::uint64_t t) {
+              p.tick = std::uint64_t(first) + 2 * t;
+              cuda::launch_step_pair(p, v.random_symmetry, pair, halo ? halo->data() : nullptr, stream.get());
+            }) / 2;
+      } else {
+        s = time_ticks(stream, warmup, ticks, [&](std::uint64_t t) {
+          p.tick = std::uint64_t(v.start_tick) + t;
+          cuda::launch_step(p, v.random_symmetry, shape, stream.get());
+        });
+      }
       stream.synchronize("backend step");
       const auto after = device_counts(bytes.data(), cells, device.sm_count, stream);
-      if (before != after) std::printf("N=%d: WARNING: the backend kernel did not conserve the materials\n", n);
+      if (before != after)
+        std::printf("N=%d: WARNING: %s did not conserve the materials\n", n, v.name.c_str());
+      if (v.pair) std::printf("N=%d: %s: chunks of %d layers (%d along z)\n", n, v.name.c_str(), pair.chunk, pair.chunks);
       rows.push_back({n, cells, v.name, s, (double(cuda::cell_buffer_bytes(cells)) + double(table_bytes)) / double(cells)});
+    }
+
+    // The fused pair against two single ticks on the same state, cell for cell (mid-fall, both
+    // rule sets): a mismatch is reported, never hidden in a throughput number.
+    for (const bool random_symmetry : {false, true}) {
+      if (n > 1024) break;  // the host comparison of a larger grid costs more than it tells
+      cuda::DeviceBuffer<std::uint8_t> twin(cuda::cell_buffer_bytes(cells), "the pair check's twin grid");
+      cuda::StepParams a;
+      a.size = size;
+      a.result = result.data();
+      a.seed = 7;
+      const cuda::StepShape shape = cuda::step_shape(size);
+      const cuda::PairShape pair = cuda::pair_shape(size);
+      const std::size_t halo_bytes = cuda::pair_halo_bytes(size, pair);
+      std::optional<cuda::DeviceBuffer<std::uint8_t>> halo;
+      if (halo_bytes > 0) halo.emplace(halo_bytes, "the pair kernel's halo");
+      upload();
+      a.cells = bytes.data();
+      for (int t = 0; t < n / 2; ++t) {
+        a.tick = std::uint64_t(t);
+        cuda::launch_step(a, random_symmetry, shape, stream.get());
+      }
+      cuda::check(cudaMemcpyAsync(twin.data(), bytes.data(), cells, cudaMemcpyDeviceToDevice, stream.get()), "copy");
+      cuda::StepParams b = a;
+      b.cells = twin.data();
+      for (int t = n / 2; t < n / 2 + 8; t += 2) {
+        a.tick = b.tick = std::uint64_t(t);
+        cuda::launch_step(a, random_symmetry, shape, stream.get());
+        a.tick = std::uint64_t(t + 1);
+        cuda::launch_step(a, random_symmetry, shape, stream.get());
+        cuda::launch_step_pair(b, random_symmetry, pair, halo ? halo->data() : nullptr, stream.get());
+      }
+      stream.synchronize("pair check");
+      std::vector<std::uint8_t> single_host(cells), pair_host(cells);
+      cuda::check(cudaMemcpy(single_host.data(), bytes.data(), cells, cudaMemcpyDeviceToHost), "download");
+      cuda::check(cudaMemcpy(pair_host.data(), twin.data(), cells, cudaMemcpyDeviceToHost), "download");
+      std::uint64_t differ = 0;
+      for (std::uint64_t i = 0; i < cells; ++i) differ += single_host[i] != pair_host[i];
+      std::printf("N=%d: pair kernel vs two single ticks (%s, 4 pairs from tick %d): %llu cells differ\n", n,
+                  random_symmetry ? "isotropic" : "paper", n / 2, (unsigned long long)differ);
     }
 
     // (3) the bandwidth ceiling.
@@ -237,12 +321,13 @@ int run(int argc, char** argv) {
     }
   }
 
-  std::printf("\n%6s %14s %-22s %14s %16s %12s\n", "N", "cells", "variant", "ms/tick", "cell-updates/s", "bytes/cell");
+  std::printf("\n%6s %14s %-30s %14s %16s %12s\n", "N", "cells", "variant", "ms/tick", "cell-updates/s", "bytes/cell");
   for (const Row& r : rows)
-    std::printf("%6d %14llu %-22s %14.4f %16.4g %12.3f\n", r.n, (unsigned long long)r.cells, r.variant.c_str(),
+    std::printf("%6d %14llu %-30s %14.4f %16.4g %12.3f\n", r.n, (unsigned long long)r.cells, r.variant.c_str(),
                 r.seconds_per_tick * 1e3, r.updates_per_s(), r.bytes_per_cell);
-  std::printf("\n%6s %22s %22s %26s %24s\n", "N", "backend/paper", "backend/memcpy", "isotropic/paper-rule",
-              "midfall/paper-layout");
+  std::printf("\n%6s %15s %15s %21s %21s %12s %22s %22s\n", "N", "backend/paper", "backend/memcpy",
+              "isotropic/paper-rule", "midfall/paper-layout", "pair/single", "pair/single midfall",
+              "pair midfall/memcpy");
   auto find = [&](int n, const char* variant) -> std::optional<Row> {
     for (const Row& r : rows)
       if (r.n == n && r.variant == variant) return r;
@@ -252,14 +337,16 @@ int run(int argc, char** argv) {
     const auto backend = find(n, "backend_u8_paper");
     if (!backend) continue;
     const auto paper = find(n, "paper_int32_lut"), copy = find(n, "memcpy_d2d"), iso = find(n, "backend_u8_isotropic"),
-               midfall = find(n, "backend_u8_paper_midfall");
+               midfall = find(n, "backend_u8_paper_midfall"), pair = find(n, "backend_u8_pair_paper"),
+               pair_midfall = find(n, "backend_u8_pair_midfall");
     auto ratio = [&](const std::optional<Row>& a, const std::optional<Row>& b) {
       char text[32] = "n/a";
       if (a && b) std::snprintf(text, sizeof text, "%.3f", a->updates_per_s() / b->updates_per_s());
       return std::string(text);
     };
-    std::printf("%6d %22s %22s %26s %24s\n", n, ratio(backend, paper).c_str(), ratio(backend, copy).c_str(),
-                ratio(iso, backend).c_str(), ratio(midfall, paper).c_str());
+    std::printf("%6d %15s %15s %21s %21s %12s %22s %22s\n", n, ratio(backend, paper).c_str(),
+                ratio(backend, copy).c_str(), ratio(iso, backend).c_str(), ratio(midfall, paper).c_str(),
+                ratio(pair, backend).c_str(), ratio(pair_midfall, midfall).c_str(), ratio(pair_midfall, copy).c_str());
   }
   std::printf("(memcpy cells/s = bytes copied per second; a step reads every cell and writes only moved ones)\n");
 

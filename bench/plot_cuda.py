@@ -17,6 +17,8 @@ LABELS = {
     "backend_u8_paper": "(2) CUDA backend, paper rule",
     "backend_u8_isotropic": "(2) CUDA backend, isotropic rule",
     "backend_u8_paper_midfall": "(2) CUDA backend, paper rule, mid-fall (worst case)",
+    "backend_u8_pair_paper": "(2) CUDA backend, fused tick pairs, paper rule",
+    "backend_u8_pair_midfall": "(2) CUDA backend, fused tick pairs, paper rule, mid-fall",
     "memcpy_d2d": "(3) device-to-device copy (bytes/s)",
 }
 

@@ -55,11 +55,11 @@ __device__ inline std::int64_t block_cell_offset(int i, std::int64_t sy, std::in
   return std::int64_t(i & 1) + sy * ((i >> 1) & 1) + sz * (i >> 2);
 }
 
-/// The key of the block at (x0, y0, z0) after this tick's rule (`key` is its key now).
+/// The key of the block at (x0, y0, z0) after the rule of tick `tick` (`key` is its key now).
 template <bool kRandom>
-__device__ inline BlockKey next_key(const StepParams& p, BlockKey key, int x0, int y0, int z0) {
+__device__ inline BlockKey next_key_at(const StepParams& p, std::uint64_t tick, BlockKey key, int x0, int y0, int z0) {
   if constexpr (kRandom) {
-    const auto map = horizontal_symmetry(int(block_random(p.seed, p.tick, x0, y0, z0) & 7u));
+    const auto map = horizontal_symmetry(int(block_random(p.seed, tick, x0, y0, z0) & 7u));
     BlockKey viewed = 0;
 #pragma unroll
     for (int i = 0; i < 8; ++i) viewed |= ((key >> (3 * i)) & 7u) << (3 * map[i]);
@@ -71,6 +71,12 @@ __device__ inline BlockKey next_key(const StepParams& p, BlockKey key, int x0, i
   } else {
     return __ldg(p.result + key);
   }
+}
+
+/// The key of the block at (x0, y0, z0) after this tick's (p.tick's) rule.
+template <bool kRandom>
+__device__ inline BlockKey next_key(const StepParams& p, BlockKey key, int x0, int y0, int z0) {
+  return next_key_at<kRandom>(p, p.tick, key, x0, y0, z0);
 }
 
 /// One block, any position: cells outside the grid read as solid and are never written.
