@@ -63,6 +63,19 @@ class CudaBackend final : public Backend {
   std::string description() const override { return cuda::describe(device_); }
 
   void step(std::uint64_t first_tick, int ticks) override {
+    // A failure names the grid and the ticks, so a user can tell a bad launch from a lost device.
+    try {
+      step_ticks(first_tick, ticks);
+    } catch (const BackendError& e) {
+      throw BackendError(std::string(e.what()) + " (stepping the " + to_string(size_) + " grid, ticks " +
+                         std::to_string(first_tick) + " to " + std::to_string(first_tick + std::uint64_t(ticks) - 1) +
+                         ")");
+    }
+  }
+
+ private:
+  /// Enqueues the ticks (fused pairs where the parity allows) and synchronises once.
+  void step_ticks(std::uint64_t first_tick, int ticks) {
     activate();
     cuda::StepParams p;
     p.cells = cells_.data();
@@ -97,6 +110,8 @@ class CudaBackend final : public Backend {
     while (left > 0) single();
     stream_.synchronize("step");
   }
+
+ public:
 
   void read(const Box& box, std::span<std::uint8_t> out) const override {
     check_box(box, out.size(), "read");
