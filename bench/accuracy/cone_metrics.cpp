@@ -1,0 +1,105 @@
+#include "accuracy/cone_metrics.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <complex>
+#include <numbers>
+#include <vector>
+
+namespace granular::accuracy {
+
+namespace {
+
+/// Running sums of one azimuth bin.
+struct BinSums {
+  double n = 0, sr = 0, sh = 0, srr = 0, srh = 0;  // line-fit sums over 0.2 H <= h <= 0.8 H
+  double half_n = 0, half_r = 0;                   // columns with |h - H/2| <= 1
+};
+
+}  // namespace
+
+ConeMetrics measure_cone(const Grid& grid, Vec3 apex_xy_center, int floor_z) {
+  const Int3 size = grid.size();
+  const int z0 = std::max(floor_z, 0);
+  std::vector<int> h(std::size_t(size.x) * std::size_t(size.y), 0);
+  int height = 0;
+  for (int y = 0; y < size.y; ++y)
+    for (int x = 0; x < size.x; ++x) {
+      int count = 0;
+      for (int z = z0; z < size.z; ++z) count += grid.at({x, y, z}) == Material::Granular;
+      h[std::size_t(x) + std::size_t(size.x) * std::size_t(y)] = count;
+      height = std::max(height, count);
+    }
+  ConeMetrics m;
+  if (height == 0) return m;
+  m.height_cells = height;
+
+  const double two_pi = 2 * std::numbers::pi;
+  const double bin_width = two_pi / kConeAzimuthBins;
+  const double lo = 0.2 * height, hi = 0.8 * height, half = 0.5 * height;
+  std::array<BinSums, kConeAzimuthBins> bins{};
+  for (int y = 0; y < size.y; ++y)
+    for (int x = 0; x < size.x; ++x) {
+      const double hv = h[std::size_t(x) + std::size_t(size.x) * std::size_t(y)];
+      if (hv == 0) continue;
+      const double dx = x + 0.5 - apex_xy_center.x, dy = y + 0.5 - apex_xy_center.y;
+      const double r = std::hypot(dx, dy);
+      double phi = std::atan2(dy, dx);
+      if (phi < 0) phi += two_pi;
+      const int k = std::min(int(phi / bin_width), kConeAzimuthBins - 1);
+      BinSums& b = bins[std::size_t(k)];
+      if (hv >= lo && hv <= hi) {
+        b.n += 1;
+        b.sr += r;
+        b.sh += hv;
+        b.srr += r * r;
+        b.srh += r * hv;
+      }
+      if (std::abs(hv - half) <= 1) {
+        b.half_n += 1;
+        b.half_r += r;
+      }
+    }
+
+  std::vector<double> angles;
+  double r_sum = 0;
+  std::complex<double> r_four{0, 0};
+  m.r_half_min = 0;
+  m.r_half_max = 0;
+  bool any_half = false;
+  for (int k = 0; k < kConeAzimuthBins; ++k) {
+    const BinSums& b = bins[std::size_t(k)];
+    if (b.n >= 3) {
+      const double var = b.srr - b.sr * b.sr / b.n;
+      if (var > 1e-12) {
+        const double slope = (b.srh - b.sr * b.sh / b.n) / var;
+        angles.push_back(std::atan(-slope) * 180 / std::numbers::pi);
+      }
+    }
+    if (b.half_n > 0) {
+      const double r = b.half_r / b.half_n;
+      const double phi = (k + 0.5) * bin_width;
+      r_sum += r;
+      r_four += r * std::polar(1.0, 4 * phi);
+      m.r_half_min = any_half ? std::min(m.r_half_min, r) : r;
+      m.r_half_max = any_half ? std::max(m.r_half_max, r) : r;
+      any_half = true;
+    }
+  }
+  m.bins = int(angles.size());
+  if (!angles.empty()) {
+    double mean = 0;
+    for (double a : angles) mean += a;
+    mean /= double(angles.size());
+    double var = 0;
+    for (double a : angles) var += (a - mean) * (a - mean);
+    m.angle_deg = mean;
+    m.angle_spread_deg = std::sqrt(var / double(angles.size()));
+  }
+  if (any_half && m.r_half_min > 0) m.r_half_ratio = m.r_half_max / m.r_half_min;
+  if (r_sum > 0) m.fourfold_amplitude = std::abs(r_four) / r_sum;
+  return m;
+}
+
+}  // namespace granular::accuracy

@@ -1,0 +1,45 @@
+#pragma once
+/// @file cone_metrics.hpp
+/// Shape measurements of a sand pile read from the grid: the angle of repose per azimuth and the
+/// isotropy of the footprint. The first measurements of the accuracy suite.
+
+#include "granular/geometry.hpp"
+#include "granular/grid.hpp"
+
+namespace granular::accuracy {
+
+/// Number of azimuth bins measure_cone divides the pile into (10 degrees each).
+inline constexpr int kConeAzimuthBins = 36;
+
+/// What measure_cone reports about one pile. Angles in degrees, lengths in cells.
+struct ConeMetrics {
+  double height_cells = 0;      ///< H = max over columns of h(x, y)
+  double angle_deg = 0;         ///< mean over fitted bins of atan(-slope) of the h-against-r line fit
+  double angle_spread_deg = 0;  ///< population standard deviation of the per-bin angles
+  double r_half_min = 0;        ///< smallest per-bin radius at half height
+  double r_half_max = 0;        ///< largest per-bin radius at half height
+  double r_half_ratio = 0;      ///< r_half_max / r_half_min (1 for a round footprint, ~1.41 for a square)
+  double fourfold_amplitude = 0;  ///< |sum_k r_k e^{4 i phi_k}| / sum_k r_k over bins with a half-height radius
+  int bins = 0;                 ///< bins that produced an angle (at most kConeAzimuthBins)
+};
+
+/// Measures the pile standing on the layer `floor_z` of `grid`, around the vertical axis through
+/// (apex_xy_center.x, apex_xy_center.y) (z is ignored).
+///
+/// Definitions (column (x, y) has its centre at (x + 0.5, y + 0.5)):
+/// * height map: h(x, y) = number of Granular cells in the column with floor_z <= z < nz;
+/// * H = max h(x, y); dx = x + 0.5 - cx, dy = y + 0.5 - cy, r = sqrt(dx^2 + dy^2),
+///   phi = atan2(dy, dx) mapped to [0, 2 pi); bin k = floor(phi / (2 pi / 36)), centre angle
+///   phi_k = (k + 1/2) 2 pi / 36;
+/// * angle of repose per bin: the least-squares line h = a + s r over the bin's columns with
+///   0.2 H <= h <= 0.8 H (bins with fewer than 3 such columns, or with all r equal, are skipped),
+///   s = sum (r - r_mean)(h - h_mean) / sum (r - r_mean)^2, angle_k = atan(-s) in degrees;
+///   angle_deg = mean_k angle_k, angle_spread_deg = sqrt(mean_k (angle_k - angle_deg)^2);
+/// * radius at half height per bin: r_k = mean r over the bin's columns with |h - H/2| <= 1
+///   (bins with no such column are skipped); r_half_min/max = min/max_k r_k, r_half_ratio =
+///   max/min; fourfold_amplitude = |sum_k r_k e^{4 i phi_k}| / sum_k r_k (0 for a circle; a square
+///   pyramid measures about 0.07 whatever its orientation, as the modulus removes the phase).
+/// Returns all zeros when the grid holds no grain above floor_z.
+ConeMetrics measure_cone(const Grid& grid, Vec3 apex_xy_center, int floor_z);
+
+}  // namespace granular::accuracy

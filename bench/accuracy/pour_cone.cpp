@@ -1,0 +1,51 @@
+#include "accuracy/pour_cone.hpp"
+
+#include <chrono>
+#include <string>
+
+#include "granular/errors.hpp"
+#include "granular/world.hpp"
+
+namespace granular::accuracy {
+
+PourResult pour_cone(const WorldDef& base, int floor_size, int height, std::int64_t grains_per_tick,
+                     std::uint64_t ticks, std::uint64_t settle_ticks) {
+  if (floor_size < 8) throw InvalidArgument("pour_cone: floor_size = " + std::to_string(floor_size) + " must be >= 8");
+  if (height < 8) throw InvalidArgument("pour_cone: height = " + std::to_string(height) + " must be >= 8");
+  if (grains_per_tick < 0)
+    throw InvalidArgument("pour_cone: grains_per_tick = " + std::to_string(grains_per_tick) + " must be >= 0");
+  WorldDef def = base;
+  def.size = {floor_size, floor_size, height};
+  World world(def);
+  world.paint(Box{{0, 0, 0}, {floor_size, floor_size, 1}}, Material::Solid);
+
+  PourResult result;
+  result.before = world.count();
+  const Vec3 spout{floor_size / 2.0, floor_size / 2.0, height - 4.0};
+  const auto start = std::chrono::steady_clock::now();
+  for (std::uint64_t t = 0; t < ticks; ++t) {
+    const ChangeReport report = world.pour(spout, 2.0, Material::Granular, grains_per_tick);
+    result.poured += report.added[to_cell(Material::Granular)];
+    world.step(1);
+  }
+  std::uint64_t settle_done = 0;
+  std::uint64_t previous = world.hash();
+  while (settle_done < settle_ticks) {
+    world.step(8);
+    settle_done += 8;
+    const std::uint64_t h = world.hash();
+    if (h == previous) {
+      result.settled = true;
+      break;
+    }
+    previous = h;
+  }
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  result.ticks = world.tick();
+  result.grid = world.snapshot();
+  result.after = result.grid.count();
+  result.metrics = measure_cone(result.grid, spout, 1);
+  return result;
+}
+
+}  // namespace granular::accuracy

@@ -1,0 +1,37 @@
+#pragma once
+/// @file pour_cone.hpp
+/// The poured-cone experiment: sand poured from a small spout onto a flat floor, left to settle,
+/// then measured with measure_cone.
+
+#include <cstdint>
+
+#include "accuracy/cone_metrics.hpp"
+#include "granular/grid.hpp"
+#include "granular/material.hpp"
+#include "granular/world_def.hpp"
+
+namespace granular::accuracy {
+
+/// What pour_cone produced.
+struct PourResult {
+  Grid grid;                  ///< the settled grid
+  ConeMetrics metrics;        ///< measure_cone of `grid` around the spout's axis, floor_z = 1
+  double seconds = 0;         ///< wall-clock time of pouring and settling (world creation excluded)
+  std::uint64_t ticks = 0;    ///< ticks stepped in all (pouring + settling)
+  MaterialCounts before{};    ///< cell counts after the floor was laid, before any pour
+  MaterialCounts after{};     ///< cell counts of `grid`
+  std::uint64_t poured = 0;   ///< grains the pour calls added (conservation: after[Granular] == before[Granular] + poured)
+  bool settled = false;       ///< true when the grid came to rest within settle_ticks
+};
+
+/// Pours a cone: a world of floor_size x floor_size x height cells (`base` gives rules, seed,
+/// backend, threads, cache; its size is replaced), a Solid floor layer at z = 0, then for `ticks`
+/// ticks: World::pour(`grains_per_tick` Granular, sphere of radius 2 centred at
+/// (floor_size / 2, floor_size / 2, height - 4)) followed by one step; then up to `settle_ticks`
+/// more ticks in 8-tick cycles, stopping after the first cycle whose end hash equals its start hash.
+/// The pile is measured with measure_cone(grid, spout centre, 1).
+/// Throws InvalidArgument for floor_size < 8, height < 8, grains_per_tick < 0 (and whatever World throws).
+PourResult pour_cone(const WorldDef& base, int floor_size, int height, std::int64_t grains_per_tick,
+                     std::uint64_t ticks, std::uint64_t settle_ticks);
+
+}  // namespace granular::accuracy
