@@ -6,6 +6,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
+#include "granular/hex.hpp"
 #include "granular/lut.hpp"
 #include "granular/rule_presets.hpp"
 
@@ -20,12 +21,6 @@ struct LutOptions {
   int threads = 0;
   bool json = false;
 };
-
-std::string hex64(std::uint64_t v) {
-  char buf[19];
-  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(v));
-  return buf;
-}
 
 void run(const LutOptions& o) {
   const auto rules = make_rule_set(o.rules);

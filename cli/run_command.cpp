@@ -5,6 +5,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
+#include "granular/hex.hpp"
 #include "granular/lut.hpp"
 #include "granular/rule_set.hpp"
 #include "scene_runner.hpp"
@@ -19,12 +20,6 @@ struct RunOptions {
   bool json = false;
   bool no_progress = false;
 };
-
-std::string hex64(std::uint64_t v) {
-  char buf[19];
-  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(v));
-  return buf;
-}
 
 nlohmann::json counts_json(const MaterialCounts& c) {
   nlohmann::json j = nlohmann::json::object();

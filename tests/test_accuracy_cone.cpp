@@ -104,19 +104,17 @@ void check_conserved(const PourResult& r) {
 // synthetic square pyramid measures 41.7. The poured piles measure about 38 (about 43 along the
 // axes, 35 along the diagonals), so the bound checked is that range, not 45 +- 3.
 TEST_CASE("pour_cone: paper and isotropic rules conserve grains; paper's footprint is the less round") {
-  const PourResult paper = pour_small("paper");
-  report("paper", paper.metrics);
-  MESSAGE("paper: " << paper.poured << " grains, " << paper.ticks << " ticks, " << paper.seconds << " s");
-  check_conserved(paper);
-  CHECK(paper.metrics.angle_deg > 34);
-  CHECK(paper.metrics.angle_deg < 46);
+  auto pour_checked = [](const char* rules) {
+    const PourResult r = pour_small(rules);
+    report(rules, r.metrics);
+    MESSAGE(rules << ": " << r.poured << " grains, " << r.ticks << " ticks, " << r.seconds << " s");
+    check_conserved(r);
+    CHECK(r.metrics.angle_deg > 34);
+    CHECK(r.metrics.angle_deg < 46);
+    return r;
+  };
+  const PourResult paper = pour_checked("paper");
   CHECK(paper.metrics.r_half_ratio > 1.2);
-
-  const PourResult iso = pour_small("isotropic");
-  report("isotropic", iso.metrics);
-  MESSAGE("isotropic: " << iso.poured << " grains, " << iso.ticks << " ticks, " << iso.seconds << " s");
-  check_conserved(iso);
-  CHECK(iso.metrics.angle_deg > 34);
-  CHECK(iso.metrics.angle_deg < 46);
+  const PourResult iso = pour_checked("isotropic");
   CHECK(iso.metrics.r_half_ratio < paper.metrics.r_half_ratio);
 }

@@ -10,6 +10,7 @@
 #include <system_error>
 
 #include "granular/errors.hpp"
+#include "granular/hex.hpp"
 #include "granular/lut.hpp"
 
 namespace granular {
@@ -29,12 +30,6 @@ struct CacheHeader {
   std::uint64_t compressed_bytes;
 };
 static_assert(sizeof(CacheHeader) == 40);
-
-std::string hex(std::uint64_t v) {
-  char buf[17];
-  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(v));
-  return buf;
-}
 
 /// Reads and checks a cache file; returns nullptr (with `why`) when it cannot be trusted.
 std::shared_ptr<const Lut> read_cache(const std::filesystem::path& file, std::uint64_t fingerprint, int threads,
@@ -126,7 +121,7 @@ LutObtained obtain_lut(const RuleSet& rules, const LutCacheOptions& options) {
   const std::uint64_t fingerprint = rule_fingerprint(rules);
   std::filesystem::path dir = options.directory.empty() ? default_lut_cache_dir() : options.directory;
   if (options.enabled && !dir.empty()) {
-    result.cache_file = dir / ("lut-" + rules.name + "-" + hex(fingerprint) + ".zst");
+    result.cache_file = dir / ("lut-" + rules.name + "-" + hex64(fingerprint) + ".zst");
     std::string why;
     result.lut = read_cache(result.cache_file, fingerprint, options.threads, why);
     if (result.lut) {

@@ -7,6 +7,7 @@
 #include "granular/geometry.hpp"
 #include "granular/grid.hpp"
 #include "granular/grid_io.hpp"
+#include "granular/hex.hpp"
 #include "granular/material.hpp"
 #include "granular/scene.hpp"
 #include "granular/tools.hpp"
