@@ -34,7 +34,7 @@ void run(const LutOptions& o) {
     const Lut built = Lut::build(*rules, o.threads);
     build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const auto dir = o.cache_dir.empty() ? default_lut_cache_dir() : std::filesystem::path(o.cache_dir);
-    if (!dir.empty()) std::filesystem::remove(dir / ("lut-" + rules->name + "-" + hex64(built.rule_fingerprint()) + ".zst"));
+    if (!dir.empty()) std::filesystem::remove(lut_cache_file(*rules, dir));
   }
   const LutObtained got = obtain_lut(*rules, cache);
   if (!got.notice.empty()) std::fprintf(stderr, "notice: %s\n", got.notice.c_str());

@@ -114,6 +114,18 @@ std::filesystem::path default_lut_cache_dir() {
   return {};
 }
 
+namespace {
+
+std::filesystem::path cache_file(const std::string& name, std::uint64_t fingerprint, const std::filesystem::path& dir) {
+  return dir / ("lut-" + name + "-" + hex64(fingerprint) + ".zst");
+}
+
+}  // namespace
+
+std::filesystem::path lut_cache_file(const RuleSet& rules, const std::filesystem::path& directory) {
+  return cache_file(rules.name, rule_fingerprint(rules), directory);
+}
+
 LutObtained obtain_lut(const RuleSet& rules, const LutCacheOptions& options) {
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
@@ -121,7 +133,7 @@ LutObtained obtain_lut(const RuleSet& rules, const LutCacheOptions& options) {
   const std::uint64_t fingerprint = rule_fingerprint(rules);
   std::filesystem::path dir = options.directory.empty() ? default_lut_cache_dir() : options.directory;
   if (options.enabled && !dir.empty()) {
-    result.cache_file = dir / ("lut-" + rules.name + "-" + hex64(fingerprint) + ".zst");
+    result.cache_file = cache_file(rules.name, fingerprint, dir);
     std::string why;
     result.lut = read_cache(result.cache_file, fingerprint, options.threads, why);
     if (result.lut) {

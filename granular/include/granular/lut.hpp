@@ -69,6 +69,9 @@ struct LutObtained {
 /// $GRANULAR_CACHE_DIR, else $XDG_CACHE_HOME/granular, else $HOME/.cache/granular, else empty.
 std::filesystem::path default_lut_cache_dir();
 
+/// The cache file of `rules` in `directory`: lut-<name>-<fingerprint as hex64>.zst.
+std::filesystem::path lut_cache_file(const RuleSet& rules, const std::filesystem::path& directory);
+
 /// Loads the table for `rules` from the cache when a valid entry exists, else builds, validates
 /// and stores it (atomically; a cache that cannot be written is reported in `notice`, not fatal).
 /// A corrupt or stale cache file is rebuilt, never trusted.
