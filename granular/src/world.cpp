@@ -141,6 +141,9 @@ void World::init(const Grid& initial) {
                           std::to_string(kMaxThreads));
   size_ = initial.size();
   def_.size = size_;
+  const Int3 bricks = granular::brick_counts(size_);
+  brick_version_.assign(std::size_t(bricks.x) * std::size_t(bricks.y) * std::size_t(bricks.z), 0);
+  activity_.total_bricks = brick_version_.size();
   rules_ = make_rule_set(def_.rules);
   const int threads = def_.threads > 0 ? def_.threads : hardware_threads();
   [[maybe_unused]] const BackendKind kind = choose_backend(def_.backend);
@@ -178,6 +181,28 @@ void World::step(int ticks) {
   if (ticks == 0) return;
   backend_->step(tick_, ticks);
   tick_ += std::uint64_t(ticks);
+  // Every tick steps the whole grid, so every brick may have changed.
+  ++change_version_;
+  std::fill(brick_version_.begin(), brick_version_.end(), change_version_);
+  activity_.active_bricks = activity_.total_bricks;
+  activity_.active_cells = std::uint64_t(size_.x) * std::uint64_t(size_.y) * std::uint64_t(size_.z);
+}
+
+void World::mark_changed(const Box& region) {
+  ++change_version_;
+  const Int3 n = granular::brick_counts(size_);
+  for (int bz = region.min.z / kBrickSize; bz <= (region.max.z - 1) / kBrickSize; ++bz)
+    for (int by = region.min.y / kBrickSize; by <= (region.max.y - 1) / kBrickSize; ++by)
+      for (int bx = region.min.x / kBrickSize; bx <= (region.max.x - 1) / kBrickSize; ++bx)
+        brick_version_[(std::size_t(bz) * std::size_t(n.y) + std::size_t(by)) * std::size_t(n.x) + std::size_t(bx)] =
+            change_version_;
+}
+
+std::vector<std::uint32_t> World::bricks_changed_since(std::uint64_t version) const {
+  std::vector<std::uint32_t> changed;
+  for (std::size_t i = 0; i < brick_version_.size(); ++i)
+    if (brick_version_[i] > version) changed.push_back(std::uint32_t(i));
+  return changed;
 }
 
 BackendKind World::backend() const { return backend_->kind(); }
@@ -215,6 +240,7 @@ void World::load(const Grid& grid) {
     throw InvalidArgument("World::load: grid is " + to_string(grid.size()) + " but the world is " + to_string(size_));
   check_cells(grid.cells(), grid.size(), "World::load");
   backend_->write(grid.bounds(), grid.cells());
+  mark_changed(grid.bounds());
 }
 
 ChangeReport World::commit_region(const Box& region, bool clipped, const std::vector<std::uint8_t>& before,
@@ -228,7 +254,10 @@ ChangeReport World::commit_region(const Box& region, bool clipped, const std::ve
       ++report.removed[before[i]];
       ++report.added[after[i]];
     }
-  if (report.cells_changed > 0) backend_->write(region, after);
+  if (report.cells_changed > 0) {
+    backend_->write(region, after);
+    mark_changed(region);
+  }
   ++tool_calls_;
   return report;
 }

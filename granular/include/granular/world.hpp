@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "granular/activity.hpp"
 #include "granular/geometry.hpp"
 #include "granular/grid.hpp"
 #include "granular/material.hpp"
@@ -86,9 +87,21 @@ class World {
   /// Replaces every cell with those of `grid`, which must have this world's size.
   void load(const Grid& grid);
 
+  /// A counter that grows with every call that may change cells (step, tools, load). Pass a value
+  /// read earlier to bricks_changed_since() to learn what changed after it.
+  std::uint64_t change_version() const { return change_version_; }
+  /// Indices (x fastest, see brick_box) of the bricks whose cells may have changed after
+  /// change_version() returned `version`. Never misses a changed brick; may list an unchanged one.
+  std::vector<std::uint32_t> bricks_changed_since(std::uint64_t version) const;
+  /// Bricks per axis (see activity.hpp).
+  Int3 brick_counts() const { return granular::brick_counts(size_); }
+  /// How much of the grid the last tick stepped.
+  ActivityStats activity() const { return activity_; }
+
  private:
   void init(const Grid& initial);
   BackendKind choose_backend(BackendKind wanted);
+  void mark_changed(const Box& region);
   ChangeReport commit_region(const Box& region, bool clipped, const std::vector<std::uint8_t>& before,
                              const std::vector<std::uint8_t>& after);
 
@@ -102,6 +115,9 @@ class World {
   std::vector<std::string> notices_;
   double lut_seconds_ = 0;
   bool lut_from_cache_ = false;
+  std::uint64_t change_version_ = 0;
+  std::vector<std::uint64_t> brick_version_;  ///< per brick: change_version_ when it last changed
+  ActivityStats activity_{};
 };
 
 }  // namespace granular
