@@ -1,5 +1,6 @@
 #include <cuda_runtime.h>
 
+#include <algorithm>
 #include <memory>
 #include <string>
 
@@ -109,9 +110,24 @@ class CudaBackend final : public Backend {
     }
     while (left > 0) single();
     stream_.synchronize("step");
+    const Int3 bricks = brick_counts(size_);
+    last_.total_bricks = std::uint64_t(bricks.x) * std::uint64_t(bricks.y) * std::uint64_t(bricks.z);
+    last_.active_bricks = last_.total_bricks;
+    last_.active_cells = cell_count_;
+    last_.ticks = std::uint64_t(ticks);
+    last_.brick_ticks = last_.total_bricks * std::uint64_t(ticks);
+    last_.cell_ticks = cell_count_ * std::uint64_t(ticks);
   }
 
  public:
+
+  void wake(std::span<const std::uint32_t>) override {}
+
+  void take_changed_bricks(std::span<std::uint8_t> flags) override {
+    std::fill(flags.begin(), flags.end(), std::uint8_t(1));
+  }
+
+  ActivityStats last_activity() const override { return last_; }
 
   void read(const Box& box, std::span<std::uint8_t> out) const override {
     check_box(box, out.size(), "read");
@@ -217,12 +233,13 @@ class CudaBackend final : public Backend {
   cuda::DeviceBuffer<std::uint8_t> cells_;
   cuda::DeviceBuffer<BlockKey> result_;
   cuda::DeviceBuffer<unsigned long long> scratch_;
+  ActivityStats last_{};
 };
 
 }  // namespace
 
 std::unique_ptr<Backend> make_cuda_backend(const Grid& initial, std::shared_ptr<const Lut> lut, const RuleSet& rules,
-                                           std::uint64_t seed) {
+                                           std::uint64_t seed, bool /*sparse*/) {
   if (initial.cell_count() == 0) throw InvalidArgument("cuda backend: the initial grid is empty (0 cells)");
   if (!lut || lut->entries().size() != kBlockKeyCount)
     throw InvalidArgument("cuda backend: a full transition table (16,777,216 entries) is required");

@@ -143,6 +143,7 @@ void World::init(const Grid& initial) {
   def_.size = size_;
   const Int3 bricks = granular::brick_counts(size_);
   brick_version_.assign(std::size_t(bricks.x) * std::size_t(bricks.y) * std::size_t(bricks.z), 0);
+  changed_flags_.assign(brick_version_.size(), 0);
   activity_.total_bricks = brick_version_.size();
   rules_ = make_rule_set(def_.rules);
   const int threads = def_.threads > 0 ? def_.threads : hardware_threads();
@@ -152,11 +153,11 @@ void World::init(const Grid& initial) {
   if (!notice.empty()) notices_.push_back(notice);
 #ifdef GRANULAR_HAS_CUDA
   if (kind == BackendKind::Cuda) {
-    backend_ = make_cuda_backend(initial, lut_, *rules_, def_.seed);
+    backend_ = make_cuda_backend(initial, lut_, *rules_, def_.seed, def_.sparse);
     return;
   }
 #endif
-  backend_ = std::make_unique<CpuBackend>(initial, lut_, rules_->random_symmetry, def_.seed, threads);
+  backend_ = std::make_unique<CpuBackend>(initial, lut_, rules_->random_symmetry, def_.seed, threads, def_.sparse);
 }
 
 BackendKind World::choose_backend(BackendKind wanted) {
@@ -181,21 +182,37 @@ void World::step(int ticks) {
   if (ticks == 0) return;
   backend_->step(tick_, ticks);
   tick_ += std::uint64_t(ticks);
-  // Every tick steps the whole grid, so every brick may have changed.
-  ++change_version_;
-  std::fill(brick_version_.begin(), brick_version_.end(), change_version_);
-  activity_.active_bricks = activity_.total_bricks;
-  activity_.active_cells = std::uint64_t(size_.x) * std::uint64_t(size_.y) * std::uint64_t(size_.z);
+  activity_ = backend_->last_activity();
+  std::fill(changed_flags_.begin(), changed_flags_.end(), std::uint8_t(0));
+  backend_->take_changed_bricks(changed_flags_);
+  std::vector<std::uint32_t> changed;
+  for (std::uint32_t i = 0; i < changed_flags_.size(); ++i)
+    if (changed_flags_[i]) changed.push_back(i);
+  mark_bricks(changed);
 }
 
-void World::mark_changed(const Box& region) {
+void World::mark_bricks(std::span<const std::uint32_t> bricks) {
+  if (bricks.empty()) return;
   ++change_version_;
+  for (const std::uint32_t b : bricks) brick_version_[b] = change_version_;
+}
+
+void World::mark_changed(const Box& region, std::span<const std::uint8_t> before, std::span<const std::uint8_t> after) {
+  // The bricks holding a changed cell: marked for bricks_changed_since and woken for stepping.
   const Int3 n = granular::brick_counts(size_);
-  for (int bz = region.min.z / kBrickSize; bz <= (region.max.z - 1) / kBrickSize; ++bz)
-    for (int by = region.min.y / kBrickSize; by <= (region.max.y - 1) / kBrickSize; ++by)
-      for (int bx = region.min.x / kBrickSize; bx <= (region.max.x - 1) / kBrickSize; ++bx)
-        brick_version_[(std::size_t(bz) * std::size_t(n.y) + std::size_t(by)) * std::size_t(n.x) + std::size_t(bx)] =
-            change_version_;
+  std::vector<std::uint8_t> touched(brick_version_.size(), 0);
+  std::size_t i = 0;
+  for (int z = region.min.z; z < region.max.z; ++z)
+    for (int y = region.min.y; y < region.max.y; ++y)
+      for (int x = region.min.x; x < region.max.x; ++x, ++i)
+        if (before[i] != after[i])
+          touched[(std::size_t(z / kBrickSize) * std::size_t(n.y) + std::size_t(y / kBrickSize)) * std::size_t(n.x) +
+                  std::size_t(x / kBrickSize)] = 1;
+  std::vector<std::uint32_t> bricks;
+  for (std::uint32_t b = 0; b < touched.size(); ++b)
+    if (touched[b]) bricks.push_back(b);
+  mark_bricks(bricks);
+  backend_->wake(bricks);
 }
 
 std::vector<std::uint32_t> World::bricks_changed_since(std::uint64_t version) const {
@@ -239,8 +256,9 @@ void World::load(const Grid& grid) {
   if (!(grid.size() == size_))
     throw InvalidArgument("World::load: grid is " + to_string(grid.size()) + " but the world is " + to_string(size_));
   check_cells(grid.cells(), grid.size(), "World::load");
+  const Grid before = snapshot();
   backend_->write(grid.bounds(), grid.cells());
-  mark_changed(grid.bounds());
+  mark_changed(grid.bounds(), before.cells(), grid.cells());
 }
 
 ChangeReport World::commit_region(const Box& region, bool clipped, const std::vector<std::uint8_t>& before,
@@ -256,7 +274,7 @@ ChangeReport World::commit_region(const Box& region, bool clipped, const std::ve
     }
   if (report.cells_changed > 0) {
     backend_->write(region, after);
-    mark_changed(region);
+    mark_changed(region, before, after);
   }
   ++tool_calls_;
   return report;

@@ -87,21 +87,23 @@ class World {
   /// Replaces every cell with those of `grid`, which must have this world's size.
   void load(const Grid& grid);
 
-  /// A counter that grows with every call that may change cells (step, tools, load). Pass a value
+  /// A counter that grows with every call that changes cells (step, tools, load). Pass a value
   /// read earlier to bricks_changed_since() to learn what changed after it.
   std::uint64_t change_version() const { return change_version_; }
-  /// Indices (x fastest, see brick_box) of the bricks whose cells may have changed after
-  /// change_version() returned `version`. Never misses a changed brick; may list an unchanged one.
+  /// Indices (x fastest, see brick_box) of the bricks whose cells changed after change_version()
+  /// returned `version`. Never misses a changed brick. Exact with sparse stepping and for tools;
+  /// with dense stepping (WorldDef::sparse = false) a step lists every brick.
   std::vector<std::uint32_t> bricks_changed_since(std::uint64_t version) const;
   /// Bricks per axis (see activity.hpp).
   Int3 brick_counts() const { return granular::brick_counts(size_); }
-  /// How much of the grid the last tick stepped.
+  /// How much of the grid the last step() call stepped: its last tick, and sums over its ticks.
   ActivityStats activity() const { return activity_; }
 
  private:
   void init(const Grid& initial);
   BackendKind choose_backend(BackendKind wanted);
-  void mark_changed(const Box& region);
+  void mark_changed(const Box& region, std::span<const std::uint8_t> before, std::span<const std::uint8_t> after);
+  void mark_bricks(std::span<const std::uint32_t> bricks);
   ChangeReport commit_region(const Box& region, bool clipped, const std::vector<std::uint8_t>& before,
                              const std::vector<std::uint8_t>& after);
 
@@ -117,6 +119,7 @@ class World {
   bool lut_from_cache_ = false;
   std::uint64_t change_version_ = 0;
   std::vector<std::uint64_t> brick_version_;  ///< per brick: change_version_ when it last changed
+  std::vector<std::uint8_t> changed_flags_;   ///< scratch: per brick, changed by the last step
   ActivityStats activity_{};
 };
 

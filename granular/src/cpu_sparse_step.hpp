@@ -1,0 +1,28 @@
+#pragma once
+/// @file cpu_sparse_step.hpp
+/// The CPU kernel of sparse stepping: one tick's blocks owned by one brick (brick_grid.hpp), with
+/// what the activity tracking needs recorded on the way (docs/ARCHITECTURE.md, "Activity tracking").
+
+#include <cstdint>
+
+#include "cpu_step.hpp"
+#include "granular/geometry.hpp"
+
+namespace granular {
+
+/// Where the sparse kernel records what it saw; one byte per brick, x fastest.
+struct BrickRecord {
+  Int3 bricks{};                         ///< bricks per axis
+  std::uint8_t* dirty = nullptr;         ///< set for a brick that owns a block with a non-inert key
+                                         ///< (written only by the task stepping that brick)
+  std::uint8_t* changed = nullptr;       ///< set for a brick one of whose cells changed (written by
+                                         ///< several tasks, with relaxed atomic stores of 1)
+  const std::uint64_t* inert = nullptr;  ///< inert-key bit table (inert_keys.hpp); needed only with
+                                         ///< random symmetry (else a key is inert iff it maps to itself)
+};
+
+/// Steps the blocks of tick context.tick owned by brick `brick`, recording into `record`. Bricks of
+/// one tick own disjoint blocks, so any set of bricks may run concurrently.
+void step_brick(const StepContext& context, const BrickRecord& record, std::uint32_t brick);
+
+}  // namespace granular
