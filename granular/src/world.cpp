@@ -183,6 +183,12 @@ void World::step(int ticks) {
   backend_->step(tick_, ticks);
   tick_ += std::uint64_t(ticks);
   activity_ = backend_->last_activity();
+  step_changes_pending_ = true;
+}
+
+void World::take_step_changes() const {
+  if (!step_changes_pending_) return;
+  step_changes_pending_ = false;
   std::fill(changed_flags_.begin(), changed_flags_.end(), std::uint8_t(0));
   backend_->take_changed_bricks(changed_flags_);
   std::vector<std::uint32_t> changed;
@@ -191,7 +197,13 @@ void World::step(int ticks) {
   mark_bricks(changed);
 }
 
-void World::mark_bricks(std::span<const std::uint32_t> bricks) {
+std::uint64_t World::change_version() const {
+  take_step_changes();
+  return change_version_;
+}
+
+void World::mark_bricks(std::span<const std::uint32_t> bricks) const {
+  take_step_changes();
   if (bricks.empty()) return;
   ++change_version_;
   for (const std::uint32_t b : bricks) brick_version_[b] = change_version_;
@@ -216,6 +228,7 @@ void World::mark_changed(const Box& region, std::span<const std::uint8_t> before
 }
 
 std::vector<std::uint32_t> World::bricks_changed_since(std::uint64_t version) const {
+  take_step_changes();
   std::vector<std::uint32_t> changed;
   for (std::size_t i = 0; i < brick_version_.size(); ++i)
     if (brick_version_[i] > version) changed.push_back(std::uint32_t(i));

@@ -89,7 +89,7 @@ class World {
 
   /// A counter that grows with every call that changes cells (step, tools, load). Pass a value
   /// read earlier to bricks_changed_since() to learn what changed after it.
-  std::uint64_t change_version() const { return change_version_; }
+  std::uint64_t change_version() const;
   /// Indices (x fastest, see brick_box) of the bricks whose cells changed after change_version()
   /// returned `version`. Never misses a changed brick. Exact with sparse stepping and for tools;
   /// with dense stepping (WorldDef::sparse = false) a step lists every brick.
@@ -103,7 +103,8 @@ class World {
   void init(const Grid& initial);
   BackendKind choose_backend(BackendKind wanted);
   void mark_changed(const Box& region, std::span<const std::uint8_t> before, std::span<const std::uint8_t> after);
-  void mark_bricks(std::span<const std::uint32_t> bricks);
+  void mark_bricks(std::span<const std::uint32_t> bricks) const;
+  void take_step_changes() const;
   ChangeReport commit_region(const Box& region, bool clipped, const std::vector<std::uint8_t>& before,
                              const std::vector<std::uint8_t>& after);
 
@@ -117,9 +118,12 @@ class World {
   std::vector<std::string> notices_;
   double lut_seconds_ = 0;
   bool lut_from_cache_ = false;
-  std::uint64_t change_version_ = 0;
-  std::vector<std::uint64_t> brick_version_;  ///< per brick: change_version_ when it last changed
-  std::vector<std::uint8_t> changed_flags_;   ///< scratch: per brick, changed by the last step
+  // Change versions are brought up to date lazily (take_step_changes), so that step() costs no
+  // read-back of the backend's changed-brick flags unless somebody asks.
+  mutable std::uint64_t change_version_ = 0;
+  mutable std::vector<std::uint64_t> brick_version_;  ///< per brick: change_version_ when it last changed
+  mutable std::vector<std::uint8_t> changed_flags_;   ///< scratch: per brick, changed by steps
+  mutable bool step_changes_pending_ = false;         ///< steps ran since the flags were last taken
   ActivityStats activity_{};
 };
 
