@@ -162,6 +162,7 @@ static __global__ void __launch_bounds__(kBrickThreads) sparse_step_kernel(StepP
   const int t = int(threadIdx.x);
   const int group = t % kBrickGroups, row = (t / kBrickGroups) % kBrickBlocks, layer = t / (kBrickGroups * kBrickBlocks);
   const unsigned count = *s.count;
+  unsigned long long bricks_done = 0, cells_done = 0;  // thread 0's tally, added once at the end
   for (unsigned entry = blockIdx.x; entry < count; entry += gridDim.x) {
     if (t == 0) {
       any_non_inert = 0;
@@ -195,15 +196,18 @@ static __global__ void __launch_bounds__(kBrickThreads) sparse_step_kernel(StepP
     if (t == 0) {
       if (any_non_inert) s.dirty[index] = 1;
       if (any_changed) s.changed[index] = 1;
-      const unsigned long long cells = brick_cells(p.size, seen.brick.x, seen.brick.y, seen.brick.z);
-      atomicAdd(s.counters + kBrickTicks, 1ull);
-      atomicAdd(s.counters + kCellTicks, cells);
-      if (last_tick) {
-        atomicAdd(s.counters + kLastBricks, 1ull);
-        atomicAdd(s.counters + kLastCells, cells);
-      }
+      ++bricks_done;
+      cells_done += brick_cells(p.size, seen.brick.x, seen.brick.y, seen.brick.z);
     }
     __syncthreads();
+  }
+  if (t == 0 && bricks_done > 0) {
+    atomicAdd(s.counters + kBrickTicks, bricks_done);
+    atomicAdd(s.counters + kCellTicks, cells_done);
+    if (last_tick) {
+      atomicAdd(s.counters + kLastBricks, bricks_done);
+      atomicAdd(s.counters + kLastCells, cells_done);
+    }
   }
 }
 

@@ -124,7 +124,7 @@ TEST_CASE("cuda sparse: a 128^3 bowl falls, piles and settles to zero active bri
     const SceneInstance scene = instantiate(load_scene(find_scene("bowl")), 128);
     Trio w(scene.grid, rules, 17);
     std::uint64_t done = 0;
-    while (done < 12000) {
+    while (done < 8000) {
       w.step(500);
       done += 500;
       CAPTURE(done);
