@@ -33,12 +33,18 @@ void BrickActivity::set_neighbours_awake(std::uint32_t brick) {
 
 void BrickActivity::rebuild_active() {
   active_.clear();
+  runs_.clear();
   active_cells_ = 0;
   for (std::uint32_t i = 0; i < awake_.size(); ++i)
     if (awake_[i]) {
       active_.push_back(i);
       const Int3 b = brick_coords(bricks_, i);
       active_cells_ += brick_cells(size_, b.x, b.y, b.z);
+      Run* last = runs_.empty() ? nullptr : &runs_.back();
+      if (last != nullptr && b.x > 0 && last->first + std::uint32_t(last->length) == i && last->length < kMaxBrickRun)
+        ++last->length;
+      else
+        runs_.push_back({i, 1});
     }
 }
 

@@ -22,8 +22,15 @@ class BrickActivity {
 
   /// Bricks per axis.
   Int3 bricks() const { return bricks_; }
+  /// A run of awake bricks consecutive along x: first, first + 1, ..., first + length - 1.
+  struct Run {
+    std::uint32_t first;  ///< brick index of the run's first brick
+    int length;           ///< bricks in the run (1..kMaxBrickRun)
+  };
   /// The awake bricks, ascending.
   const std::vector<std::uint32_t>& active() const { return active_; }
+  /// The awake bricks as runs along x (for step_brick_run), ascending.
+  const std::vector<Run>& runs() const { return runs_; }
   /// Cells inside the awake bricks.
   std::uint64_t active_cells() const { return active_cells_; }
   /// Where the kernel records dirty and changed bricks (`inert`: the inert-key table or null).
@@ -44,6 +51,7 @@ class BrickActivity {
   Int3 bricks_;
   std::vector<std::uint8_t> awake_, dirty_, changed_;
   std::vector<std::uint32_t> active_;
+  std::vector<Run> runs_;
   std::uint64_t active_cells_ = 0;
 };
 

@@ -91,16 +91,16 @@ StepContext CpuBackend::context(std::uint64_t tick) {
 void CpuBackend::step_tick_sparse(std::uint64_t tick) {
   const StepContext c = context(tick);
   const BrickRecord record = activity_.record(inert_ ? inert_->data() : nullptr);
-  const auto& active = activity_.active();
-  last_.active_bricks = active.size();
+  const auto& runs = activity_.runs();
+  last_.active_bricks = activity_.active().size();
   last_.active_cells = activity_.active_cells();
-  const int bricks = int(active.size());
-  const int tasks = std::min(bricks, pool_.size() == 1 ? 1 : pool_.size() * 8);
+  const int count = int(runs.size());
+  const int tasks = std::min(count, pool_.size() == 1 ? 1 : pool_.size() * 8);
   if (tasks > 0)
     pool_.run(tasks, [&](int task) {
-      const int first = int(std::int64_t(bricks) * task / tasks);
-      const int last = int(std::int64_t(bricks) * (task + 1) / tasks);
-      for (int i = first; i < last; ++i) step_brick(c, record, active[std::size_t(i)]);
+      const int first = int(std::int64_t(count) * task / tasks);
+      const int last = int(std::int64_t(count) * (task + 1) / tasks);
+      for (int i = first; i < last; ++i) step_brick_run(c, record, runs[std::size_t(i)].first, runs[std::size_t(i)].length);
     });
   // The sleep/wake decision rests on a full cycle of all 8 offsets (ticks 8k .. 8k + 7).
   if ((tick & 7u) == 7u) activity_.end_cycle();

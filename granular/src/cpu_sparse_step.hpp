@@ -21,8 +21,13 @@ struct BrickRecord {
                                          ///< random symmetry (else a key is inert iff it maps to itself)
 };
 
-/// Steps the blocks of tick context.tick owned by brick `brick`, recording into `record`. Bricks of
-/// one tick own disjoint blocks, so any set of bricks may run concurrently.
-void step_brick(const StepContext& context, const BrickRecord& record, std::uint32_t brick);
+/// Longest run of bricks step_brick_run takes.
+inline constexpr int kMaxBrickRun = 32;
+
+/// Steps the blocks of tick context.tick owned by the `length` (1..kMaxBrickRun) bricks
+/// first_brick, first_brick + 1, ... (consecutive along x, one row of bricks), recording into
+/// `record`. A run walks each row of cells once across all its bricks, like the dense kernel.
+/// Bricks of one tick own disjoint blocks, so any set of runs may run concurrently.
+void step_brick_run(const StepContext& context, const BrickRecord& record, std::uint32_t first_brick, int length);
 
 }  // namespace granular
