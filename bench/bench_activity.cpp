@@ -5,13 +5,15 @@
 /// 1. *Series*: a dense and a sparse world step the bowl side by side from release to rest; per
 ///    window of ticks, the wall time per tick of each and the sparse world's mean active cells and
 ///    bricks go to `activity_<backend>_<N>.csv` (plot: bench/plot_activity.py). The hashes are
-///    compared after every window (a mismatch is an error, exit status 1).
+///    compared after every window (a mismatch is an error, exit status 1). After --series-seconds
+///    of wall time the sparse world goes on alone (no CSV rows) until it is at rest or reaches
+///    --max-ticks, and the dense world loads its state.
 /// 2. *Settled*: from the final state, ms per tick dense and sparse, and their ratio.
 /// 3. *Pour*: sand poured every tick into a closed 64^3 cup at the top corner of the settled world,
 ///    against the same pour into a 64^3 world alone (both sparse); ms per tick of the steps.
 ///
 ///   bench_activity [--backend cpu|cuda] [--n N] [--max-ticks T] [--window W] [--threads J]
-///                  [--pour-ticks P] [--out DIR]
+///                  [--series-seconds S] [--pour-ticks P] [--out DIR]
 /// Prints a short table last.
 
 #include <chrono>
@@ -38,6 +40,7 @@ struct Options {
   int threads = 0;
   int pour_ticks = 512;
   int cup = 64;
+  double series_seconds = 1e9;
   std::string out = ".";
 };
 
@@ -51,6 +54,7 @@ Options parse(int argc, char** argv) {
     else if (key == "--window") o.window = std::atoi(value.c_str());
     else if (key == "--threads") o.threads = std::atoi(value.c_str());
     else if (key == "--pour-ticks") o.pour_ticks = std::atoi(value.c_str());
+    else if (key == "--series-seconds") o.series_seconds = std::atof(value.c_str());
     else if (key == "--out") o.out = value;
     else throw InvalidArgument("bench_activity: unknown option " + key + " (see the file comment for the options)");
   }
@@ -108,8 +112,10 @@ int run(const Options& o) {
   std::printf("bench_activity: %s, bowl N=%d (%.3g cells), windows of %d ticks, up to %d ticks\n",
               dense.backend_description().c_str(), o.n, cells, o.window, o.max_ticks);
   int quiet_windows = 0;
-  while (int(sparse.tick()) < o.max_ticks && quiet_windows < 2) {
+  double series_wall = 0;
+  while (int(sparse.tick()) < o.max_ticks && quiet_windows < 2 && series_wall < o.series_seconds) {
     const double d = timed_step(dense, o.window), s = timed_step(sparse, o.window);
+    series_wall += d + s;
     const ActivityStats a = sparse.activity();
     if (dense.hash() != sparse.hash()) {
       std::fprintf(stderr, "MISMATCH at tick %llu: dense %s, sparse %s\n", static_cast<unsigned long long>(sparse.tick()),
@@ -124,7 +130,16 @@ int run(const Options& o) {
     quiet_windows = a.brick_ticks == 0 ? quiet_windows + 1 : 0;
   }
   csv.close();
+  const std::uint64_t series_ticks = sparse.tick();
+  if (quiet_windows < 2 && int(sparse.tick()) < o.max_ticks) {
+    while (int(sparse.tick()) < o.max_ticks && quiet_windows < 2) {
+      sparse.step(o.window);
+      quiet_windows = sparse.activity().brick_ticks == 0 ? quiet_windows + 1 : 0;
+    }
+    dense.load(sparse.snapshot());
+  }
   const ActivityStats end = sparse.activity();
+  const std::uint64_t rest_ticks = sparse.tick();
 
   // Settled: the final state, several step calls of one window each.
   double dense_s = 0, sparse_s = 0;
@@ -154,8 +169,9 @@ int run(const Options& o) {
     alone_dense_ms = pour_ms_per_tick(alone_dense, {0, 0, 0}, o.cup, o.pour_ticks);
   }
 
-  std::printf("series CSV: %s (%llu ticks; at the end %llu of %llu bricks active)\n", csv_path.c_str(),
-              static_cast<unsigned long long>(dense.tick()), static_cast<unsigned long long>(end.active_bricks),
+  std::printf("series CSV: %s (%llu ticks side by side; %llu ticks in all; at the end %llu of %llu bricks active)\n",
+              csv_path.c_str(), static_cast<unsigned long long>(series_ticks),
+              static_cast<unsigned long long>(rest_ticks), static_cast<unsigned long long>(end.active_bricks),
               static_cast<unsigned long long>(end.total_bricks));
   std::printf("%-44s %14s\n", "measure", "value");
   std::printf("%-44s %14.4f\n", "settled: dense ms/tick", dense_ms);
