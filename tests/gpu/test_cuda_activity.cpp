@@ -118,6 +118,19 @@ TEST_CASE("cuda sparse: same hash as dense CPU stepping on random scenes, sizes,
   }
 }
 
+TEST_CASE("cuda sparse: grids holding all 8 states match dense CPU stepping") {
+  for (const char* rules : {"paper", "isotropic"}) {
+    CAPTURE(rules);
+    const Int3 size{45, 38, 50};
+    Trio w(granular::test::random_grid_all_states(size, 31), rules, 6);
+    for (const int ticks : {5, 8, 13, 64, 200}) {
+      CAPTURE(ticks);
+      w.step(ticks);
+      require_same(w);
+    }
+  }
+}
+
 TEST_CASE("cuda sparse: a 128^3 bowl falls, piles and settles to zero active bricks, equal to dense CPU throughout") {
   for (const char* rules : {"paper", "isotropic"}) {
     CAPTURE(rules);
