@@ -212,17 +212,25 @@ void World::mark_bricks(std::span<const std::uint32_t> bricks) const {
 void World::mark_changed(const Box& region, std::span<const std::uint8_t> before, std::span<const std::uint8_t> after) {
   // The bricks holding a changed cell: marked for bricks_changed_since and woken for stepping.
   const Int3 n = granular::brick_counts(size_);
-  std::vector<std::uint8_t> touched(brick_version_.size(), 0);
+  const Int3 lo{region.min.x / kBrickSize, region.min.y / kBrickSize, region.min.z / kBrickSize};
+  const Int3 span{(region.max.x - 1) / kBrickSize - lo.x + 1, (region.max.y - 1) / kBrickSize - lo.y + 1,
+                  (region.max.z - 1) / kBrickSize - lo.z + 1};
+  std::vector<std::uint8_t> touched(std::size_t(span.x) * std::size_t(span.y) * std::size_t(span.z), 0);
   std::size_t i = 0;
   for (int z = region.min.z; z < region.max.z; ++z)
     for (int y = region.min.y; y < region.max.y; ++y)
       for (int x = region.min.x; x < region.max.x; ++x, ++i)
         if (before[i] != after[i])
-          touched[(std::size_t(z / kBrickSize) * std::size_t(n.y) + std::size_t(y / kBrickSize)) * std::size_t(n.x) +
-                  std::size_t(x / kBrickSize)] = 1;
-  std::vector<std::uint32_t> bricks;
-  for (std::uint32_t b = 0; b < touched.size(); ++b)
-    if (touched[b]) bricks.push_back(b);
+          touched[(std::size_t(z / kBrickSize - lo.z) * std::size_t(span.y) + std::size_t(y / kBrickSize - lo.y)) *
+                      std::size_t(span.x) +
+                  std::size_t(x / kBrickSize - lo.x)] = 1;
+  std::vector<std::uint32_t> bricks;  // ascending: z, then y, then x
+  for (int bz = 0; bz < span.z; ++bz)
+    for (int by = 0; by < span.y; ++by)
+      for (int bx = 0; bx < span.x; ++bx)
+        if (touched[(std::size_t(bz) * std::size_t(span.y) + std::size_t(by)) * std::size_t(span.x) + std::size_t(bx)])
+          bricks.push_back(std::uint32_t(
+              (std::size_t(lo.z + bz) * std::size_t(n.y) + std::size_t(lo.y + by)) * std::size_t(n.x) + std::size_t(lo.x + bx)));
   mark_bricks(bricks);
   backend_->wake(bricks);
 }
