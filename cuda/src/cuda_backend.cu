@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -10,12 +11,14 @@
 #include "cuda_device.cuh"
 #include "cuda_stream.cuh"
 #include "device_buffer.cuh"
+#include "external_interop.cuh"
 #include "granular/block.hpp"
 #include "granular/errors.hpp"
 #include "granular/grid.hpp"
 #include "granular/lut.hpp"
 #include "granular/rule_set.hpp"
 #include "granular_cuda/cuda_backend_factory.hpp"
+#include "pinned_counters.cuh"
 #include "reduce_kernels.cuh"
 #include "sparse_step_kernel.cuh"
 #include "step_kernel.cuh"
@@ -46,7 +49,8 @@ class CudaBackend final : public Backend {
         random_symmetry_(random_symmetry),
         seed_(seed),
         shape_(cuda::step_shape(initial.size())),
-        cells_(cuda::cell_buffer_bytes(cell_count_), "the grid's cells"),
+        owned_cells_(cuda::cell_buffer_bytes(cell_count_), "the grid's cells"),
+        cells_(owned_cells_.data()),
         result_(kBlockKeyCount, "the result table"),
         scratch_(kMaterialCount, "reduction counters"),
         sparse_(sparse),
@@ -54,10 +58,10 @@ class CudaBackend final : public Backend {
         total_bricks_(std::uint32_t(std::uint64_t(bricks_.x) * std::uint64_t(bricks_.y) * std::uint64_t(bricks_.z))) {
     cudaStream_t s = stream_.get();
     last_.total_bricks = total_bricks_;
-    if (cells_.bytes() > cell_count_)  // the tail of the last word, read (masked) by the reductions
-      cuda::check(cudaMemsetAsync(cells_.data() + cell_count_, 0, cells_.bytes() - cell_count_, s),
+    if (owned_cells_.bytes() > cell_count_)  // the tail of the last word, read (masked) by the reductions
+      cuda::check(cudaMemsetAsync(cells_ + cell_count_, 0, owned_cells_.bytes() - cell_count_, s),
                   "cudaMemsetAsync (cells)");
-    cuda::check(cudaMemcpyAsync(cells_.data(), initial.cells().data(), cell_count_, cudaMemcpyHostToDevice, s),
+    cuda::check(cudaMemcpyAsync(cells_, initial.cells().data(), cell_count_, cudaMemcpyHostToDevice, s),
                 "cudaMemcpyAsync (upload cells)");
     cuda::DeviceBuffer<Transition> table(kBlockKeyCount, "the transition table");
     cuda::check(cudaMemcpyAsync(table.data(), lut.entries().data(), table.bytes(), cudaMemcpyHostToDevice, s),
@@ -85,12 +89,16 @@ class CudaBackend final : public Backend {
   /// Enqueues the ticks (fused pairs where the parity allows) and synchronises once.
   void step_ticks(std::uint64_t first_tick, int ticks) {
     activate();
+    before_write();
     if (sparse_) {
-      step_sparse(first_tick, ticks);
+      enqueue_sparse(first_tick, ticks);
+      after_write();
+      // With a renderer attached the host goes on at once; last_activity() waits for the counters.
+      if (!ready_) collect_sparse_counters();
       return;
     }
     cuda::StepParams p;
-    p.cells = cells_.data();
+    p.cells = cells_;
     p.size = size_;
     p.result = result_.data();
     p.seed = seed_;
@@ -120,7 +128,9 @@ class CudaBackend final : public Backend {
       }
     }
     while (left > 0) single();
-    stream_.synchronize("step");
+    after_write();
+    // With a renderer attached the host goes on at once; the timelines order the device's work.
+    if (!ready_) stream_.synchronize("step");
     last_.active_bricks = last_.total_bricks;
     last_.active_cells = cell_count_;
     last_.ticks = std::uint64_t(ticks);
@@ -155,7 +165,10 @@ class CudaBackend final : public Backend {
     for (std::size_t i = 0; i < changed.size(); ++i) flags[i] |= changed[i];
   }
 
-  ActivityStats last_activity() const override { return last_; }
+  ActivityStats last_activity() const override {
+    if (counters_pending_) collect_sparse_counters();
+    return last_;
+  }
 
   void read(const Box& box, std::span<std::uint8_t> out) const override {
     check_box(box, out.size(), "read");
@@ -172,7 +185,7 @@ class CudaBackend final : public Backend {
     cudaStream_t s = stream_.get();
     cuda::check(cudaMemsetAsync(scratch_.data(), 0, scratch_.bytes(), s), "cudaMemsetAsync (counters)");
     cuda::count_kernel<<<cuda::reduce_blocks(cell_count_, device_.sm_count), cuda::kReduceThreads, 0, s>>>(
-        cells_.data(), cell_count_, scratch_.data());
+        cells_, cell_count_, scratch_.data());
     cuda::check_launch("count kernel launch");
     unsigned long long counts[kMaterialCount] = {};
     cuda::check(cudaMemcpyAsync(counts, scratch_.data(), sizeof counts, cudaMemcpyDeviceToHost, s),
@@ -188,13 +201,42 @@ class CudaBackend final : public Backend {
     cudaStream_t s = stream_.get();
     cuda::check(cudaMemsetAsync(scratch_.data(), 0, sizeof(unsigned long long), s), "cudaMemsetAsync (hash)");
     cuda::hash_kernel<<<cuda::reduce_blocks(cell_count_, device_.sm_count), cuda::kReduceThreads, 0, s>>>(
-        cells_.data(), cell_count_, scratch_.data());
+        cells_, cell_count_, scratch_.data());
     cuda::check_launch("hash kernel launch");
     unsigned long long sum = 0;
     cuda::check(cudaMemcpyAsync(&sum, scratch_.data(), sizeof sum, cudaMemcpyDeviceToHost, s),
                 "cudaMemcpyAsync (hash)");
     stream_.synchronize("hash");
     return finish_hash(size_, sum);
+  }
+
+  std::uint64_t shared_cell_bytes() const override { return cuda::cell_buffer_bytes(cell_count_); }
+
+  void share_cells(const ExternalCellMemory& memory) override {
+    activate();
+    if (imported_) throw BackendError("World::share_cells: the cells are already shared; share them once per world");
+    cuda::ImportedMemory imported(memory, shared_cell_bytes());
+    cuda::check(cudaMemcpyAsync(imported.data(), cells_, shared_cell_bytes(), cudaMemcpyDeviceToDevice, stream_.get()),
+                "cudaMemcpyAsync (cells into the shared buffer)");
+    stream_.synchronize("share_cells");
+    imported_.emplace(std::move(imported));
+    cells_ = imported_->data();
+    owned_cells_.reset();
+  }
+
+  void attach_timelines(const ExternalTimeline& cells_ready, const ExternalTimeline& cells_released) override {
+    activate();
+    if (!imported_) throw BackendError("World::attach_timelines: call share_cells first (the timelines order the shared cells)");
+    if (ready_) throw BackendError("World::attach_timelines: timelines are already attached");
+    cuda::ImportedTimeline ready(cells_ready, "cudaImportExternalSemaphore (cells_ready)");
+    cuda::ImportedTimeline released(cells_released, "cudaImportExternalSemaphore (cells_released)");
+    ready_.emplace(std::move(ready));
+    released_.emplace(std::move(released));
+  }
+
+  CellsHandoff hand_off_cells() override {
+    if (!ready_) throw BackendError("World::hand_off_cells: call share_cells and attach_timelines first");
+    return {writes_, ++handoffs_};
   }
 
  private:
@@ -207,6 +249,7 @@ class CudaBackend final : public Backend {
     wake_list_ = cuda::DeviceBuffer<std::uint32_t>(total_bricks_, "bricks to wake");
     count_ = cuda::DeviceBuffer<unsigned>(1, "the awake brick count");
     counters_ = cuda::DeviceBuffer<unsigned long long>(cuda::kCounterSlots, "activity counters");
+    counters_host_ = cuda::pinned_counters(cuda::kCounterSlots);
     cuda::check(cudaMemsetAsync(awake_.data(), 1, total_bricks_, s), "cudaMemsetAsync (awake bricks)");
     cuda::check(cudaMemsetAsync(dirty_.data(), 1, total_bricks_, s), "cudaMemsetAsync (dirty bricks)");
     cuda::check(cudaMemsetAsync(changed_.data(), 0, total_bricks_, s), "cudaMemsetAsync (changed bricks)");
@@ -240,11 +283,11 @@ class CudaBackend final : public Backend {
   }
 
   /// Enqueues the ticks over the awake bricks, one launch per tick plus the sleep/wake update at
-  /// the end of every 8-tick cycle, reads the activity counters back and synchronises once.
-  void step_sparse(std::uint64_t first_tick, int ticks) {
+  /// the end of every 8-tick cycle, and the copy of the activity counters to pinned host memory.
+  void enqueue_sparse(std::uint64_t first_tick, int ticks) {
     cudaStream_t s = stream_.get();
     cuda::StepParams p;
-    p.cells = cells_.data();
+    p.cells = cells_;
     p.size = size_;
     p.result = result_.data();
     p.seed = seed_;
@@ -255,15 +298,30 @@ class CudaBackend final : public Backend {
       cuda::launch_sparse_step(p, sp, random_symmetry_, i + 1 == ticks, sparse_grid_, s);
       if ((p.tick & 7u) == 7u) cuda::launch_end_cycle(sp, s);
     }
-    unsigned long long counters[cuda::kCounterSlots] = {};
-    cuda::check(cudaMemcpyAsync(counters, counters_.data(), sizeof counters, cudaMemcpyDeviceToHost, s),
+    cuda::check(cudaMemcpyAsync(counters_host_.get(), counters_.data(), counters_.bytes(), cudaMemcpyDeviceToHost, s),
                 "cudaMemcpyAsync (activity counters)");
-    stream_.synchronize("step");
     last_.ticks = std::uint64_t(ticks);
+    counters_pending_ = true;
+  }
+
+  /// Waits for the last step and takes its activity counters into last_.
+  void collect_sparse_counters() const {
+    stream_.synchronize("step");
+    counters_pending_ = false;
+    const unsigned long long* counters = counters_host_.get();
     last_.brick_ticks = counters[cuda::kBrickTicks];
     last_.cell_ticks = counters[cuda::kCellTicks];
     last_.active_bricks = counters[cuda::kLastBricks];
     last_.active_cells = counters[cuda::kLastCells];
+  }
+
+  /// With timelines attached: the next write waits until the renderer released its last read.
+  void before_write() {
+    if (released_) released_->wait(handoffs_, stream_.get());
+  }
+  /// With timelines attached: tells the renderer the writes so far are done.
+  void after_write() {
+    if (ready_) ready_->signal(++writes_, stream_.get());
   }
 
   /// Makes the backend's device current on the calling thread.
@@ -299,8 +357,8 @@ class CudaBackend final : public Backend {
     const std::size_t pitch = std::size_t(size_.x);
     for_each_piece(box, [&](std::size_t d, std::size_t o, std::size_t w, std::size_t h) {
       const cudaError_t status =
-          h == 1 ? cudaMemcpyAsync(host + o, cells_.data() + d, w, cudaMemcpyDeviceToHost, stream_.get())
-                 : cudaMemcpy2DAsync(host + o, w, cells_.data() + d, pitch, w, h, cudaMemcpyDeviceToHost, stream_.get());
+          h == 1 ? cudaMemcpyAsync(host + o, cells_ + d, w, cudaMemcpyDeviceToHost, stream_.get())
+                 : cudaMemcpy2DAsync(host + o, w, cells_ + d, pitch, w, h, cudaMemcpyDeviceToHost, stream_.get());
       cuda::check(status, "copying cells to the host");
     });
     stream_.synchronize("read");
@@ -309,13 +367,15 @@ class CudaBackend final : public Backend {
   /// Copies `host` (x fastest, no padding) into the cells of `box`.
   void copy_in(const Box& box, const std::uint8_t* host) {
     activate();
+    before_write();
     const std::size_t pitch = std::size_t(size_.x);
     for_each_piece(box, [&](std::size_t d, std::size_t o, std::size_t w, std::size_t h) {
       const cudaError_t status =
-          h == 1 ? cudaMemcpyAsync(cells_.data() + d, host + o, w, cudaMemcpyHostToDevice, stream_.get())
-                 : cudaMemcpy2DAsync(cells_.data() + d, pitch, host + o, w, w, h, cudaMemcpyHostToDevice, stream_.get());
+          h == 1 ? cudaMemcpyAsync(cells_ + d, host + o, w, cudaMemcpyHostToDevice, stream_.get())
+                 : cudaMemcpy2DAsync(cells_ + d, pitch, host + o, w, w, h, cudaMemcpyHostToDevice, stream_.get());
       cuda::check(status, "copying cells to the device");
     });
+    after_write();
     stream_.synchronize("write");
   }
 
@@ -326,7 +386,13 @@ class CudaBackend final : public Backend {
   std::uint64_t seed_;
   cuda::StepShape shape_;
   cuda::Stream stream_;
-  cuda::DeviceBuffer<std::uint8_t> cells_;
+  cuda::DeviceBuffer<std::uint8_t> owned_cells_;  ///< the cells, until share_cells() moves them
+  std::uint8_t* cells_;                           ///< the cells: owned_cells_ or imported_
+  std::optional<cuda::ImportedMemory> imported_;   ///< the renderer's buffer, after share_cells()
+  std::optional<cuda::ImportedTimeline> ready_;    ///< signalled after each write (attach_timelines)
+  std::optional<cuda::ImportedTimeline> released_;  ///< waited on before each write
+  std::uint64_t writes_ = 0;                       ///< last value signalled on ready_
+  std::uint64_t handoffs_ = 0;                     ///< last value handed out for released_
   cuda::DeviceBuffer<BlockKey> result_;
   cuda::DeviceBuffer<unsigned long long> scratch_;
   bool sparse_;
@@ -338,7 +404,9 @@ class CudaBackend final : public Backend {
   cuda::DeviceBuffer<unsigned> count_;
   cuda::DeviceBuffer<unsigned long long> counters_;
   cuda::DeviceBuffer<std::uint64_t> inert_;
-  ActivityStats last_{};
+  cuda::PinnedCounters counters_host_;        ///< the activity counters, copied back by each step
+  mutable bool counters_pending_ = false;     ///< a step's counters are on their way to counters_host_
+  mutable ActivityStats last_{};
 };
 
 }  // namespace
