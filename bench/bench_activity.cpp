@@ -32,18 +32,20 @@ namespace {
 
 using namespace granular;
 
+/// The command line (see the file comment).
 struct Options {
-  std::string backend = "cpu";
-  int n = 256;
-  int max_ticks = 8192;
-  int window = 64;
-  int threads = 0;
-  int pour_ticks = 512;
-  int cup = 64;
-  double series_seconds = 1e9;
-  std::string out = ".";
+  std::string backend = "cpu";  ///< cpu or cuda
+  int n = 256;                  ///< bowl size N
+  int max_ticks = 8192;         ///< the sparse world stops here even if not at rest
+  int window = 64;              ///< ticks per step call and CSV row (a multiple of 8)
+  int threads = 0;              ///< CPU threads (0 = all)
+  int pour_ticks = 512;         ///< ticks of the pour measurement (0 = none)
+  int cup = 64;                 ///< edge of the pour's cup and of the world alone
+  double series_seconds = 1e9;  ///< stepping time after which the side-by-side series stops
+  std::string out = ".";        ///< folder of the CSV
 };
 
+/// Reads the options; throws InvalidArgument for unknown ones or bad values.
 Options parse(int argc, char** argv) {
   Options o;
   for (int i = 1; i + 1 < argc; i += 2) {
@@ -63,6 +65,7 @@ Options parse(int argc, char** argv) {
   return o;
 }
 
+/// The bench's world definition: backend and threads from the options, sparse or dense.
 WorldDef def_for(const Options& o, bool sparse) {
   WorldDef def;
   def.backend = o.backend == "cuda" ? BackendKind::Cuda : BackendKind::Cpu;
@@ -100,6 +103,7 @@ double pour_ms_per_tick(World& world, Int3 origin, int cup, int ticks) {
   return seconds * 1000.0 / ticks;
 }
 
+/// Runs the three measurements and prints the table; returns the exit status.
 int run(const Options& o) {
   const SceneInstance scene = instantiate(load_scene(find_scene("bowl")), o.n);
   World dense(def_for(o, false), scene.grid);

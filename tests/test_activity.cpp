@@ -15,6 +15,7 @@ using namespace granular::test;
 
 namespace {
 
+/// `def` with sparse stepping on or off.
 WorldDef with_sparse(WorldDef def, bool sparse) {
   def.sparse = sparse;
   return def;

@@ -22,8 +22,8 @@ inline constexpr std::uint64_t kOutsideCell = to_cell(Material::Solid);
 /// A horizontal symmetry acting on 24-bit keys: each cell's 3 bits move as a unit, so the key is a
 /// bit permutation, applied as three byte-indexed partial tables.
 struct KeySymmetries {
-  BlockKey forward[8][3][256];
-  BlockKey inverse[8][3][256];
+  BlockKey forward[8][3][256];  ///< per symmetry and key byte: that byte's bits moved into the frame
+  BlockKey inverse[8][3][256];  ///< the same for the inverse symmetry (back from the frame)
 };
 
 /// Builds the forward and inverse key tables of the 8 symmetries.

@@ -23,6 +23,7 @@ using granular::test::random_size;
 
 namespace {
 
+/// A WorldDef for `backend` (the CPU with 2 threads), sparse or dense, with the build tree's table cache.
 WorldDef activity_def(BackendKind backend, bool sparse, const char* rules, std::uint64_t seed) {
   WorldDef def;
   def.rules = rules;
@@ -42,11 +43,13 @@ struct Trio {
       : dense(activity_def(BackendKind::Cpu, false, rules, seed), initial),
         cpu(activity_def(BackendKind::Cpu, true, rules, seed), initial),
         gpu(activity_def(BackendKind::Cuda, true, rules, seed), initial) {}
+  /// Steps all three.
   void step(int ticks) {
     dense.step(ticks);
     cpu.step(ticks);
     gpu.step(ticks);
   }
+  /// Applies `tool` to each of the three worlds, in order.
   template <class Tool>
   void each(Tool&& tool) {
     tool(dense);
@@ -55,6 +58,7 @@ struct Trio {
   }
 };
 
+/// "" when both worlds hold the same cells, else the first differing cell and both values.
 std::string first_difference(const World& a, const World& b) {
   const Grid x = a.snapshot(), y = b.snapshot();
   for (int k = 0; k < x.size().z; ++k)
