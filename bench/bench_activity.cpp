@@ -153,6 +153,14 @@ int run(const Options& o) {
   }
   const bool same = dense.hash() == sparse.hash();
   const double dense_ms = dense_s * 1000.0 / (4 * o.window), sparse_ms = sparse_s * 1000.0 / (4 * o.window);
+  // The settled state closes the series, so the plot shows all three phases.
+  {
+    const ActivityStats a = sparse.activity();
+    std::ofstream tail(csv_path, std::ios::app);
+    tail << o.backend << ',' << o.n << ',' << sparse.tick() << ",settled," << dense_ms << ',' << sparse_ms << ','
+         << double(a.cell_ticks) / double(a.ticks) << ',' << double(a.brick_ticks) / double(a.ticks) << ','
+         << a.total_bricks << '\n';
+  }
 
   // Pour into a cup of the settled world against the same cup alone.
   double big_ms = 0, alone_ms = 0, alone_dense_ms = 0;

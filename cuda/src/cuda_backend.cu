@@ -90,6 +90,15 @@ class CudaBackend final : public Backend {
   void step_ticks(std::uint64_t first_tick, int ticks) {
     activate();
     before_write();
+    if (sparse_ && asleep_) {
+      // Nothing is awake and nothing can wake without a tool: the ticks change no cell, so they
+      // cost no device work at all (a settled world costs nothing).
+      last_ = ActivityStats{};
+      last_.total_bricks = total_bricks_;
+      last_.ticks = std::uint64_t(ticks);
+      after_write();
+      return;
+    }
     if (sparse_) {
       enqueue_sparse(first_tick, ticks);
       after_write();
@@ -142,6 +151,7 @@ class CudaBackend final : public Backend {
 
   void wake(std::span<const std::uint32_t> bricks) override {
     if (!sparse_ || bricks.empty()) return;
+    asleep_ = false;
     activate();
     cudaStream_t s = stream_.get();
     cuda::check(cudaMemcpyAsync(wake_list_.data(), bricks.data(), bricks.size_bytes(), cudaMemcpyHostToDevice, s),
@@ -313,6 +323,9 @@ class CudaBackend final : public Backend {
     last_.cell_ticks = counters[cuda::kCellTicks];
     last_.active_bricks = counters[cuda::kLastBricks];
     last_.active_cells = counters[cuda::kLastCells];
+    // The last tick stepped no brick: the awake list was empty since the last cycle's end (only a
+    // cycle's end or a tool rebuilds it), so no brick was dirty either and it stays empty.
+    asleep_ = last_.active_bricks == 0;
   }
 
   /// With timelines attached: the next write waits until the renderer released its last read.
@@ -407,6 +420,7 @@ class CudaBackend final : public Backend {
   cuda::PinnedCounters counters_host_;        ///< the activity counters, copied back by each step
   mutable bool counters_pending_ = false;     ///< a step's counters are on their way to counters_host_
   mutable ActivityStats last_{};
+  mutable bool asleep_ = false;  ///< no brick awake and none dirty: ticks need no device work until a wake
 };
 
 }  // namespace
