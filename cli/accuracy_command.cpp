@@ -39,6 +39,31 @@ BackendKind parse_backend(const std::string& name) {
   throw InvalidArgument("--backend '" + name + "' is not a backend; use auto, cpu or cuda");
 }
 
+/// The command that reproduces this run (every option spelled out).
+std::string command_line(const AccuracyOptions& o) {
+  auto join = [](const std::vector<std::string>& v) {
+    std::string s;
+    for (const auto& x : v) s += (s.empty() ? "" : ",") + x;
+    return s;
+  };
+  std::string c = "granular accuracy";
+  if (o.quick) c += " --quick";
+  c += " --rules " + join(o.rules) + " --tests " + join(o.tests) + " --backend " + o.backend +
+       " --threads " + std::to_string(o.threads) + " --seed " + std::to_string(o.seed) + " --material " + o.material;
+  return c;
+}
+
+/// The first of $GRANULAR_PYTHON, python3 and /usr/bin/python3 that can import matplotlib ("" if none).
+std::string plotting_python() {
+  std::vector<std::string> candidates;
+  if (const char* env = std::getenv("GRANULAR_PYTHON"); env && *env) candidates.emplace_back(env);
+  candidates.emplace_back("python3");
+  candidates.emplace_back("/usr/bin/python3");
+  for (const auto& c : candidates)
+    if (std::system(("'" + c + "' -c 'import matplotlib' > /dev/null 2>&1").c_str()) == 0) return "'" + c + "'";
+  return {};
+}
+
 void write_file(const std::filesystem::path& path, const std::string& text) {
   std::ofstream f(path, std::ios::binary);
   if (!f) throw FileError("cannot write '" + path.string() + "'");
@@ -68,22 +93,35 @@ void run(const AccuracyOptions& o) {
     reports.push_back(accuracy::run_suite(options, o.tests));
     if (!o.json) std::printf("\n%s", accuracy::report_text(reports.back()).c_str());
   }
-  const std::string json = accuracy::report_json(reports, base.calibration);
+  const std::string json = accuracy::report_json(reports, base.calibration, accuracy::current_run_info(command_line(o)));
   if (o.json) std::cout << json;
   if (!o.csv.empty()) write_file(o.csv, accuracy::report_csv(reports));
   if (!o.out.empty()) {
     std::filesystem::create_directories(o.out);
     const auto json_path = std::filesystem::path(o.out) / "accuracy.json";
     write_file(json_path, json);
-    const std::string script = GRANULAR_ACCURACY_PLOT_SCRIPT;
-    const std::string command = "python3 '" + script + "' --out '" + o.out + "' '" + json_path.string() + "'";
-    std::fprintf(stderr, "plots: %s\n", command.c_str());
-    if (std::system(command.c_str()) != 0)
-      std::fprintf(stderr, "notice: the plot script failed (needs python3 with matplotlib); %s is written\n",
+    const std::string python = plotting_python();
+    if (python.empty()) {
+      std::fprintf(stderr, "notice: no python3 with matplotlib found (set $GRANULAR_PYTHON); %s is written, no plots\n",
                    json_path.c_str());
+    } else {
+      const std::string command = python + " '" + std::string(GRANULAR_ACCURACY_PLOT_SCRIPT) + "' --out '" + o.out + "' '" +
+                                  json_path.string() + "'";
+      std::fprintf(stderr, "plots: %s\n", command.c_str());
+      if (std::system(command.c_str()) != 0)
+        std::fprintf(stderr, "notice: the plot script failed; %s is written\n", json_path.c_str());
+    }
   }
-  for (const auto& r : reports)
+  // Conservation and determinism are absolutes, not physics targets: a failure is an error.
+  for (const auto& r : reports) {
     if (!r.conserved()) throw Error("grains were not conserved under rules '" + r.config.rules + "' (see the report)");
+    for (const auto& t : r.tests)
+      if (t.test == "conservation")
+        for (const auto& m : t.metrics)
+          if (!m.met())
+            throw Error("conservation test failed under rules '" + r.config.rules + "': " + m.name + " = " +
+                        std::to_string(m.measured) + " (see the report)");
+  }
 }
 
 }  // namespace

@@ -55,6 +55,7 @@ struct TestReport {
 struct SuiteConfig {
   std::string rules = "paper";  ///< rule-set preset
   std::string backend = "cpu";  ///< backend actually used ("cpu", "cuda")
+  std::string backend_description;  ///< the backend with details, e.g. "cpu (2 threads)" or the GPU's name
   std::string size = "full";    ///< "quick" or "full"
   int threads = 0;              ///< CPU threads (0 = all)
   std::uint64_t seed = 1;       ///< world seed

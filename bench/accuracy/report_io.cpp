@@ -3,7 +3,11 @@
 #include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
+#include <ctime>
+#include <fstream>
 #include <sstream>
+#include <thread>
+#include <utility>
 
 namespace granular::accuracy {
 
@@ -29,7 +33,7 @@ std::string format(const char* fmt, double v) {
 std::string report_text(const SuiteReport& report) {
   std::ostringstream out;
   const SuiteConfig& c = report.config;
-  out << "configuration  rules " << c.rules << ", backend " << c.backend << ", size " << c.size << ", seed " << c.seed
+  out << "configuration  rules " << c.rules << ", backend " << c.backend_description << ", size " << c.size << ", seed " << c.seed
       << "\n";
   for (const TestReport& t : report.tests) {
     out << "\n== " << t.test << ": " << t.title << "\n";
@@ -55,8 +59,29 @@ std::string report_text(const SuiteReport& report) {
   return out.str();
 }
 
-std::string report_json(const std::vector<SuiteReport>& reports, const Calibration& cal) {
+RunInfo current_run_info(std::string command) {
+  RunInfo info;
+  info.command = std::move(command);
+  const std::time_t now = std::time(nullptr);
+  char date[32];
+  std::strftime(date, sizeof date, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
+  info.date = date;
+  std::string model = "unknown CPU";
+  std::ifstream cpuinfo("/proc/cpuinfo");
+  for (std::string line; std::getline(cpuinfo, line);)
+    if (line.rfind("model name", 0) == 0 && line.find(':') != std::string::npos) {
+      model = line.substr(line.find(':') + 2);
+      break;
+    }
+  info.machine = model + ", " + std::to_string(std::thread::hardware_concurrency()) + " hardware threads";
+  return info;
+}
+
+std::string report_json(const std::vector<SuiteReport>& reports, const Calibration& cal, const RunInfo& info) {
   nlohmann::json j;
+  j["command"] = info.command;
+  j["date"] = info.date;
+  j["machine"] = info.machine;
   j["calibration"] = {{"cell_m", cal.cell_m},
                       {"tick_s", cal.tick_s()},
                       {"gravity", cal.gravity},
@@ -68,6 +93,7 @@ std::string report_json(const std::vector<SuiteReport>& reports, const Calibrati
     nlohmann::json cj;
     cj["config"] = {{"rules", r.config.rules},
                     {"backend", r.config.backend},
+                    {"backend_description", r.config.backend_description},
                     {"size", r.config.size},
                     {"threads", r.config.threads},
                     {"seed", r.config.seed}};

@@ -15,8 +15,19 @@ namespace granular::accuracy {
 /// reference, error and source, the notes, run time and conservation.
 std::string report_text(const SuiteReport& report);
 
-/// JSON of every configuration's report (config, tests, metrics, series, notes) and the calibration.
-std::string report_json(const std::vector<SuiteReport>& reports, const Calibration& calibration);
+/// Where and how a suite run was made, recorded in its JSON.
+struct RunInfo {
+  std::string command;  ///< the command line that reproduces the run
+  std::string date;     ///< UTC date and time, ISO 8601
+  std::string machine;  ///< CPU model and hardware threads
+};
+
+/// The RunInfo of this process: `command` as given, the current UTC time, this machine's CPU.
+RunInfo current_run_info(std::string command);
+
+/// JSON of every configuration's report (config, tests, metrics, series, notes), the calibration
+/// and the run info.
+std::string report_json(const std::vector<SuiteReport>& reports, const Calibration& calibration, const RunInfo& info);
 
 /// CSV with a header and one row per metric: rules, backend, size, test, metric, unit, measured,
 /// reference, tolerance, error, normalized_error, met, seconds, ticks, conserved, source.

@@ -28,7 +28,9 @@ SuiteReport run_suite(const SuiteOptions& o, const std::vector<std::string>& tes
   {
     // The backend actually used (auto resolves here, once, with a tiny world).
     WorldDef probe = test_world_def(o, {2, 2, 2});
-    report.config.backend = backend_name(World(probe).backend());
+    const World world(probe);
+    report.config.backend = backend_name(world.backend());
+    report.config.backend_description = world.backend_description();
   }
   const TestReport* collapse = nullptr;
   if (wanted("cone")) report.tests.push_back(run_cone_test(o));

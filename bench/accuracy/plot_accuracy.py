@@ -1,0 +1,249 @@
+#!/usr/bin/env python3
+"""Plots of the accuracy suite (`granular accuracy --json` / `--out`) and docs/ACCURACY.md.
+
+    plot_accuracy.py --out DIR [--markdown FILE] RESULT.json [RESULT.json ...]
+
+Reads one or more suite JSON files (each holds one or more configurations: rule set, size,
+backend), writes one PNG per test into DIR (accuracy_<test>.png: every series of every
+configuration, references as lines) and accuracy_summary.png (run time against mean normalized
+error, one point per configuration and test). With --markdown, also writes the report: the
+calibration, per test the scene, the plot and a table of measured values against references with
+their sources, and the summary. Needs matplotlib (optional dependency, scripts/install-deps).
+"""
+
+import argparse
+import json
+import math
+import os
+import sys
+
+try:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+except ImportError:  # a clear message, not a traceback
+    sys.stderr.write("error: plot_accuracy.py needs matplotlib (apt-get install python3-matplotlib)\n")
+    sys.exit(1)
+
+MARKERS = "osD^v<>p*h"
+
+
+def load(paths):
+    calibration, configurations, commands = None, [], []
+    for path in paths:
+        try:
+            with open(path, encoding="utf-8") as f:
+                data = json.load(f)
+        except (OSError, json.JSONDecodeError) as e:
+            sys.stderr.write(f"error: cannot read suite results '{path}': {e}\n")
+            sys.exit(1)
+        if "configurations" not in data:
+            sys.stderr.write(f"error: '{path}' is not a `granular accuracy` JSON file (no 'configurations')\n")
+            sys.exit(1)
+        calibration = calibration or data.get("calibration")
+        if data.get("command"):
+            commands.append((data["command"], data.get("date", ""), data.get("machine", "")))
+        configurations.extend(data["configurations"])
+    return calibration, configurations, commands
+
+
+def label(config):
+    c = config["config"]
+    return f'{c["rules"]} / {c["size"]} / {c["backend"]}'
+
+
+def finite(v):
+    return v is not None and isinstance(v, (int, float)) and math.isfinite(v)
+
+
+def test_names(configurations):
+    names = []
+    for c in configurations:
+        for t in c["tests"]:
+            if t["test"] not in names:
+                names.append(t["test"])
+    return names
+
+
+def plot_test(name, configurations, out_dir):
+    """One figure per test: a panel per (x label, y label) pair of its series."""
+    panels = []
+    for c in configurations:
+        for t in c["tests"]:
+            if t["test"] != name:
+                continue
+            for s in t["series"]:
+                key = (s["x_label"], s["y_label"])
+                if key not in panels:
+                    panels.append(key)
+    if not panels:
+        return None
+    fig, axes = plt.subplots(1, len(panels), figsize=(5.2 * len(panels), 4.0), squeeze=False)
+    title = name
+    references_drawn = {}
+    for ci, c in enumerate(configurations):
+        for t in c["tests"]:
+            if t["test"] != name:
+                continue
+            title = t["title"]
+            for s in t["series"]:
+                ax = axes[0][panels.index((s["x_label"], s["y_label"]))]
+                pts = [(x, y) for x, y in zip(s["x"], s["y"]) if finite(x) and finite(y)]
+                if not pts:
+                    continue
+                xs, ys = zip(*pts)
+                if s["reference"]:
+                    # A reference shared by every configuration is drawn once; one that depends on
+                    # the configuration (a fit) is drawn per configuration, in its colour.
+                    key = (s["x_label"], s["y_label"], s["name"])
+                    data = (tuple(xs), tuple(ys))
+                    if references_drawn.get(key) == data:
+                        continue
+                    if key in references_drawn:
+                        ax.plot(xs, ys, "--", color=f"C{ci % 10}", lw=1, label=f'{label(c)}: {s["name"]}')
+                    else:
+                        references_drawn[key] = data
+                        ax.plot(xs, ys, "k--", lw=1.2, label=s["name"])
+                else:
+                    ax.plot(xs, ys, marker=MARKERS[ci % len(MARKERS)], ms=4, lw=1,
+                            label=f'{label(c)}: {s["name"]}')
+    for (xl, yl), ax in zip(panels, axes[0]):
+        ax.set_xlabel(xl)
+        ax.set_ylabel(yl)
+        ax.grid(alpha=0.3)
+        if any(w in xl for w in ("D (cells)", "H (cells)", "H0 (cells)", "aspect ratio", "ticks t")):
+            ax.set_xscale("log")
+            ax.set_yscale("log")
+        ax.legend(fontsize=6)
+    fig.suptitle(title, fontsize=10)
+    fig.tight_layout()
+    path = os.path.join(out_dir, f"accuracy_{name}.png")
+    fig.savefig(path, dpi=72)
+    plt.close(fig)
+    return path
+
+
+def plot_summary(configurations, out_dir):
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    names = test_names(configurations)
+    for ci, c in enumerate(configurations):
+        color = f"C{ci % 10}"
+        for t in c["tests"]:
+            if finite(t.get("mean_normalized_error")) and t["metrics"] and t["seconds"] > 0:
+                ax.scatter(t["seconds"], t["mean_normalized_error"], color=color, alpha=0.5, s=18,
+                           marker=MARKERS[names.index(t["test"]) % len(MARKERS)])
+        if finite(c.get("mean_normalized_error")) and c["seconds"] > 0:
+            ax.scatter(c["seconds"], c["mean_normalized_error"], color=color, s=90, edgecolor="k",
+                       label=f"{label(c)} (whole suite)")
+    for ti, n in enumerate(names):
+        ax.scatter([], [], color="gray", marker=MARKERS[ti % len(MARKERS)], s=18, label=f"test: {n}")
+    ax.axhline(1.0, color="k", ls="--", lw=1, label="target edge (|error| = tolerance)")
+    ax.set_xscale("log")
+    ax.set_yscale("symlog", linthresh=0.1)
+    ax.set_ylim(bottom=0)
+    ax.set_xlabel("run time (s)")
+    ax.set_ylabel("mean |error| / tolerance")
+    ax.set_title("Run time against error, every configuration tried")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=6, loc="best")
+    fig.tight_layout()
+    path = os.path.join(out_dir, "accuracy_summary.png")
+    fig.savefig(path, dpi=72)
+    plt.close(fig)
+    return path
+
+
+def fmt(v):
+    if not finite(v):
+        return "n/a"
+    return f"{v:.4g}"
+
+
+def write_markdown(md_path, calibration, configurations, commands, images):
+    md_dir = os.path.dirname(os.path.abspath(md_path))
+
+    def rel(p):
+        return os.path.relpath(os.path.abspath(p), md_dir)
+
+    lines = ["# Accuracy", "",
+             "Generated by `bench/accuracy/plot_accuracy.py` from the JSON of `granular accuracy`; do not edit by hand.",
+             "Each test builds its scene programmatically, runs it, measures from the grid and compares with a",
+             "physical reference. *Error* is measured - reference; a target is met when |error| <= tolerance",
+             "(the issue's targets); *norm.* is |error| / tolerance.", ""]
+    if commands:
+        lines += ["## How these figures were made", ""]
+        for cmd, date, machine in commands:
+            lines.append(f"* `{cmd}` ({date}; {machine})")
+        lines.append("")
+    if calibration:
+        lines += ["## Calibration", "", calibration["description"] + ".", "",
+                  "The paper's rules move a grain one cell per tick at most, so this calibration is exact only",
+                  "for a fall of H_c cells; the free-fall test shows how far off other heights are.", ""]
+    lines += ["## Summary: run time against error", "", f"![summary]({rel(images['summary'])})", "",
+              "| configuration | run time (s) | mean norm. error | targets met | grains conserved |",
+              "| --- | --- | --- | --- | --- |"]
+    for c in configurations:
+        metrics = [m for t in c["tests"] for m in t["metrics"]]
+        met = sum(1 for m in metrics if m["met"])
+        lines.append(f"| {label(c)} | {c['seconds']:.2f} | {fmt(c['mean_normalized_error'])} | {met} / {len(metrics)} | "
+                     f"{'yes' if c['conserved'] else 'NO'} |")
+    lines.append("")
+    for name in test_names(configurations):
+        first = next(t for c in configurations for t in c["tests"] if t["test"] == name)
+        lines += [f"## {first['title']}", "", f"Scene: {first['scene']}.", ""]
+        if name in images:
+            lines += [f"![{name}]({rel(images[name])})", ""]
+        lines += ["| configuration | metric | measured | reference | error | tolerance | norm. | met | run time (s) |",
+                  "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
+        sources = []
+        notes = []
+        for c in configurations:
+            for t in c["tests"]:
+                if t["test"] != name:
+                    continue
+                for m in t["metrics"]:
+                    unit = f" ({m['unit']})" if m["unit"] else ""
+                    lines.append(f"| {label(c)} | {m['name']}{unit} | {fmt(m['measured'])} | {fmt(m['reference'])} | "
+                                 f"{fmt(m['error'])} | {fmt(m['tolerance'])} | {fmt(m['normalized_error'])} | "
+                                 f"{'yes' if m['met'] else '**no**'} | {t['seconds']:.2f} |")
+                    if (m["name"], m["source"]) not in sources:
+                        sources.append((m["name"], m["source"]))
+                for n in t["notes"]:
+                    notes.append(f"{label(c)}: {n}")
+        lines += ["", "References:", ""]
+        lines += [f"* {n}: {s}" for n, s in sources]
+        if notes:
+            lines += ["", "Notes:", ""] + [f"* {n}" for n in notes]
+        lines.append("")
+    with open(md_path, "w", encoding="utf-8") as f:
+        f.write("\n".join(lines))
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--out", required=True, help="folder for the PNG files")
+    ap.add_argument("--markdown", help="also write the Markdown report to this file")
+    ap.add_argument("results", nargs="+", help="JSON files written by `granular accuracy --json` or --out")
+    args = ap.parse_args()
+    calibration, configurations, commands = load(args.results)
+    if not configurations:
+        sys.stderr.write("error: the result files hold no configuration\n")
+        return 1
+    os.makedirs(args.out, exist_ok=True)
+    images = {}
+    for name in test_names(configurations):
+        path = plot_test(name, configurations, args.out)
+        if path:
+            images[name] = path
+    images["summary"] = plot_summary(configurations, args.out)
+    for p in images.values():
+        print(p)
+    if args.markdown:
+        write_markdown(args.markdown, calibration, configurations, commands, images)
+        print(args.markdown)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
