@@ -25,12 +25,13 @@ std::shared_ptr<const std::vector<BlockKey>> shared_result_table(const Lut& lut,
 
 }  // namespace
 
-CpuBackend::CpuBackend(const Grid& initial, std::shared_ptr<const Lut> lut, bool random_symmetry, std::uint64_t seed,
-                       int threads)
+CpuBackend::CpuBackend(const Grid& initial, std::shared_ptr<const Lut> lut, bool random_symmetry, bool random_axis_order,
+                       std::uint64_t seed, int threads)
     : grid_(initial),
       lut_(std::move(lut)),
       result_(shared_result_table(*lut_, threads)),
       random_symmetry_(random_symmetry),
+      random_axis_order_(random_axis_order),
       seed_(seed),
       pool_(threads) {}
 
@@ -50,6 +51,7 @@ void CpuBackend::step_tick(std::uint64_t tick) {
   c.seed = seed_;
   c.tick = tick;
   c.random_symmetry = random_symmetry_;
+  c.random_axis_order = random_axis_order_;
   const int layers = block_layers(c);
   // Several layer ranges per thread so that uneven layers (sand vs. air) still balance.
   const int tasks = std::min(layers, pool_.size() == 1 ? 1 : pool_.size() * 8);

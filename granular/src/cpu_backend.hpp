@@ -15,8 +15,9 @@ namespace granular {
 /// are shared out among threads freely: the result never depends on the thread count.
 class CpuBackend final : public Backend {
  public:
-  /// Takes a copy of `initial`; `threads` >= 1.
-  CpuBackend(const Grid& initial, std::shared_ptr<const Lut> lut, bool random_symmetry, std::uint64_t seed, int threads);
+  /// Takes a copy of `initial`; `threads` >= 1. The flags are the rule set's (RuleSet).
+  CpuBackend(const Grid& initial, std::shared_ptr<const Lut> lut, bool random_symmetry, bool random_axis_order,
+             std::uint64_t seed, int threads);
 
   BackendKind kind() const override { return BackendKind::Cpu; }
   std::string description() const override;
@@ -33,6 +34,7 @@ class CpuBackend final : public Backend {
   std::shared_ptr<const Lut> lut_;
   std::shared_ptr<const std::vector<BlockKey>> result_;
   bool random_symmetry_;
+  bool random_axis_order_;
   std::uint64_t seed_;
   mutable ThreadPool pool_;
 };
