@@ -70,10 +70,12 @@ TEST_CASE("run_suite and target_material reject bad names with the valid ones") 
   test::check_has(test::error_of<InvalidArgument>([] { target_material("mud"); }), {"mud", "sand", "glass"});
 }
 
-// The quick cone and conservation tests on the default rule set, asserting what the model reaches
-// today (docs/ACCURACY.md shows the gap to the issue's targets: 33 +- 2 deg, r_max/r_min <= 1.05).
+// The quick cone and conservation tests on the default rule set (isotropic), asserting what the
+// model reaches today; docs/ACCURACY.md shows the gap to the issue's targets (33 +- 2 deg,
+// r_max/r_min <= 1.05). The paper's rules fail the footprint checks (ratio 1.3, 2-fold 0.033).
 TEST_CASE("accuracy suite, quick, default rules: grains conserved, hashes agree, cone angle and footprint as measured") {
   const std::string rules = WorldDef{}.rules;
+  REQUIRE(rules == "isotropic");
   const SuiteReport r = run_suite(quick_options(rules), {"cone", "conservation"});
   REQUIRE(r.tests.size() == 2);
   const TestReport& cone = r.tests[0];
@@ -83,12 +85,15 @@ TEST_CASE("accuracy suite, quick, default rules: grains conserved, hashes agree,
   CHECK(metric(conservation, "count_changes_random_scenes").measured == 0);
   CHECK(metric(conservation, "hash_mismatches").measured == 0);
   CHECK(metric(conservation, "tests_not_conserving").measured == 0);
-  // The staircase of a 45-degree rule measures 35 (diagonals) to 45 (axes) per bin: about 38.5 on average.
+  // The staircase of a 45-degree rule measures 35 (diagonals) to 45 (axes) per bin: about 39 on average.
   const double angle = metric(cone, "angle_of_repose").measured;
   CHECK(angle > 36);
   CHECK(angle < 41);
+  // Measured 1.10 (target 1.05); the random offset order removed the x/y ellipse (2-fold 0.002).
   const double ratio = metric(cone, "r_max_over_r_min").measured;
   CHECK(ratio >= 1.0);
-  CHECK(ratio < 1.4);
-  CHECK(metric(cone, "fourfold_amplitude").measured < 0.04);
+  CHECK(ratio < 1.15);
+  CHECK(metric(cone, "twofold_amplitude").measured < 0.01);
+  CHECK(metric(cone, "onefold_amplitude").measured < 0.01);
+  CHECK(metric(cone, "fourfold_amplitude").measured < 0.03);
 }

@@ -39,9 +39,9 @@ TestReport run_collapse_test(const SuiteOptions& options);
 TestReport run_fall_test(const SuiteOptions& options, const TestReport* collapse);
 
 /// 6. Conservation and stability: random scenes (void/solid/granular, and all 8 states) stepped
-/// for many ticks (quick 2 x 10^4, full 10^6) must keep every material's count exactly and give the
-/// same hash on 1, 2 and 3 CPU threads and on the configured backend; `earlier` (the other tests'
-/// reports) adds the count of tests whose grains were not conserved.
+/// for many ticks (quick 2 x 10^4; full 10^6 and 10^5) must keep every material's count exactly and
+/// give the same hash on the configured backend and on 1, 2 and 3 CPU threads (full: 1 and 3);
+/// `earlier` (the other tests' reports) adds the count of tests whose grains were not conserved.
 TestReport run_conservation_test(const SuiteOptions& options, const std::vector<TestReport>& earlier);
 
 }  // namespace granular::accuracy
