@@ -23,7 +23,8 @@ TestReport run_hysteresis_test(const SuiteOptions& options);
 
 /// 3. Silo discharge: a cylindrical silo with a flat bottom and a centred round orifice of
 /// diameter D; grains that leave are removed below and counted. Steady flow rate W(D), the fit
-/// W = C (D - k)^n (Beverloo: n = 5/2), and W against the fill level.
+/// W = C (D - k)^n (Beverloo: n = 5/2), and W against the fill level; then the shipped hourglass
+/// scene (quick N = 64, full 192): W against the fraction emptied, constant from 20% to 80%.
 TestReport run_silo_test(const SuiteOptions& options);
 
 /// 4. Column collapse: a cylinder of sand of radius R0 and height a R0 released at once, for
