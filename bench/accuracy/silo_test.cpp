@@ -143,6 +143,16 @@ TestReport run_silo_test(const SuiteOptions& o) {
   const BeverlooFit fit = fit_beverloo(w_d.x, w_d.y);
   const std::string beverloo = "Beverloo, Leniger & van de Velde, Chem. Eng. Sci. 15, 260 (1961): W = C rho_b sqrt(g) (D - k d)^(5/2)";
   r.metrics.push_back({"beverloo_exponent", "", fit.ok ? fit.exponent : std::nan(""), 2.5, 0.25, beverloo});
+  {
+    // Beverloo's absolute rate at the largest orifice, a cell taken as one grain diameter:
+    // W = C rho_b sqrt(g) (D - k d)^(5/2) with C = 0.58, k = 1.5, in grains per tick.
+    const Calibration& cal = o.calibration;
+    const double d_m = (w_d.x.back() - 1.5) * cal.cell_m;
+    const double kg_per_s = 0.58 * cal.bulk_density * std::sqrt(cal.gravity) * std::pow(d_m, 2.5);
+    const double reference = kg_per_s * cal.tick_s() / cal.cell_kg();
+    r.metrics.push_back({"rate_at_largest_D", "grains/tick", w_d.y.back(), reference, 0.1 * reference,
+                         "Beverloo et al. 1961 with C = 0.58, k = 1.5 grain diameters (a cell = a grain), the calibration's rho_b, g, dt"});
+  }
   r.metrics.push_back({"fill_dependence", "", worst_fill_spread, 0.0, 0.05,
                        "Beverloo et al. 1961 / Janssen screening: W does not depend on the fill height (target < 5%, issue 5)"});
   r.series.push_back(w_d);
