@@ -86,6 +86,11 @@ def test_names(configurations):
     return names
 
 
+def log_axes(x_label):
+    """Power laws (fits against D, H, H0, a, t) are drawn on log-log axes."""
+    return any(w in x_label for w in ("D (cells)", "H (cells)", "H0 (cells)", "aspect ratio", "ticks t"))
+
+
 def plot_test(name, configurations, out_dir):
     """One figure per test: a panel per (x label, y label) pair of its series."""
     panels = []
@@ -109,7 +114,9 @@ def plot_test(name, configurations, out_dir):
             title = t["title"]
             for s in t["series"]:
                 ax = axes[0][panels.index((s["x_label"], s["y_label"]))]
-                pts = [(x, y) for x, y in zip(s["x"], s["y"]) if finite(x) and finite(y)]
+                log = log_axes(s["x_label"])
+                pts = [(x, y) for x, y in zip(s["x"], s["y"])
+                       if finite(x) and finite(y) and (not log or (x > 0 and y > 0))]
                 if not pts:
                     continue
                 xs, ys = zip(*pts)
@@ -132,9 +139,11 @@ def plot_test(name, configurations, out_dir):
         ax.set_xlabel(xl)
         ax.set_ylabel(yl)
         ax.grid(alpha=0.3)
-        if any(w in xl for w in ("D (cells)", "H (cells)", "H0 (cells)", "aspect ratio", "ticks t")):
+        if log_axes(xl):
             ax.set_xscale("log")
             ax.set_yscale("log")
+        else:
+            ax.ticklabel_format(useOffset=False, axis="y")
         ax.legend(fontsize=6)
     fig.suptitle(title, fontsize=10)
     fig.tight_layout()
