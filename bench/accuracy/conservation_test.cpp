@@ -32,22 +32,26 @@ TestReport run_conservation_test(const SuiteOptions& o, const std::vector<TestRe
     Int3 size;
     bool all_states;
     std::uint64_t ticks;
+    std::vector<int> cpu_threads;  ///< CPU thread counts the configured backend is compared with
   };
-  // Full size: 10^6 ticks of the first scene, 10^5 of the second; the configured backend and the
-  // CPU on 1 and 3 threads (quick: 2 x 10^4 ticks, also on 2 threads).
-  const std::vector<Scene> scenes = o.quick ? std::vector<Scene>{{{24, 24, 24}, false, 20000}, {{23, 17, 29}, true, 20000}}
-                                            : std::vector<Scene>{{{32, 32, 32}, false, 1000000}, {{31, 29, 33}, true, 100000}};
-  const std::vector<int> cpu_threads = o.quick ? std::vector<int>{1, 2, 3} : std::vector<int>{1, 3};
+  // Full size: 10^6 ticks of the first scene against the CPU on 1 thread, 10^5 of the second on 1
+  // and 3 threads; quick: 2 x 10^4 ticks of each on 1, 2 and 3 threads.
+  const std::vector<Scene> scenes =
+      o.quick ? std::vector<Scene>{{{24, 24, 24}, false, 20000, {1, 2, 3}}, {{23, 17, 29}, true, 20000, {1, 2, 3}}}
+              : std::vector<Scene>{{{32, 32, 32}, false, 1000000, {1}}, {{31, 29, 33}, true, 100000, {1, 3}}};
   TestReport r;
   r.test = "conservation";
   r.title = "Conservation and stability: exact counts, one hash per seed on every thread count and backend";
-  r.scene = "random scenes " + std::to_string(scenes[0].size.x) + "^3 (void/solid/granular, " +
-            std::to_string(scenes[0].ticks) + " ticks) and " + std::to_string(scenes[1].size.x) + "x" +
-            std::to_string(scenes[1].size.y) + "x" + std::to_string(scenes[1].size.z) + " (all 8 states, " +
-            std::to_string(scenes[1].ticks) + " ticks), each on the configured backend and on the CPU with";
-  for (std::size_t i = 0; i < cpu_threads.size(); ++i)
-    r.scene += (i == 0 ? " " : i + 1 == cpu_threads.size() ? " and " : ", ") + std::to_string(cpu_threads[i]);
-  r.scene += " threads";
+  r.scene = "random scenes";
+  for (std::size_t i = 0; i < scenes.size(); ++i) {
+    const Scene& sc = scenes[i];
+    r.scene += std::string(i ? ";" : "") + " " + std::to_string(sc.size.x) + "x" + std::to_string(sc.size.y) + "x" +
+               std::to_string(sc.size.z) + (sc.all_states ? " (all 8 states, " : " (void/solid/granular, ") +
+               std::to_string(sc.ticks) + " ticks) on the configured backend and the CPU with";
+    for (std::size_t k = 0; k < sc.cpu_threads.size(); ++k)
+      r.scene += (k == 0 ? " " : ", ") + std::to_string(sc.cpu_threads[k]);
+    r.scene += sc.cpu_threads.size() == 1 ? " thread" : " threads";
+  }
   log_line(o, "conservation: " + r.scene);
   double count_errors = 0, hash_mismatches = 0;
   Series runs{"hash agreement per run (1 = same as the first)", "run", "agrees", {}, {}, false};
@@ -60,7 +64,7 @@ TestReport run_conservation_test(const SuiteOptions& o, const std::vector<TestRe
     bool first = true;
     std::vector<SuiteOptions> variants;
     variants.push_back(o);
-    for (int threads : cpu_threads) {
+    for (int threads : scenes[s].cpu_threads) {
       SuiteOptions cpu = o;
       cpu.backend = BackendKind::Cpu;
       cpu.threads = threads;
