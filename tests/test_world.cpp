@@ -1,5 +1,6 @@
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -248,4 +249,50 @@ TEST_CASE("world: bad definitions are clear errors") {
     REQUIRE(!w.notices().empty());
     CHECK(w.notices().front().find("using the CPU") != std::string::npos);
   }
+}
+
+TEST_CASE("world: bricks_changed_since lists every brick a step or a tool changed") {
+  const Int3 size{40, 20, 33};  // partial bricks on every axis
+  World world(test_def(size));
+  const Int3 n = world.brick_counts();
+  CHECK(n == Int3{3, 2, 3});
+  CHECK(world.activity().total_bricks == 18);
+  const std::uint64_t v0 = world.change_version();
+  CHECK(world.bricks_changed_since(v0).empty());
+
+  world.paint(Box{{17, 0, 0}, {18, 1, 1}}, Material::Solid);  // one cell in brick (1, 0, 0)
+  const auto painted = world.bricks_changed_since(v0);
+  REQUIRE(painted.size() == 1);
+  CHECK(painted[0] == 1);
+  CHECK(brick_box(size, painted[0]) == Box{{16, 0, 0}, {32, 16, 16}});
+  CHECK(brick_box(size, 17) == Box{{32, 16, 32}, {40, 20, 33}});
+
+  const std::uint64_t v1 = world.change_version();
+  world.paint(Box{{17, 0, 0}, {18, 1, 1}}, Material::Solid);  // no cell changes: nothing listed
+  CHECK(world.bricks_changed_since(v1).empty());
+
+  // A grain falling through brick boundaries: every brick it was in must be listed.
+  world.paint(Box{{5, 5, 30}, {6, 6, 31}}, Material::Granular);
+  const Grid before = world.snapshot();
+  const std::uint64_t v2 = world.change_version();
+  world.step(40);
+  const Grid after = world.snapshot();
+  const auto listed = world.bricks_changed_since(v2);
+  for (std::uint32_t b = 0; b < std::uint32_t(n.x * n.y * n.z); ++b) {
+    const Box box = brick_box(size, b);
+    bool differs = false;
+    for (int z = box.min.z; z < box.max.z; ++z)
+      for (int y = box.min.y; y < box.max.y; ++y)
+        for (int x = box.min.x; x < box.max.x; ++x) differs |= before.at({x, y, z}) != after.at({x, y, z});
+    if (differs) CHECK(std::find(listed.begin(), listed.end(), b) != listed.end());
+  }
+  CHECK(world.activity().active_bricks <= world.activity().total_bricks);
+}
+
+TEST_CASE("world: the CPU backend refuses to share its cells with a graphics API, saying why") {
+  World world(test_def({8, 8, 8}));
+  CHECK(world.shared_cell_bytes() == 0);
+  CHECK_THROWS_WITH_AS(world.share_cells({3, 4096, 0, false}), doctest::Contains("needs the CUDA backend"), BackendError);
+  CHECK_THROWS_AS(world.attach_timelines({3}, {4}), BackendError);
+  CHECK_THROWS_AS(world.hand_off_cells(), BackendError);
 }

@@ -1,20 +1,26 @@
 #include <cuda_runtime.h>
 
+#include <algorithm>
 #include <memory>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "backend.hpp"
 #include "cuda_check.cuh"
 #include "cuda_device.cuh"
 #include "cuda_stream.cuh"
 #include "device_buffer.cuh"
+#include "external_interop.cuh"
 #include "granular/block.hpp"
 #include "granular/errors.hpp"
 #include "granular/grid.hpp"
 #include "granular/lut.hpp"
 #include "granular/rule_set.hpp"
 #include "granular_cuda/cuda_backend_factory.hpp"
+#include "pinned_counters.cuh"
 #include "reduce_kernels.cuh"
+#include "sparse_step_kernel.cuh"
 #include "step_kernel.cuh"
 #include "step_pair_kernel.cuh"
 #include "table_kernels.cuh"
@@ -36,7 +42,8 @@ cuda::DeviceInfo prepare_device(Int3 size) {
 class CudaBackend final : public Backend {
  public:
   /// Uploads `initial` and derives the result table from `lut` on the device.
-  CudaBackend(const Grid& initial, const Lut& lut, bool random_symmetry, bool random_axis_order, std::uint64_t seed)
+  CudaBackend(const Grid& initial, const Lut& lut, bool random_symmetry, bool random_axis_order, std::uint64_t seed,
+              bool sparse)
       : device_(prepare_device(initial.size())),
         size_(initial.size()),
         cell_count_(std::uint64_t(initial.cell_count())),
@@ -44,19 +51,25 @@ class CudaBackend final : public Backend {
         random_axis_order_(random_axis_order),
         seed_(seed),
         shape_(cuda::step_shape(initial.size())),
-        cells_(cuda::cell_buffer_bytes(cell_count_), "the grid's cells"),
+        owned_cells_(cuda::cell_buffer_bytes(cell_count_), "the grid's cells"),
+        cells_(owned_cells_.data()),
         result_(kBlockKeyCount, "the result table"),
-        scratch_(kMaterialCount, "reduction counters") {
+        scratch_(kMaterialCount, "reduction counters"),
+        sparse_(sparse),
+        bricks_(brick_counts(initial.size())),
+        total_bricks_(std::uint32_t(std::uint64_t(bricks_.x) * std::uint64_t(bricks_.y) * std::uint64_t(bricks_.z))) {
     cudaStream_t s = stream_.get();
-    if (cells_.bytes() > cell_count_)  // the tail of the last word, read (masked) by the reductions
-      cuda::check(cudaMemsetAsync(cells_.data() + cell_count_, 0, cells_.bytes() - cell_count_, s),
+    last_.total_bricks = total_bricks_;
+    if (owned_cells_.bytes() > cell_count_)  // the tail of the last word, read (masked) by the reductions
+      cuda::check(cudaMemsetAsync(cells_ + cell_count_, 0, owned_cells_.bytes() - cell_count_, s),
                   "cudaMemsetAsync (cells)");
-    cuda::check(cudaMemcpyAsync(cells_.data(), initial.cells().data(), cell_count_, cudaMemcpyHostToDevice, s),
+    cuda::check(cudaMemcpyAsync(cells_, initial.cells().data(), cell_count_, cudaMemcpyHostToDevice, s),
                 "cudaMemcpyAsync (upload cells)");
     cuda::DeviceBuffer<Transition> table(kBlockKeyCount, "the transition table");
     cuda::check(cudaMemcpyAsync(table.data(), lut.entries().data(), table.bytes(), cudaMemcpyHostToDevice, s),
                 "cudaMemcpyAsync (upload transition table)");
     cuda::launch_result_table(table.data(), result_.data(), s);
+    if (sparse_) init_sparse(s);
     stream_.synchronize("building the result table");
   }
 
@@ -78,8 +91,16 @@ class CudaBackend final : public Backend {
   /// Enqueues the ticks (fused pairs where the parity allows) and synchronises once.
   void step_ticks(std::uint64_t first_tick, int ticks) {
     activate();
+    before_write();
+    if (sparse_) {
+      enqueue_sparse(first_tick, ticks);
+      after_write();
+      // With a renderer attached the host goes on at once; last_activity() waits for the counters.
+      if (!ready_) collect_sparse_counters();
+      return;
+    }
     cuda::StepParams p;
-    p.cells = cells_.data();
+    p.cells = cells_;
     p.size = size_;
     p.result = result_.data();
     p.seed = seed_;
@@ -110,10 +131,47 @@ class CudaBackend final : public Backend {
       }
     }
     while (left > 0) single();
-    stream_.synchronize("step");
+    after_write();
+    // With a renderer attached the host goes on at once; the timelines order the device's work.
+    if (!ready_) stream_.synchronize("step");
+    last_.active_bricks = last_.total_bricks;
+    last_.active_cells = cell_count_;
+    last_.ticks = std::uint64_t(ticks);
+    last_.brick_ticks = last_.total_bricks * std::uint64_t(ticks);
+    last_.cell_ticks = cell_count_ * std::uint64_t(ticks);
   }
 
  public:
+
+  void wake(std::span<const std::uint32_t> bricks) override {
+    if (!sparse_ || bricks.empty()) return;
+    activate();
+    cudaStream_t s = stream_.get();
+    cuda::check(cudaMemcpyAsync(wake_list_.data(), bricks.data(), bricks.size_bytes(), cudaMemcpyHostToDevice, s),
+                "cudaMemcpyAsync (bricks to wake)");
+    cuda::launch_wake(sparse_params(), wake_list_.data(), unsigned(bricks.size()), s);
+    stream_.synchronize("waking bricks");
+  }
+
+  void take_changed_bricks(std::span<std::uint8_t> flags) override {
+    if (!sparse_) {
+      std::fill(flags.begin(), flags.end(), std::uint8_t(1));
+      return;
+    }
+    activate();
+    cudaStream_t s = stream_.get();
+    std::vector<std::uint8_t> changed(total_bricks_);
+    cuda::check(cudaMemcpyAsync(changed.data(), changed_.data(), changed.size(), cudaMemcpyDeviceToHost, s),
+                "cudaMemcpyAsync (changed bricks)");
+    cuda::check(cudaMemsetAsync(changed_.data(), 0, changed_.bytes(), s), "cudaMemsetAsync (changed bricks)");
+    stream_.synchronize("taking the changed bricks");
+    for (std::size_t i = 0; i < changed.size(); ++i) flags[i] |= changed[i];
+  }
+
+  ActivityStats last_activity() const override {
+    if (counters_pending_) collect_sparse_counters();
+    return last_;
+  }
 
   void read(const Box& box, std::span<std::uint8_t> out) const override {
     check_box(box, out.size(), "read");
@@ -130,7 +188,7 @@ class CudaBackend final : public Backend {
     cudaStream_t s = stream_.get();
     cuda::check(cudaMemsetAsync(scratch_.data(), 0, scratch_.bytes(), s), "cudaMemsetAsync (counters)");
     cuda::count_kernel<<<cuda::reduce_blocks(cell_count_, device_.sm_count), cuda::kReduceThreads, 0, s>>>(
-        cells_.data(), cell_count_, scratch_.data());
+        cells_, cell_count_, scratch_.data());
     cuda::check_launch("count kernel launch");
     unsigned long long counts[kMaterialCount] = {};
     cuda::check(cudaMemcpyAsync(counts, scratch_.data(), sizeof counts, cudaMemcpyDeviceToHost, s),
@@ -146,7 +204,7 @@ class CudaBackend final : public Backend {
     cudaStream_t s = stream_.get();
     cuda::check(cudaMemsetAsync(scratch_.data(), 0, sizeof(unsigned long long), s), "cudaMemsetAsync (hash)");
     cuda::hash_kernel<<<cuda::reduce_blocks(cell_count_, device_.sm_count), cuda::kReduceThreads, 0, s>>>(
-        cells_.data(), cell_count_, scratch_.data());
+        cells_, cell_count_, scratch_.data());
     cuda::check_launch("hash kernel launch");
     unsigned long long sum = 0;
     cuda::check(cudaMemcpyAsync(&sum, scratch_.data(), sizeof sum, cudaMemcpyDeviceToHost, s),
@@ -155,7 +213,121 @@ class CudaBackend final : public Backend {
     return finish_hash(size_, sum);
   }
 
+  std::uint64_t shared_cell_bytes() const override { return cuda::cell_buffer_bytes(cell_count_); }
+
+  void share_cells(const ExternalCellMemory& memory) override {
+    activate();
+    if (imported_) throw BackendError("World::share_cells: the cells are already shared; share them once per world");
+    cuda::ImportedMemory imported(memory, shared_cell_bytes());
+    cuda::check(cudaMemcpyAsync(imported.data(), cells_, shared_cell_bytes(), cudaMemcpyDeviceToDevice, stream_.get()),
+                "cudaMemcpyAsync (cells into the shared buffer)");
+    stream_.synchronize("share_cells");
+    imported_.emplace(std::move(imported));
+    cells_ = imported_->data();
+    owned_cells_.reset();
+  }
+
+  void attach_timelines(const ExternalTimeline& cells_ready, const ExternalTimeline& cells_released) override {
+    activate();
+    if (!imported_) throw BackendError("World::attach_timelines: call share_cells first (the timelines order the shared cells)");
+    if (ready_) throw BackendError("World::attach_timelines: timelines are already attached");
+    cuda::ImportedTimeline ready(cells_ready, "cudaImportExternalSemaphore (cells_ready)");
+    cuda::ImportedTimeline released(cells_released, "cudaImportExternalSemaphore (cells_released)");
+    ready_.emplace(std::move(ready));
+    released_.emplace(std::move(released));
+  }
+
+  CellsHandoff hand_off_cells() override {
+    if (!ready_) throw BackendError("World::hand_off_cells: call share_cells and attach_timelines first");
+    return {writes_, ++handoffs_};
+  }
+
  private:
+  /// Allocates and initialises the sparse state (every brick dirty and awake) and the inert-key table.
+  void init_sparse(cudaStream_t s) {
+    awake_ = cuda::DeviceBuffer<std::uint8_t>(total_bricks_, "awake bricks");
+    dirty_ = cuda::DeviceBuffer<std::uint8_t>(total_bricks_, "dirty bricks");
+    changed_ = cuda::DeviceBuffer<std::uint8_t>(total_bricks_, "changed bricks");
+    list_ = cuda::DeviceBuffer<std::uint32_t>(total_bricks_, "the awake brick list");
+    wake_list_ = cuda::DeviceBuffer<std::uint32_t>(total_bricks_, "bricks to wake");
+    count_ = cuda::DeviceBuffer<unsigned>(1, "the awake brick count");
+    counters_ = cuda::DeviceBuffer<unsigned long long>(cuda::kCounterSlots, "activity counters");
+    counters_host_ = cuda::pinned_counters(cuda::kCounterSlots);
+    cuda::check(cudaMemsetAsync(awake_.data(), 1, total_bricks_, s), "cudaMemsetAsync (awake bricks)");
+    cuda::check(cudaMemsetAsync(dirty_.data(), 1, total_bricks_, s), "cudaMemsetAsync (dirty bricks)");
+    cuda::check(cudaMemsetAsync(changed_.data(), 0, total_bricks_, s), "cudaMemsetAsync (changed bricks)");
+    cuda::check(cudaMemsetAsync(count_.data(), 0, sizeof(unsigned), s), "cudaMemsetAsync (brick count)");
+    cuda::build_list_kernel<<<cuda::activity_blocks(total_bricks_), cuda::kActivityThreads, 0, s>>>(sparse_params());
+    cuda::check_launch("build brick list kernel launch");
+    if (random_symmetry_) {
+      inert_ = cuda::DeviceBuffer<std::uint64_t>(kInertTableWords, "the inert-key table");
+      cuda::inert_table_kernel<<<cuda::activity_blocks(kInertTableWords), cuda::kActivityThreads, 0, s>>>(
+          result_.data(), true, inert_.data());
+      cuda::check_launch("inert-key table kernel launch");
+    }
+    // Enough CUDA blocks of the sparse kernel to fill the device; each walks the list from there.
+    const std::uint64_t resident = std::uint64_t(device_.sm_count) * (2048 / cuda::kBrickThreads);
+    sparse_grid_ = unsigned(std::max<std::uint64_t>(1, std::min<std::uint64_t>(resident, total_bricks_)));
+  }
+
+  /// The device state of sparse stepping, as the kernels take it.
+  cuda::SparseParams sparse_params() const {
+    cuda::SparseParams sp;
+    sp.bricks = bricks_;
+    sp.total = total_bricks_;
+    sp.awake = awake_.data();
+    sp.dirty = dirty_.data();
+    sp.changed = changed_.data();
+    sp.list = list_.data();
+    sp.count = count_.data();
+    sp.counters = counters_.data();
+    sp.inert = inert_.data();
+    return sp;
+  }
+
+  /// Enqueues the ticks over the awake bricks, one launch per tick plus the sleep/wake update at
+  /// the end of every 8-tick cycle, and the copy of the activity counters to pinned host memory.
+  void enqueue_sparse(std::uint64_t first_tick, int ticks) {
+    cudaStream_t s = stream_.get();
+    cuda::StepParams p;
+    p.cells = cells_;
+    p.size = size_;
+    p.result = result_.data();
+    p.seed = seed_;
+    p.random_axis_order = random_axis_order_;
+    const cuda::SparseParams sp = sparse_params();
+    cuda::check(cudaMemsetAsync(counters_.data(), 0, counters_.bytes(), s), "cudaMemsetAsync (activity counters)");
+    for (int i = 0; i < ticks; ++i) {
+      p.tick = first_tick + std::uint64_t(i);
+      cuda::launch_sparse_step(p, sp, random_symmetry_, i + 1 == ticks, sparse_grid_, s);
+      if ((p.tick & 7u) == 7u) cuda::launch_end_cycle(sp, s);
+    }
+    cuda::check(cudaMemcpyAsync(counters_host_.get(), counters_.data(), counters_.bytes(), cudaMemcpyDeviceToHost, s),
+                "cudaMemcpyAsync (activity counters)");
+    last_.ticks = std::uint64_t(ticks);
+    counters_pending_ = true;
+  }
+
+  /// Waits for the last step and takes its activity counters into last_.
+  void collect_sparse_counters() const {
+    stream_.synchronize("step");
+    counters_pending_ = false;
+    const unsigned long long* counters = counters_host_.get();
+    last_.brick_ticks = counters[cuda::kBrickTicks];
+    last_.cell_ticks = counters[cuda::kCellTicks];
+    last_.active_bricks = counters[cuda::kLastBricks];
+    last_.active_cells = counters[cuda::kLastCells];
+  }
+
+  /// With timelines attached: the next write waits until the renderer released its last read.
+  void before_write() {
+    if (released_) released_->wait(handoffs_, stream_.get());
+  }
+  /// With timelines attached: tells the renderer the writes so far are done.
+  void after_write() {
+    if (ready_) ready_->signal(++writes_, stream_.get());
+  }
+
   /// Makes the backend's device current on the calling thread.
   void activate() const { cuda::check(cudaSetDevice(device_.index), "cudaSetDevice"); }
 
@@ -189,8 +361,8 @@ class CudaBackend final : public Backend {
     const std::size_t pitch = std::size_t(size_.x);
     for_each_piece(box, [&](std::size_t d, std::size_t o, std::size_t w, std::size_t h) {
       const cudaError_t status =
-          h == 1 ? cudaMemcpyAsync(host + o, cells_.data() + d, w, cudaMemcpyDeviceToHost, stream_.get())
-                 : cudaMemcpy2DAsync(host + o, w, cells_.data() + d, pitch, w, h, cudaMemcpyDeviceToHost, stream_.get());
+          h == 1 ? cudaMemcpyAsync(host + o, cells_ + d, w, cudaMemcpyDeviceToHost, stream_.get())
+                 : cudaMemcpy2DAsync(host + o, w, cells_ + d, pitch, w, h, cudaMemcpyDeviceToHost, stream_.get());
       cuda::check(status, "copying cells to the host");
     });
     stream_.synchronize("read");
@@ -199,13 +371,15 @@ class CudaBackend final : public Backend {
   /// Copies `host` (x fastest, no padding) into the cells of `box`.
   void copy_in(const Box& box, const std::uint8_t* host) {
     activate();
+    before_write();
     const std::size_t pitch = std::size_t(size_.x);
     for_each_piece(box, [&](std::size_t d, std::size_t o, std::size_t w, std::size_t h) {
       const cudaError_t status =
-          h == 1 ? cudaMemcpyAsync(cells_.data() + d, host + o, w, cudaMemcpyHostToDevice, stream_.get())
-                 : cudaMemcpy2DAsync(cells_.data() + d, pitch, host + o, w, w, h, cudaMemcpyHostToDevice, stream_.get());
+          h == 1 ? cudaMemcpyAsync(cells_ + d, host + o, w, cudaMemcpyHostToDevice, stream_.get())
+                 : cudaMemcpy2DAsync(cells_ + d, pitch, host + o, w, w, h, cudaMemcpyHostToDevice, stream_.get());
       cuda::check(status, "copying cells to the device");
     });
+    after_write();
     stream_.synchronize("write");
   }
 
@@ -217,19 +391,37 @@ class CudaBackend final : public Backend {
   std::uint64_t seed_;
   cuda::StepShape shape_;
   cuda::Stream stream_;
-  cuda::DeviceBuffer<std::uint8_t> cells_;
+  cuda::DeviceBuffer<std::uint8_t> owned_cells_;  ///< the cells, until share_cells() moves them
+  std::uint8_t* cells_;                           ///< the cells: owned_cells_ or imported_
+  std::optional<cuda::ImportedMemory> imported_;   ///< the renderer's buffer, after share_cells()
+  std::optional<cuda::ImportedTimeline> ready_;    ///< signalled after each write (attach_timelines)
+  std::optional<cuda::ImportedTimeline> released_;  ///< waited on before each write
+  std::uint64_t writes_ = 0;                       ///< last value signalled on ready_
+  std::uint64_t handoffs_ = 0;                     ///< last value handed out for released_
   cuda::DeviceBuffer<BlockKey> result_;
   cuda::DeviceBuffer<unsigned long long> scratch_;
+  bool sparse_;
+  Int3 bricks_;
+  std::uint32_t total_bricks_;
+  unsigned sparse_grid_ = 1;
+  cuda::DeviceBuffer<std::uint8_t> awake_, dirty_, changed_;
+  cuda::DeviceBuffer<std::uint32_t> list_, wake_list_;
+  cuda::DeviceBuffer<unsigned> count_;
+  cuda::DeviceBuffer<unsigned long long> counters_;
+  cuda::DeviceBuffer<std::uint64_t> inert_;
+  cuda::PinnedCounters counters_host_;        ///< the activity counters, copied back by each step
+  mutable bool counters_pending_ = false;     ///< a step's counters are on their way to counters_host_
+  mutable ActivityStats last_{};
 };
 
 }  // namespace
 
 std::unique_ptr<Backend> make_cuda_backend(const Grid& initial, std::shared_ptr<const Lut> lut, const RuleSet& rules,
-                                           std::uint64_t seed) {
+                                           std::uint64_t seed, bool sparse) {
   if (initial.cell_count() == 0) throw InvalidArgument("cuda backend: the initial grid is empty (0 cells)");
   if (!lut || lut->entries().size() != kBlockKeyCount)
     throw InvalidArgument("cuda backend: a full transition table (16,777,216 entries) is required");
-  return std::make_unique<CudaBackend>(initial, *lut, rules.random_symmetry, rules.random_axis_order, seed);
+  return std::make_unique<CudaBackend>(initial, *lut, rules.random_symmetry, rules.random_axis_order, seed, sparse);
 }
 
 }  // namespace granular

@@ -3,6 +3,7 @@
 /// The CUDA backend's entry points, as plain C++ (no CUDA types): the library's World and the tests
 /// include this with an ordinary C++ compiler and link the granular_cuda library.
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -21,6 +22,10 @@ namespace granular {
 /// it); otherwise `why` (when given) says why (no driver, no device, unsupported architecture...).
 bool cuda_device_available(std::string* why = nullptr);
 
+/// The UUID of the CUDA device the backend would use (the calling thread's current device).
+/// Throws BackendError when no device is usable.
+std::array<std::uint8_t, 16> cuda_device_uuid_of_current();
+
 /// Bytes the CUDA backend needs on the device for a grid of `size`: one byte per cell (rounded up
 /// to whole 8-byte words) plus the 64 MiB transition table and the 64 MiB result table derived
 /// from it on the device.
@@ -31,11 +36,12 @@ std::uint64_t cuda_bytes_needed(Int3 size);
 /// InvalidArgument for a non-positive extent. Allocates nothing.
 void check_cuda_fits(Int3 size);
 
-/// Creates the CUDA backend holding a copy of `initial`. Throws BackendError (no GPU, CUDA failure,
-/// with the CUDA error string) or OutOfMemory (with the grid size, bytes needed and bytes free on
-/// the device); InvalidArgument for an empty grid or a null table.
+/// Creates the CUDA backend holding a copy of `initial`; `sparse` steps only awake bricks (the same
+/// result as dense stepping). Throws BackendError (no GPU, CUDA failure, with the CUDA error string)
+/// or OutOfMemory (with the grid size, bytes needed and bytes free on the device); InvalidArgument
+/// for an empty grid or a null table.
 std::unique_ptr<Backend> make_cuda_backend(const Grid& initial, std::shared_ptr<const Lut> lut, const RuleSet& rules,
-                                           std::uint64_t seed);
+                                           std::uint64_t seed, bool sparse = true);
 
 /// Builds the transition table for `rules` on the GPU (rules.device_rule must be "paper", else
 /// InvalidArgument), returns the 16,777,216 entries (copied back), and the kernel time in

@@ -3,6 +3,7 @@
 /// Everything a game needs to embed granular: World, its definition, materials, tools, scenes and
 /// grid files.
 
+#include "granular/activity.hpp"
 #include "granular/errors.hpp"
 #include "granular/geometry.hpp"
 #include "granular/grid.hpp"

@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "granular/activity.hpp"
+#include "granular/external_memory.hpp"
 #include "granular/geometry.hpp"
 #include "granular/grid.hpp"
 #include "granular/material.hpp"
@@ -86,9 +88,41 @@ class World {
   /// Replaces every cell with those of `grid`, which must have this world's size.
   void load(const Grid& grid);
 
+  /// A counter that grows with every call that changes cells (step, tools, load). Pass a value
+  /// read earlier to bricks_changed_since() to learn what changed after it.
+  std::uint64_t change_version() const;
+  /// Indices (x fastest, see brick_box) of the bricks whose cells changed after change_version()
+  /// returned `version`. Never misses a changed brick. Exact with sparse stepping and for tools;
+  /// with dense stepping (WorldDef::sparse = false) a step lists every brick.
+  std::vector<std::uint32_t> bricks_changed_since(std::uint64_t version) const;
+  /// Bricks per axis (see activity.hpp).
+  Int3 brick_counts() const { return granular::brick_counts(size_); }
+  /// How much of the grid the last step() call stepped: its last tick, and sums over its ticks.
+  ActivityStats activity() const;
+
+  /// Bytes a buffer shared with share_cells() must hold (the cells, x fastest, padded to whole
+  /// 8-byte words); 0 when the backend cannot share its cells (the CPU backend).
+  std::uint64_t shared_cell_bytes() const;
+  /// Moves the cells into memory exported by a graphics API (CUDA backend only) and steps them
+  /// there in place from now on, so a renderer reads them with no copy. Throws BackendError for
+  /// the CPU backend or a failed import, InvalidArgument when the memory is too small; the world is
+  /// unchanged then and `memory.fd` stays the caller's.
+  void share_cells(const ExternalCellMemory& memory);
+  /// Orders writes of the shared cells with a renderer: after this, every call that writes cells
+  /// (step, tools, load) first waits on the device until `cells_released` reaches the value of the
+  /// last hand_off_cells(), then writes, then signals `cells_ready` with a new, larger value; step()
+  /// returns without waiting for the device. Requires share_cells(). Both semaphores must start at 0.
+  void attach_timelines(const ExternalTimeline& cells_ready, const ExternalTimeline& cells_released);
+  /// Called by the renderer once per frame before it reads the shared cells: the values to wait for
+  /// and to signal (CellsHandoff). The signal must be submitted before the next call that writes.
+  CellsHandoff hand_off_cells();
+
  private:
   void init(const Grid& initial);
   BackendKind choose_backend(BackendKind wanted);
+  void mark_changed(const Box& region, std::span<const std::uint8_t> before, std::span<const std::uint8_t> after);
+  void mark_bricks(std::span<const std::uint32_t> bricks) const;
+  void take_step_changes() const;
   ChangeReport commit_region(const Box& region, bool clipped, const std::vector<std::uint8_t>& before,
                              const std::vector<std::uint8_t>& after);
 
@@ -102,6 +136,14 @@ class World {
   std::vector<std::string> notices_;
   double lut_seconds_ = 0;
   bool lut_from_cache_ = false;
+  // Change versions are brought up to date lazily (take_step_changes), so that step() costs no
+  // read-back of the backend's changed-brick flags unless somebody asks.
+  mutable std::uint64_t change_version_ = 0;
+  mutable std::vector<std::uint64_t> brick_version_;  ///< per brick: change_version_ when it last changed
+  mutable std::vector<std::uint8_t> changed_flags_;   ///< scratch: per brick, changed by steps
+  mutable bool step_changes_pending_ = false;         ///< steps ran since the flags were last taken
+  mutable ActivityStats activity_{};
+  mutable bool activity_pending_ = false;  ///< a step ran since activity_ was read from the backend
 };
 
 }  // namespace granular
