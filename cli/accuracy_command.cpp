@@ -26,6 +26,7 @@ struct AccuracyOptions {
   std::uint64_t seed = 1;
   std::string material = "sand";
   bool quick = false;
+  bool dense = false;
   bool json = false;
   std::string csv;
   std::string out;
@@ -48,6 +49,7 @@ std::string command_line(const AccuracyOptions& o) {
   };
   std::string c = "granular accuracy";
   if (o.quick) c += " --quick";
+  if (o.dense) c += " --dense";
   c += " --rules " + join(o.rules) + " --tests " + join(o.tests) + " --backend " + o.backend +
        " --threads " + std::to_string(o.threads) + " --seed " + std::to_string(o.seed) + " --material " + o.material;
   return c;
@@ -80,6 +82,7 @@ void run(const AccuracyOptions& o) {
   base.threads = o.threads;
   base.seed = o.seed;
   base.quick = o.quick;
+  base.sparse = !o.dense;
   base.material = accuracy::target_material(o.material);
   base.lut_cache_dir = o.cache_dir;
   base.log = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
@@ -139,6 +142,7 @@ void add_accuracy_command(CLI::App& app) {
   cmd->add_option("--material", o->material, "target material for the repose angle: sand (33 deg) or glass (24 deg)")
       ->capture_default_str();
   cmd->add_flag("--quick", o->quick, "reduced sizes (CI; under 2 minutes on 2 cores); default: full size, for a GPU");
+  cmd->add_flag("--dense", o->dense, "step every block every tick (default: sparse, the same results)");
   cmd->add_flag("--json", o->json, "print the report as JSON instead of text");
   cmd->add_option("--csv", o->csv, "also write one CSV row per metric to this file");
   cmd->add_option("--out", o->out, "write accuracy.json and one PNG per test (python3 + matplotlib) into this folder");

@@ -50,7 +50,7 @@ TestReport run_conservation_test(const SuiteOptions& o, const std::vector<TestRe
                std::to_string(sc.ticks) + " ticks) on the configured backend and the CPU with";
     for (std::size_t k = 0; k < sc.cpu_threads.size(); ++k)
       r.scene += (k == 0 ? " " : ", ") + std::to_string(sc.cpu_threads[k]);
-    r.scene += sc.cpu_threads.size() == 1 ? " thread" : " threads";
+    r.scene += std::string(sc.cpu_threads.size() == 1 ? " thread" : " threads") + " (and the last with the other stepping)";
   }
   log_line(o, "conservation: " + r.scene);
   double count_errors = 0, hash_mismatches = 0;
@@ -70,6 +70,9 @@ TestReport run_conservation_test(const SuiteOptions& o, const std::vector<TestRe
       cpu.threads = threads;
       variants.push_back(cpu);
     }
+    SuiteOptions other_stepping = variants.back();  // sparse and dense stepping give the same grid
+    other_stepping.sparse = !o.sparse;
+    variants.push_back(other_stepping);
     for (const SuiteOptions& v : variants) {
       World world(test_world_def(v, scenes[s].size), initial);
       world.step(int(scenes[s].ticks));
@@ -84,9 +87,10 @@ TestReport run_conservation_test(const SuiteOptions& o, const std::vector<TestRe
       first = false;
       runs.x.push_back(++run_index);
       runs.y.push_back(same ? 1 : 0);
-      log_line(o, "  " + world.backend_description() + ": hash " + hex64(h) + (counts_ok ? "" : ", COUNTS CHANGED"));
+      const std::string what = world.backend_description() + (v.sparse ? ", sparse" : ", dense");
+      log_line(o, "  " + what + ": hash " + hex64(h) + (counts_ok ? "" : ", COUNTS CHANGED"));
       if (!same || !counts_ok)
-        r.notes.push_back("scene " + std::to_string(s) + " on " + world.backend_description() + ": hash " + hex64(h) +
+        r.notes.push_back("scene " + std::to_string(s) + " on " + what + ": hash " + hex64(h) +
                           " vs " + hex64(reference_hash) + (counts_ok ? "" : ", counts changed"));
     }
   }

@@ -72,7 +72,8 @@ def load(paths):
 
 def label(config):
     c = config["config"]
-    return f'{c["rules"]} / {c["size"]} / {c["backend"]}'
+    # Files written before sparse stepping existed hold no "stepping": they stepped densely.
+    return f'{c["rules"]} / {c["size"]} / {c["backend"]} / {c.get("stepping", "dense")}'
 
 
 def finite(v):

@@ -57,6 +57,7 @@ struct SuiteConfig {
   std::string backend = "cpu";  ///< backend actually used ("cpu", "cuda")
   std::string backend_description;  ///< the backend with details, e.g. "cpu (2 threads)" or the GPU's name
   std::string size = "full";    ///< "quick" or "full"
+  std::string stepping = "sparse";  ///< "sparse" (awake bricks only) or "dense" (every block): same results
   int threads = 0;              ///< CPU threads (0 = all)
   std::uint64_t seed = 1;       ///< world seed
 };

@@ -33,7 +33,7 @@ std::string format(const char* fmt, double v) {
 std::string report_text(const SuiteReport& report) {
   std::ostringstream out;
   const SuiteConfig& c = report.config;
-  out << "configuration  rules " << c.rules << ", backend " << c.backend_description << ", size " << c.size << ", seed " << c.seed
+  out << "configuration  rules " << c.rules << ", backend " << c.backend_description << ", size " << c.size << ", " << c.stepping << " stepping, seed " << c.seed
       << "\n";
   for (const TestReport& t : report.tests) {
     out << "\n== " << t.test << ": " << t.title << "\n";
@@ -95,6 +95,7 @@ std::string report_json(const std::vector<SuiteReport>& reports, const Calibrati
                     {"backend", r.config.backend},
                     {"backend_description", r.config.backend_description},
                     {"size", r.config.size},
+                    {"stepping", r.config.stepping},
                     {"threads", r.config.threads},
                     {"seed", r.config.seed}};
     cj["seconds"] = r.seconds();
@@ -140,12 +141,12 @@ std::string report_json(const std::vector<SuiteReport>& reports, const Calibrati
 
 std::string report_csv(const std::vector<SuiteReport>& reports) {
   std::ostringstream out;
-  out << "rules,backend,size,test,metric,unit,measured,reference,tolerance,error,normalized_error,met,seconds,ticks,"
+  out << "rules,backend,size,stepping,test,metric,unit,measured,reference,tolerance,error,normalized_error,met,seconds,ticks,"
          "conserved,source\n";
   for (const SuiteReport& r : reports)
     for (const TestReport& t : r.tests)
       for (const Metric& m : t.metrics)
-        out << r.config.rules << ',' << r.config.backend << ',' << r.config.size << ',' << t.test << ',' << m.name << ','
+        out << r.config.rules << ',' << r.config.backend << ',' << r.config.size << ',' << r.config.stepping << ',' << t.test << ',' << m.name << ','
             << m.unit << ',' << format("%.6g", m.measured) << ',' << format("%.6g", m.reference) << ','
             << format("%.6g", m.tolerance) << ',' << format("%.6g", m.error()) << ','
             << format("%.6g", m.normalized_error()) << ',' << (m.met() ? "yes" : "no") << ','

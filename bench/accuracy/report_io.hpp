@@ -29,7 +29,7 @@ RunInfo current_run_info(std::string command);
 /// and the run info.
 std::string report_json(const std::vector<SuiteReport>& reports, const Calibration& calibration, const RunInfo& info);
 
-/// CSV with a header and one row per metric: rules, backend, size, test, metric, unit, measured,
+/// CSV with a header and one row per metric: rules, backend, size, stepping, test, metric, unit, measured,
 /// reference, tolerance, error, normalized_error, met, seconds, ticks, conserved, source.
 std::string report_csv(const std::vector<SuiteReport>& reports);
 

@@ -24,6 +24,7 @@ SuiteReport run_suite(const SuiteOptions& o, const std::vector<std::string>& tes
   report.config.rules = o.rules;
   report.config.size = o.quick ? "quick" : "full";
   report.config.threads = o.threads;
+  report.config.stepping = o.sparse ? "sparse" : "dense";
   report.config.seed = o.seed;
   {
     // The backend actually used (auto resolves here, once, with a tiny world).

@@ -11,6 +11,7 @@ WorldDef test_world_def(const SuiteOptions& options, Int3 size) {
   def.seed = options.seed;
   def.backend = options.backend;
   def.threads = options.threads;
+  def.sparse = options.sparse;
   def.lut_cache_dir = options.lut_cache_dir;
   return def;
 }

@@ -24,6 +24,7 @@ struct SuiteOptions {
   std::string rules = "paper";                ///< rule-set preset
   BackendKind backend = BackendKind::Cpu;     ///< compute backend
   int threads = 0;                            ///< CPU threads (0 = all)
+  bool sparse = WorldDef{}.sparse;            ///< step only bricks where something may move (same result as dense)
   std::uint64_t seed = 1;                     ///< world seed
   bool quick = false;                         ///< reduced sizes (CI, a couple of CPU cores); false = full size (GPU)
   TargetMaterial material;                    ///< the repose-angle reference

@@ -42,7 +42,7 @@ TestReport run_fall_test(const SuiteOptions& options, const TestReport* collapse
 /// 6. Conservation and stability: random scenes (void/solid/granular, and all 8 states) stepped
 /// for many ticks (quick 2 x 10^4 each; full 10^6 and 10^5) must keep every material's count exactly
 /// and give the same hash on the configured backend and on the CPU with 1, 2 and 3 threads (full:
-/// 1 thread for the 10^6-tick scene, 1 and 3 for the other);
+/// 1 thread for the 10^6-tick scene, 1 and 3 for the other), and with sparse and dense stepping;
 /// `earlier` (the other tests' reports) adds the count of tests whose grains were not conserved.
 TestReport run_conservation_test(const SuiteOptions& options, const std::vector<TestReport>& earlier);
 
