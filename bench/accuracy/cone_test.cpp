@@ -1,4 +1,5 @@
 #include <chrono>
+#include <cstdio>
 #include <cmath>
 #include <numbers>
 #include <string>
@@ -60,6 +61,31 @@ TestReport run_cone_test(const SuiteOptions& o) {
   r.series.push_back({"target " + o.material.name, "azimuth (deg)", "angle of repose (deg)", {0, 360},
                       {o.material.repose_deg, o.material.repose_deg}, true});
   r.series.push_back(radius);
+  {
+    // Angle near the axes (bin centres within 10 deg of 0, 90, 180, 270) and near the diagonals
+    // (within 5 deg of 45, 135, ...): a 2x2x2 toppling rule rests at 45 and 35 deg respectively.
+    double axis_sum = 0, diagonal_sum = 0;
+    int axis_n = 0, diagonal_n = 0;
+    for (int k = 0; k < kConeAzimuthBins; ++k) {
+      const double a = m.bin_angle_deg[std::size_t(k)];
+      if (!std::isfinite(a)) continue;
+      const double phi = (k + 0.5) * 360.0 / kConeAzimuthBins;
+      const double from_axis = std::abs(std::remainder(phi, 90.0));
+      if (from_axis <= 10) {
+        axis_sum += a;
+        ++axis_n;
+      } else if (std::abs(from_axis - 45) <= 5) {
+        diagonal_sum += a;
+        ++diagonal_n;
+      }
+    }
+    if (axis_n && diagonal_n) {
+      char line[160];
+      std::snprintf(line, sizeof line, "angle near the axes %.1f deg, near the diagonals %.1f deg", axis_sum / axis_n,
+                    diagonal_sum / diagonal_n);
+      r.notes.push_back(line);
+    }
+  }
   r.notes.push_back("pile height " + std::to_string(int(m.height_cells)) + " cells, " + std::to_string(p.poured) +
                     " grains; per-bin angle spread " + std::to_string(m.angle_spread_deg) + " deg over " +
                     std::to_string(m.bins) + " bins");
