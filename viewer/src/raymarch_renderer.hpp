@@ -1,0 +1,42 @@
+#pragma once
+/// @file raymarch_renderer.hpp
+/// The ray-march renderer: a compute shader walks each pixel's ray through the cell buffer and
+/// writes the colour into a storage image, which is blitted into the frame's colour image; no
+/// instance build, no rasterised geometry (for GPUs where rasterisation is the limit, and 1024^3).
+
+#include "pipeline_builder.hpp"
+#include "renderer.hpp"
+
+namespace viewer {
+
+class VulkanContext;
+class CellBuffer;
+
+/// The ray-march renderer.
+class RaymarchRenderer final : public Renderer {
+ public:
+  /// Reads `cells` (which must outlive it).
+  RaymarchRenderer(const VulkanContext& context, const CellBuffer& cells);
+  ~RaymarchRenderer() override;
+
+  RendererKind kind() const override { return RendererKind::Raymarch; }
+  void invalidate() override {}
+  std::uint64_t prepare(VkCommandBuffer commands, const FrameView& view,
+                        std::span<const std::uint32_t> changed_bricks) override;
+  ColorLoad color_load() const override { return ColorLoad::Load; }
+  void draw(VkCommandBuffer, const FrameView&) override {}
+
+ private:
+  void ensure_image(VkExtent2D extent);
+  void release_image();
+
+  const VulkanContext& context_;
+  DescriptorSets sets_;
+  Pipeline march_;
+  VkExtent2D extent_{};
+  VkImage image_ = VK_NULL_HANDLE;
+  VkDeviceMemory memory_ = VK_NULL_HANDLE;
+  VkImageView view_ = VK_NULL_HANDLE;
+};
+
+}  // namespace viewer
