@@ -53,7 +53,10 @@ class WorldRenderer {
   WorldRenderer(const WorldRenderer&) = delete;
   WorldRenderer& operator=(const WorldRenderer&) = delete;
 
-  /// Switches the renderer (created on first use; the device must be idle).
+  /// Uses `target_pass` for renderers created from now on (after the swapchain was recreated;
+  /// existing pipelines stay valid, the new pass being compatible).
+  void set_target_pass(VkRenderPass target_pass) { target_pass_ = target_pass; }
+  /// Switches the renderer (created on first use).
   void set_kind(RendererKind kind);
   /// The active renderer.
   RendererKind kind() const { return active_->kind(); }
