@@ -1,5 +1,7 @@
 #include "offscreen_renderer.hpp"
 
+#include <utility>
+
 #include "vulkan_check.hpp"
 #include "vulkan_context.hpp"
 
@@ -36,6 +38,8 @@ void OffscreenRenderer::wait_idle() const {
 FrameWork OffscreenRenderer::render(const OrbitCamera& camera, const BrushView& brush) {
   const VkDevice device = context_.device();
   vk_check(vkWaitForFences(device, 1, &fences_[slot_], VK_TRUE, UINT64_MAX), "vkWaitForFences");
+  if (in_use_[slot_]) finished_.push_back(renderer_->timings(slot_));
+  in_use_[slot_] = true;
   vk_check(vkResetFences(device, 1, &fences_[slot_]), "vkResetFences");
   VkCommandBuffer commands = commands_[slot_];
   vk_check(vkResetCommandBuffer(commands, 0), "vkResetCommandBuffer");
@@ -63,6 +67,8 @@ GpuTimings OffscreenRenderer::last_timings() {
   vk_check(vkWaitForFences(context_.device(), 1, &fences_[last_slot_], VK_TRUE, UINT64_MAX), "vkWaitForFences");
   return renderer_->timings(last_slot_);
 }
+
+std::vector<GpuTimings> OffscreenRenderer::take_finished_timings() { return std::exchange(finished_, {}); }
 
 void OffscreenRenderer::set_kind(RendererKind kind) {
   wait_idle();

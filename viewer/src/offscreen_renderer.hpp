@@ -35,6 +35,9 @@ class OffscreenRenderer {
   std::vector<std::uint8_t> pixels();
   /// The GPU timings of the most recent finished frame (waits for the latest).
   GpuTimings last_timings();
+  /// GPU timings of the frames that finished since the last call (collected when their slot is
+  /// reused, so reading them never stalls the pipeline).
+  std::vector<GpuTimings> take_finished_timings();
   /// Switches the renderer (waits for the GPU first).
   void set_kind(RendererKind kind);
   /// The world renderer.
@@ -48,6 +51,8 @@ class OffscreenRenderer {
   std::unique_ptr<WorldRenderer> renderer_;
   std::array<VkCommandBuffer, kFramesInFlight> commands_{};
   std::array<VkFence, kFramesInFlight> fences_{};
+  std::array<bool, kFramesInFlight> in_use_{};
+  std::vector<GpuTimings> finished_;
   int slot_ = 0;
   int last_slot_ = -1;
 };
