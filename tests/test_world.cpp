@@ -288,3 +288,11 @@ TEST_CASE("world: bricks_changed_since lists every brick a step or a tool change
   }
   CHECK(world.activity().active_bricks <= world.activity().total_bricks);
 }
+
+TEST_CASE("world: the CPU backend refuses to share its cells with a graphics API, saying why") {
+  World world(test_def({8, 8, 8}));
+  CHECK(world.shared_cell_bytes() == 0);
+  CHECK_THROWS_WITH_AS(world.share_cells({3, 4096, 0, false}), doctest::Contains("needs the CUDA backend"), BackendError);
+  CHECK_THROWS_AS(world.attach_timelines({3}, {4}), BackendError);
+  CHECK_THROWS_AS(world.hand_off_cells(), BackendError);
+}

@@ -1,6 +1,7 @@
 #include <cuda_runtime.h>
 
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "backend.hpp"
@@ -8,6 +9,7 @@
 #include "cuda_device.cuh"
 #include "cuda_stream.cuh"
 #include "device_buffer.cuh"
+#include "external_interop.cuh"
 #include "granular/block.hpp"
 #include "granular/errors.hpp"
 #include "granular/grid.hpp"
@@ -43,14 +45,15 @@ class CudaBackend final : public Backend {
         random_symmetry_(random_symmetry),
         seed_(seed),
         shape_(cuda::step_shape(initial.size())),
-        cells_(cuda::cell_buffer_bytes(cell_count_), "the grid's cells"),
+        owned_cells_(cuda::cell_buffer_bytes(cell_count_), "the grid's cells"),
+        cells_(owned_cells_.data()),
         result_(kBlockKeyCount, "the result table"),
         scratch_(kMaterialCount, "reduction counters") {
     cudaStream_t s = stream_.get();
-    if (cells_.bytes() > cell_count_)  // the tail of the last word, read (masked) by the reductions
-      cuda::check(cudaMemsetAsync(cells_.data() + cell_count_, 0, cells_.bytes() - cell_count_, s),
+    if (owned_cells_.bytes() > cell_count_)  // the tail of the last word, read (masked) by the reductions
+      cuda::check(cudaMemsetAsync(cells_ + cell_count_, 0, owned_cells_.bytes() - cell_count_, s),
                   "cudaMemsetAsync (cells)");
-    cuda::check(cudaMemcpyAsync(cells_.data(), initial.cells().data(), cell_count_, cudaMemcpyHostToDevice, s),
+    cuda::check(cudaMemcpyAsync(cells_, initial.cells().data(), cell_count_, cudaMemcpyHostToDevice, s),
                 "cudaMemcpyAsync (upload cells)");
     cuda::DeviceBuffer<Transition> table(kBlockKeyCount, "the transition table");
     cuda::check(cudaMemcpyAsync(table.data(), lut.entries().data(), table.bytes(), cudaMemcpyHostToDevice, s),
@@ -77,8 +80,9 @@ class CudaBackend final : public Backend {
   /// Enqueues the ticks (fused pairs where the parity allows) and synchronises once.
   void step_ticks(std::uint64_t first_tick, int ticks) {
     activate();
+    before_write();
     cuda::StepParams p;
-    p.cells = cells_.data();
+    p.cells = cells_;
     p.size = size_;
     p.result = result_.data();
     p.seed = seed_;
@@ -108,7 +112,9 @@ class CudaBackend final : public Backend {
       }
     }
     while (left > 0) single();
-    stream_.synchronize("step");
+    after_write();
+    // With a renderer attached the host goes on at once; the timelines order the device's work.
+    if (!ready_) stream_.synchronize("step");
   }
 
  public:
@@ -128,7 +134,7 @@ class CudaBackend final : public Backend {
     cudaStream_t s = stream_.get();
     cuda::check(cudaMemsetAsync(scratch_.data(), 0, scratch_.bytes(), s), "cudaMemsetAsync (counters)");
     cuda::count_kernel<<<cuda::reduce_blocks(cell_count_, device_.sm_count), cuda::kReduceThreads, 0, s>>>(
-        cells_.data(), cell_count_, scratch_.data());
+        cells_, cell_count_, scratch_.data());
     cuda::check_launch("count kernel launch");
     unsigned long long counts[kMaterialCount] = {};
     cuda::check(cudaMemcpyAsync(counts, scratch_.data(), sizeof counts, cudaMemcpyDeviceToHost, s),
@@ -144,7 +150,7 @@ class CudaBackend final : public Backend {
     cudaStream_t s = stream_.get();
     cuda::check(cudaMemsetAsync(scratch_.data(), 0, sizeof(unsigned long long), s), "cudaMemsetAsync (hash)");
     cuda::hash_kernel<<<cuda::reduce_blocks(cell_count_, device_.sm_count), cuda::kReduceThreads, 0, s>>>(
-        cells_.data(), cell_count_, scratch_.data());
+        cells_, cell_count_, scratch_.data());
     cuda::check_launch("hash kernel launch");
     unsigned long long sum = 0;
     cuda::check(cudaMemcpyAsync(&sum, scratch_.data(), sizeof sum, cudaMemcpyDeviceToHost, s),
@@ -153,7 +159,45 @@ class CudaBackend final : public Backend {
     return finish_hash(size_, sum);
   }
 
+  std::uint64_t shared_cell_bytes() const override { return cuda::cell_buffer_bytes(cell_count_); }
+
+  void share_cells(const ExternalCellMemory& memory) override {
+    activate();
+    if (imported_) throw BackendError("World::share_cells: the cells are already shared; share them once per world");
+    cuda::ImportedMemory imported(memory, shared_cell_bytes());
+    cuda::check(cudaMemcpyAsync(imported.data(), cells_, shared_cell_bytes(), cudaMemcpyDeviceToDevice, stream_.get()),
+                "cudaMemcpyAsync (cells into the shared buffer)");
+    stream_.synchronize("share_cells");
+    imported_.emplace(std::move(imported));
+    cells_ = imported_->data();
+    owned_cells_.reset();
+  }
+
+  void attach_timelines(const ExternalTimeline& cells_ready, const ExternalTimeline& cells_released) override {
+    activate();
+    if (!imported_) throw BackendError("World::attach_timelines: call share_cells first (the timelines order the shared cells)");
+    if (ready_) throw BackendError("World::attach_timelines: timelines are already attached");
+    cuda::ImportedTimeline ready(cells_ready, "cudaImportExternalSemaphore (cells_ready)");
+    cuda::ImportedTimeline released(cells_released, "cudaImportExternalSemaphore (cells_released)");
+    ready_.emplace(std::move(ready));
+    released_.emplace(std::move(released));
+  }
+
+  CellsHandoff hand_off_cells() override {
+    if (!ready_) throw BackendError("World::hand_off_cells: call share_cells and attach_timelines first");
+    return {writes_, ++handoffs_};
+  }
+
  private:
+  /// With timelines attached: the next write waits until the renderer released its last read.
+  void before_write() {
+    if (released_) released_->wait(handoffs_, stream_.get());
+  }
+  /// With timelines attached: tells the renderer the writes so far are done.
+  void after_write() {
+    if (ready_) ready_->signal(++writes_, stream_.get());
+  }
+
   /// Makes the backend's device current on the calling thread.
   void activate() const { cuda::check(cudaSetDevice(device_.index), "cudaSetDevice"); }
 
@@ -187,8 +231,8 @@ class CudaBackend final : public Backend {
     const std::size_t pitch = std::size_t(size_.x);
     for_each_piece(box, [&](std::size_t d, std::size_t o, std::size_t w, std::size_t h) {
       const cudaError_t status =
-          h == 1 ? cudaMemcpyAsync(host + o, cells_.data() + d, w, cudaMemcpyDeviceToHost, stream_.get())
-                 : cudaMemcpy2DAsync(host + o, w, cells_.data() + d, pitch, w, h, cudaMemcpyDeviceToHost, stream_.get());
+          h == 1 ? cudaMemcpyAsync(host + o, cells_ + d, w, cudaMemcpyDeviceToHost, stream_.get())
+                 : cudaMemcpy2DAsync(host + o, w, cells_ + d, pitch, w, h, cudaMemcpyDeviceToHost, stream_.get());
       cuda::check(status, "copying cells to the host");
     });
     stream_.synchronize("read");
@@ -197,13 +241,15 @@ class CudaBackend final : public Backend {
   /// Copies `host` (x fastest, no padding) into the cells of `box`.
   void copy_in(const Box& box, const std::uint8_t* host) {
     activate();
+    before_write();
     const std::size_t pitch = std::size_t(size_.x);
     for_each_piece(box, [&](std::size_t d, std::size_t o, std::size_t w, std::size_t h) {
       const cudaError_t status =
-          h == 1 ? cudaMemcpyAsync(cells_.data() + d, host + o, w, cudaMemcpyHostToDevice, stream_.get())
-                 : cudaMemcpy2DAsync(cells_.data() + d, pitch, host + o, w, w, h, cudaMemcpyHostToDevice, stream_.get());
+          h == 1 ? cudaMemcpyAsync(cells_ + d, host + o, w, cudaMemcpyHostToDevice, stream_.get())
+                 : cudaMemcpy2DAsync(cells_ + d, pitch, host + o, w, w, h, cudaMemcpyHostToDevice, stream_.get());
       cuda::check(status, "copying cells to the device");
     });
+    after_write();
     stream_.synchronize("write");
   }
 
@@ -214,7 +260,13 @@ class CudaBackend final : public Backend {
   std::uint64_t seed_;
   cuda::StepShape shape_;
   cuda::Stream stream_;
-  cuda::DeviceBuffer<std::uint8_t> cells_;
+  cuda::DeviceBuffer<std::uint8_t> owned_cells_;  ///< the cells, until share_cells() moves them
+  std::uint8_t* cells_;                           ///< the cells: owned_cells_ or imported_
+  std::optional<cuda::ImportedMemory> imported_;   ///< the renderer's buffer, after share_cells()
+  std::optional<cuda::ImportedTimeline> ready_;    ///< signalled after each write (attach_timelines)
+  std::optional<cuda::ImportedTimeline> released_;  ///< waited on before each write
+  std::uint64_t writes_ = 0;                       ///< last value signalled on ready_
+  std::uint64_t handoffs_ = 0;                     ///< last value handed out for released_
   cuda::DeviceBuffer<BlockKey> result_;
   cuda::DeviceBuffer<unsigned long long> scratch_;
 };

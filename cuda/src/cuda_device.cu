@@ -110,6 +110,15 @@ std::uint64_t cuda_bytes_needed(Int3 size) {
   return cuda::cell_buffer_bytes(cells) + 2 * std::uint64_t(kBlockKeyCount) * sizeof(Transition);
 }
 
+std::array<std::uint8_t, 16> cuda_device_uuid_of_current() {
+  const cuda::DeviceInfo device = cuda::acquire_device();
+  cudaDeviceProp prop{};
+  cuda::check(cudaGetDeviceProperties(&prop, device.index), "cudaGetDeviceProperties");
+  std::array<std::uint8_t, 16> uuid{};
+  for (std::size_t i = 0; i < uuid.size(); ++i) uuid[i] = std::uint8_t(prop.uuid.bytes[i]);
+  return uuid;
+}
+
 void check_cuda_fits(Int3 size) {
   if (size.x <= 0 || size.y <= 0 || size.z <= 0)
     throw InvalidArgument("cuda backend: grid size " + to_string(size) + " has a non-positive extent");

@@ -7,6 +7,8 @@
 #include <span>
 #include <string>
 
+#include "granular/errors.hpp"
+#include "granular/external_memory.hpp"
 #include "granular/geometry.hpp"
 #include "granular/material.hpp"
 #include "granular/world_def.hpp"
@@ -31,6 +33,24 @@ class Backend {
   virtual MaterialCounts count() const = 0;
   /// The grid hash (hash_cells).
   virtual std::uint64_t hash() const = 0;
+
+  /// Bytes an imported cell buffer must hold (share_cells), or 0 when this backend cannot share.
+  virtual std::uint64_t shared_cell_bytes() const { return 0; }
+  /// Moves the cells into imported external memory and steps them there from now on.
+  virtual void share_cells(const ExternalCellMemory&) { throw_not_shareable("share_cells"); }
+  /// Orders every later write of the cells with a renderer through two imported timelines.
+  virtual void attach_timelines(const ExternalTimeline&, const ExternalTimeline&) {
+    throw_not_shareable("attach_timelines");
+  }
+  /// Hands the current cells to a renderer for one read (see World::hand_off_cells).
+  virtual CellsHandoff hand_off_cells() { throw_not_shareable("hand_off_cells"); }
+
+ private:
+  [[noreturn]] void throw_not_shareable(const char* what) const {
+    throw BackendError(std::string("World::") + what + ": the " + description() +
+                       " backend keeps its cells in host memory; sharing them with a graphics API needs the "
+                       "CUDA backend (WorldDef::backend = cuda)");
+  }
 };
 
 }  // namespace granular

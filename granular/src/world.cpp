@@ -19,6 +19,19 @@
 
 namespace granular {
 
+std::optional<std::array<std::uint8_t, 16>> cuda_device_uuid() {
+#ifdef GRANULAR_HAS_CUDA
+  if (!cuda_device_available()) return std::nullopt;
+  return cuda_device_uuid_of_current();
+#else
+  return std::nullopt;
+#endif
+}
+
+}  // namespace granular
+
+namespace granular {
+
 const char* backend_name(BackendKind kind) noexcept {
   switch (kind) {
     case BackendKind::Auto: return "auto";
@@ -197,6 +210,26 @@ void World::mark_changed(const Box& region) {
         brick_version_[(std::size_t(bz) * std::size_t(n.y) + std::size_t(by)) * std::size_t(n.x) + std::size_t(bx)] =
             change_version_;
 }
+
+std::uint64_t World::shared_cell_bytes() const { return backend_->shared_cell_bytes(); }
+
+void World::share_cells(const ExternalCellMemory& memory) {
+  const std::uint64_t needed = backend_->shared_cell_bytes();
+  if (needed > 0 && (memory.offset > memory.allocation_size || memory.allocation_size - memory.offset < needed))
+    throw InvalidArgument("World::share_cells: the shared buffer holds " +
+                          std::to_string(memory.allocation_size - std::min(memory.offset, memory.allocation_size)) +
+                          " bytes after offset " + std::to_string(memory.offset) + "; the " + to_string(size_) +
+                          " grid needs " + std::to_string(needed) + " (World::shared_cell_bytes)");
+  if (needed > 0 && memory.fd < 0)
+    throw InvalidArgument("World::share_cells: fd " + std::to_string(memory.fd) + " is not a file descriptor");
+  backend_->share_cells(memory);
+}
+
+void World::attach_timelines(const ExternalTimeline& cells_ready, const ExternalTimeline& cells_released) {
+  backend_->attach_timelines(cells_ready, cells_released);
+}
+
+CellsHandoff World::hand_off_cells() { return backend_->hand_off_cells(); }
 
 std::vector<std::uint32_t> World::bricks_changed_since(std::uint64_t version) const {
   std::vector<std::uint32_t> changed;

@@ -6,6 +6,7 @@
 #include <doctest/doctest.h>
 
 #include <cstdint>
+#include <cstdio>
 #include <optional>
 #include <random>
 #include <string>
@@ -281,4 +282,26 @@ TEST_CASE("cuda: a grid too large for the device is refused with OutOfMemory nam
   }
   CHECK(cuda_bytes_needed({8192, 8192, 8192}) == 8192ull * 8192 * 8192 + 128ull * 1024 * 1024);
   CHECK_THROWS_AS(check_cuda_fits({0, 4, 4}), InvalidArgument);
+}
+
+TEST_CASE("cuda: sharing the cells refuses bad handles and leaves the world intact") {
+  REQUIRE(cuda_device_uuid().has_value());
+  const Grid initial = random_grid({33, 20, 17}, 5);
+  World world(def_for(BackendKind::Cuda, "paper", 1), initial);
+  CHECK(world.shared_cell_bytes() == (std::uint64_t(initial.cell_count()) + 7) / 8 * 8);
+  const std::uint64_t before = world.hash();
+  CHECK_THROWS_AS(world.share_cells({-1, world.shared_cell_bytes(), 0, false}), InvalidArgument);
+  CHECK_THROWS_AS(world.share_cells({3, world.shared_cell_bytes() - 1, 0, false}), InvalidArgument);
+  // A descriptor that is no exported memory: the import fails with the CUDA error, nothing moves.
+  FILE* not_memory = std::tmpfile();
+  REQUIRE(not_memory != nullptr);
+  CHECK_THROWS_AS(world.share_cells({fileno(not_memory), world.shared_cell_bytes(), 0, false}), BackendError);
+  std::fclose(not_memory);
+  CHECK_THROWS_AS(world.attach_timelines({-1}, {-1}), BackendError);
+  CHECK_THROWS_AS(world.hand_off_cells(), BackendError);
+  CHECK(world.hash() == before);
+  world.step(16);
+  World cpu(def_for(BackendKind::Cpu, "paper", 1), initial);
+  cpu.step(16);
+  CHECK(world.hash() == cpu.hash());
 }

@@ -3,6 +3,7 @@
 /// The CUDA backend's entry points, as plain C++ (no CUDA types): the library's World and the tests
 /// include this with an ordinary C++ compiler and link the granular_cuda library.
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -20,6 +21,10 @@ namespace granular {
 /// True when a CUDA device is usable (a driver, a device, and kernels of this build that run on
 /// it); otherwise `why` (when given) says why (no driver, no device, unsupported architecture...).
 bool cuda_device_available(std::string* why = nullptr);
+
+/// The UUID of the CUDA device the backend would use (the calling thread's current device).
+/// Throws BackendError when no device is usable.
+std::array<std::uint8_t, 16> cuda_device_uuid_of_current();
 
 /// Bytes the CUDA backend needs on the device for a grid of `size`: one byte per cell (rounded up
 /// to whole 8-byte words) plus the 64 MiB transition table and the 64 MiB result table derived

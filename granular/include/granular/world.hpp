@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "granular/activity.hpp"
+#include "granular/external_memory.hpp"
 #include "granular/geometry.hpp"
 #include "granular/grid.hpp"
 #include "granular/material.hpp"
@@ -97,6 +98,23 @@ class World {
   Int3 brick_counts() const { return granular::brick_counts(size_); }
   /// How much of the grid the last tick stepped.
   ActivityStats activity() const { return activity_; }
+
+  /// Bytes a buffer shared with share_cells() must hold (the cells, x fastest, padded to whole
+  /// 8-byte words); 0 when the backend cannot share its cells (the CPU backend).
+  std::uint64_t shared_cell_bytes() const;
+  /// Moves the cells into memory exported by a graphics API (CUDA backend only) and steps them
+  /// there in place from now on, so a renderer reads them with no copy. Throws BackendError for
+  /// the CPU backend or a failed import, InvalidArgument when the memory is too small; the world is
+  /// unchanged then and `memory.fd` stays the caller's.
+  void share_cells(const ExternalCellMemory& memory);
+  /// Orders writes of the shared cells with a renderer: after this, every call that writes cells
+  /// (step, tools, load) first waits on the device until `cells_released` reaches the value of the
+  /// last hand_off_cells(), then writes, then signals `cells_ready` with a new, larger value; step()
+  /// returns without waiting for the device. Requires share_cells(). Both semaphores must start at 0.
+  void attach_timelines(const ExternalTimeline& cells_ready, const ExternalTimeline& cells_released);
+  /// Called by the renderer once per frame before it reads the shared cells: the values to wait for
+  /// and to signal (CellsHandoff). The signal must be submitted before the next call that writes.
+  CellsHandoff hand_off_cells();
 
  private:
   void init(const Grid& initial);
