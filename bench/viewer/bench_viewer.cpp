@@ -19,10 +19,12 @@
 #include <vector>
 
 #include "camera.hpp"
+#include "granular/external_memory.hpp"
 #include "granular/scene.hpp"
 #include "offscreen_renderer.hpp"
 #include "renderer_factory.hpp"
 #include "scene_loader.hpp"
+#include "shared_cells.hpp"
 #include "vulkan_context.hpp"
 
 namespace {
@@ -47,7 +49,7 @@ int main(int argc, char** argv) {
   choice.size = 256;
   int width = 1920, height = 1080, ticks = 4, frames = 120, warmup = 10;
   std::string renderers = "cubes,marching,raymarch", csv, camera_text;
-  bool validation = false;
+  bool validation = false, no_interop = false;
   app.add_option("--scene", choice.scene, "scene");
   app.add_option("--size", choice.size, "scene size parameter N");
   app.add_option("--backend", choice.backend, "auto, cpu or cuda");
@@ -61,6 +63,7 @@ int main(int argc, char** argv) {
   app.add_option("--camera", camera_text, "yaw,pitch,distance[,tx,ty,tz]");
   app.add_option("--csv", csv, "append CSV rows to this file");
   app.add_flag("--validation", validation, "Vulkan validation layers (slow; for checking, not timing)");
+  app.add_flag("--no-interop", no_interop, "with --backend cuda: upload through the host instead of sharing the cells");
   try {
     app.parse(argc, argv);
     if (ticks < 0 || frames < 1 || warmup < 0) throw std::invalid_argument("--ticks-per-frame >= 0, --frames >= 1, --warmup >= 0");
@@ -73,7 +76,14 @@ int main(int argc, char** argv) {
   try {
     viewer::ContextOptions context_options;
     context_options.validation = validation;
+    // CUDA interop (shared cells) whenever the CUDA backend will be used, unless --no-interop.
+    if (!no_interop && choice.backend != "cpu")
+      if (const auto uuid = granular::cuda_device_uuid()) {
+        context_options.external_memory = true;
+        context_options.device_uuid = *uuid;
+      }
     viewer::VulkanContext context(context_options);
+    std::string cells_path = "upload";
     std::vector<Row> rows;
     std::string backend;
     std::stringstream list(renderers);
@@ -81,12 +91,17 @@ int main(int argc, char** argv) {
     while (std::getline(list, name, ',')) {
       const auto kind = viewer::parse_renderer_kind(name);
       if (!kind) throw std::invalid_argument("--renderers: unknown renderer '" + name + "'");
+      std::unique_ptr<viewer::SharedCells> shared;  // declared before the world: destroyed after it
       viewer::SandboxWorld sandbox = viewer::load_world(choice);
       granular::World& world = *sandbox.world;
       backend = world.backend_description();
+      if (context.external_memory() && world.backend() == granular::BackendKind::Cuda) {
+        shared = std::make_unique<viewer::SharedCells>(context, world);
+        cells_path = "interop";
+      }
       const viewer::OrbitCamera camera = camera_text.empty() ? viewer::OrbitCamera::framing(world.size())
                                                              : viewer::OrbitCamera::parse(camera_text, world.size());
-      viewer::OffscreenRenderer renderer(context, world, {std::uint32_t(width), std::uint32_t(height)}, *kind);
+      viewer::OffscreenRenderer renderer(context, world, {std::uint32_t(width), std::uint32_t(height)}, *kind, shared.get());
       Row row;
       row.renderer = name;
       for (int frame = 0; frame < warmup; ++frame) {
@@ -124,8 +139,9 @@ int main(int argc, char** argv) {
       row.bricks_rebuilt = rebuilt / frames;
       rows.push_back(row);
     }
-    std::printf("device %s, backend %s, scene %s N=%d, %dx%d, %d ticks/frame, %d frames\n", context.device_name().c_str(),
-                backend.c_str(), choice.scene.c_str(), choice.size, width, height, ticks, frames);
+    std::printf("device %s, backend %s, cells %s, scene %s N=%d, %dx%d, %d ticks/frame, %d frames\n",
+                context.device_name().c_str(), backend.c_str(), cells_path.c_str(), choice.scene.c_str(), choice.size, width,
+                height, ticks, frames);
     std::printf("%-9s %8s %9s %8s %9s %10s %9s %8s %9s\n", "renderer", "fps", "frame_ms", "sim_ms", "record_ms", "upload_ms",
                 "build_ms", "draw_ms", "rebuilt");
     for (const Row& r : rows)
@@ -136,10 +152,10 @@ int main(int argc, char** argv) {
       std::ofstream out(csv, std::ios::app);
       if (!out) throw std::runtime_error("cannot write " + csv);
       if (fresh)
-        out << "device,backend,scene,n,width,height,ticks_per_frame,frames,renderer,fps,frame_ms,sim_ms,record_ms,gpu_upload_ms,"
+        out << "device,backend,cells,scene,n,width,height,ticks_per_frame,frames,renderer,fps,frame_ms,sim_ms,record_ms,gpu_upload_ms,"
                "gpu_build_ms,gpu_draw_ms,bricks_rebuilt_per_frame\n";
       for (const Row& r : rows)
-        out << '"' << context.device_name() << "\",\"" << backend << "\"," << choice.scene << ',' << choice.size << ',' << width
+        out << '"' << context.device_name() << "\",\"" << backend << "\"," << cells_path << ',' << choice.scene << ',' << choice.size << ',' << width
             << ',' << height << ',' << ticks << ',' << frames << ',' << r.renderer << ',' << r.fps << ',' << r.frame_ms << ','
             << r.sim_ms << ',' << r.record_ms << ',' << r.upload_ms << ',' << r.build_ms << ',' << r.draw_ms << ','
             << r.bricks_rebuilt << '\n';

@@ -34,6 +34,8 @@ class CellBuffer {
   VkBuffer buffer() const { return cells_.buffer(); }
   /// Grid extent.
   granular::Int3 size() const { return size_; }
+  /// Buffer size in bytes (the cells rounded up to whole 4-byte words).
+  VkDeviceSize bytes() const { return cells_.size(); }
 
   /// Copies the cells of `bricks` from `world` into slot `slot`'s staging buffer and records their
   /// transfer into the cell buffer (one copy of the whole grid when most bricks changed, else a

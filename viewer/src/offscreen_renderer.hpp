@@ -20,8 +20,10 @@ class VulkanContext;
 /// An offscreen target plus a WorldRenderer and per-slot command buffers and fences.
 class OffscreenRenderer {
  public:
-  /// Renders `world` (which must outlive it) at `extent` with the renderer of `kind`.
-  OffscreenRenderer(const VulkanContext& context, const granular::World& world, VkExtent2D extent, RendererKind kind);
+  /// Renders `world` (which must outlive it) at `extent` with the renderer of `kind`; through
+  /// `shared` (CUDA interop) when given.
+  OffscreenRenderer(const VulkanContext& context, const granular::World& world, VkExtent2D extent, RendererKind kind,
+                    SharedCells* shared = nullptr);
   ~OffscreenRenderer();
   OffscreenRenderer(const OffscreenRenderer&) = delete;
   OffscreenRenderer& operator=(const OffscreenRenderer&) = delete;

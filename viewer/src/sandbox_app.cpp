@@ -24,6 +24,8 @@
 #include "pausable_subsystem.hpp"
 #include "renderer_factory.hpp"
 #include "sandbox_tools.hpp"
+#include "shared_cells.hpp"
+#include "granular/external_memory.hpp"
 #include "swapchain.hpp"
 #include "vulkan_context.hpp"
 #include "world_renderer.hpp"
@@ -33,6 +35,7 @@ namespace {
 
 /// What a scene reset rebuilds: the world and the subsystems that borrow it.
 struct Session {
+  std::unique_ptr<SharedCells> shared;  ///< CUDA interop; declared first so the world goes first
   SandboxWorld sandbox;
   std::unique_ptr<ToolSubsystem> tools;
   std::unique_ptr<engine::GranularSubsystem> simulation;
@@ -118,6 +121,13 @@ class SandboxApp final : public engine::Subsystem {
   static ContextOptions context_options(const SandboxOptions& options, const GlfwWindow& window) {
     ContextOptions result;
     result.validation = options.validation;
+    // CUDA interop when the world will run on the CUDA backend: same GPU, exportable memory.
+    if (!options.no_interop && options.world.backend != "cpu") {
+      if (const auto uuid = granular::cuda_device_uuid()) {
+        result.external_memory = true;
+        result.device_uuid = *uuid;
+      }
+    }
     result.instance_extensions = window.required_instance_extensions();
     result.make_surface = [&window](VkInstance instance) { return window.create_surface(instance); };
     return result;
@@ -135,6 +145,8 @@ class SandboxApp final : public engine::Subsystem {
     session_.reset();
     auto session = std::make_unique<Session>();
     session->sandbox = load_world(choice);
+    if (context_.external_memory() && session->sandbox.world->backend() == granular::BackendKind::Cuda)
+      session->shared = std::make_unique<SharedCells>(context_, *session->sandbox.world);
     session->tools = std::make_unique<ToolSubsystem>(*session->sandbox.world, session->sandbox.emitters);
     session->tools->state() = tool_state;
     session->tools->state().held = false;
@@ -145,7 +157,8 @@ class SandboxApp final : public engine::Subsystem {
     choice_ = choice;
     choice_.scene = session_->sandbox.scene_name;
     choice_.size = session_->sandbox.n;
-    renderer_ = std::make_unique<WorldRenderer>(context_, world(), swapchain_.target().compatible_pass(), kind_);
+    renderer_ = std::make_unique<WorldRenderer>(context_, world(), swapchain_.target().compatible_pass(), kind_,
+                                                session_->shared.get());
     engine::FixedTimestepConfig timestep;
     timestep.tick_rate_hz = 60.0;
     timestep.max_ticks_per_frame = 4;
@@ -252,7 +265,8 @@ class SandboxApp final : public engine::Subsystem {
     const int ticks = session_->simulation->ticks_per_fixed_update();
     ImGui::Text("simulation %.3f ms/tick (%d ticks per fixed update)", session_->simulation->last_step_seconds() * 1e3 / ticks, ticks);
     ImGui::Text("gpu: upload %.2f  build %.2f  draw %.2f ms", gpu_.upload_ms, gpu_.build_ms, gpu_.draw_ms);
-    ImGui::Text("backend %s", world().backend_description().c_str());
+    ImGui::Text("backend %s, cells %s", world().backend_description().c_str(),
+                session_->shared ? "shared with CUDA" : "uploaded (changed bricks)");
     const granular::ActivityStats activity = world().activity();
     ImGui::Text("active bricks %llu / %llu, tick %llu", static_cast<unsigned long long>(activity.active_bricks),
                 static_cast<unsigned long long>(activity.total_bricks), static_cast<unsigned long long>(world().tick()));

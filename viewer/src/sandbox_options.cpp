@@ -25,6 +25,7 @@ void add_sandbox_options(CLI::App& app, SandboxOptions& o) {
   app.add_option("--width", o.width, "image width in pixels");
   app.add_option("--height", o.height, "image height in pixels");
   app.add_flag("--validation,!--no-validation", o.validation, "Vulkan validation layers (default on in debug builds)");
+  app.add_flag("--no-interop", o.no_interop, "with --backend cuda: copy the cells through the host instead of sharing them");
 }
 
 void validate(const SandboxOptions& o) {

@@ -24,6 +24,7 @@ struct SandboxOptions {
   int width = 1280;               ///< image width
   int height = 720;               ///< image height
   bool validation = false;        ///< Vulkan validation layers and a count of their messages
+  bool no_interop = false;        ///< CUDA backend: upload through staging instead of sharing the cells
 };
 
 /// Registers the options on `app`; validation defaults on in debug builds.

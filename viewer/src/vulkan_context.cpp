@@ -63,7 +63,7 @@ std::vector<const char*> device_extensions(const ContextOptions& options) {
 
 }  // namespace
 
-VulkanContext::VulkanContext(const ContextOptions& options) {
+VulkanContext::VulkanContext(const ContextOptions& options) : external_memory_(options.external_memory) {
   try {
     create_instance(options);
     if (options.make_surface) surface_ = options.make_surface(instance_);

@@ -56,6 +56,8 @@ class VulkanContext {
   const std::string& device_name() const { return device_name_; }
   /// Nanoseconds per timestamp tick.
   double timestamp_period_ns() const { return timestamp_period_ns_; }
+  /// True when created with ContextOptions::external_memory (CUDA interop possible).
+  bool external_memory() const { return external_memory_; }
   /// True when the queue supports timestamp queries.
   bool has_timestamps() const { return has_timestamps_; }
 
@@ -89,6 +91,7 @@ class VulkanContext {
   std::string device_name_;
   double timestamp_period_ns_ = 1.0;
   bool has_timestamps_ = false;
+  bool external_memory_ = false;
   std::atomic<std::uint64_t> validation_messages_{0};
 };
 

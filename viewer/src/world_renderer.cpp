@@ -7,6 +7,7 @@
 #include "granular/world.hpp"
 #include "render_target.hpp"
 #include "renderer_factory.hpp"
+#include "shared_cells.hpp"
 #include "vulkan_check.hpp"
 #include "vulkan_context.hpp"
 
@@ -18,8 +19,8 @@ constexpr std::uint32_t kQueriesPerFrame = 4;
 }  // namespace
 
 WorldRenderer::WorldRenderer(const VulkanContext& context, const granular::World& world, VkRenderPass target_pass,
-                             RendererKind kind)
-    : context_(context), world_(world), target_pass_(target_pass) {
+                             RendererKind kind, SharedCells* shared)
+    : context_(context), world_(world), target_pass_(target_pass), shared_(shared) {
   cells_ = std::make_unique<CellBuffer>(context, world.size());
   set_kind(kind);
   if (context.has_timestamps()) {
@@ -61,7 +62,11 @@ FrameWork WorldRenderer::record(VkCommandBuffer commands, int slot, const Render
   uploaded_version_ = world_.change_version();
   FrameWork work;
   work.bricks_uploaded = changed.size();
-  work.bytes_uploaded = cells_->record_upload(commands, slot, world_, changed);
+  if (shared_) {
+    shared_->submit_snapshot(slot, cells_->buffer(), cells_->bytes());
+  } else {
+    work.bytes_uploaded = cells_->record_upload(commands, slot, world_, changed);
+  }
   if (queries_) vkCmdWriteTimestamp2(commands, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, queries_, first_query + 1);
 
   const VkExtent2D extent = target.extent();

@@ -22,6 +22,7 @@ namespace viewer {
 
 class VulkanContext;
 class RenderTarget;
+class SharedCells;
 
 /// GPU time of one frame's phases, in milliseconds (0 where the device has no timestamps).
 struct GpuTimings {
@@ -47,8 +48,10 @@ struct BrushView {
 /// Renders one World (which must outlive it) into targets compatible with `target_pass`.
 class WorldRenderer {
  public:
-  /// Creates the cell buffer for `world` and the renderer of `kind`.
-  WorldRenderer(const VulkanContext& context, const granular::World& world, VkRenderPass target_pass, RendererKind kind);
+  /// Creates the cell buffer for `world` and the renderer of `kind`. With `shared` (CUDA interop,
+  /// outliving this), each frame snapshots the shared cells on the device instead of uploading.
+  WorldRenderer(const VulkanContext& context, const granular::World& world, VkRenderPass target_pass, RendererKind kind,
+                SharedCells* shared = nullptr);
   ~WorldRenderer();
   WorldRenderer(const WorldRenderer&) = delete;
   WorldRenderer& operator=(const WorldRenderer&) = delete;
@@ -77,6 +80,7 @@ class WorldRenderer {
   const VulkanContext& context_;
   const granular::World& world_;
   VkRenderPass target_pass_;
+  SharedCells* shared_;
   std::unique_ptr<CellBuffer> cells_;
   std::array<std::unique_ptr<Renderer>, 3> renderers_;
   Renderer* active_ = nullptr;
