@@ -1,5 +1,5 @@
 #version 460
-// Marching cubes, build pass: one workgroup per listed brick. The brick's cells and a border are
+// Marching cubes, build pass (pc.bricks.w: triangles per brick slot): one workgroup per listed brick. The brick's cells and a border are
 // loaded into shared memory (packed 4 cells a word); each marching cube (cube c spans the lattice
 // points c..c+1, lattice point q lies between cells q-1 and q, and its density is the fraction of
 // the 8 cells around it that are not void) emits the triangles of its case into the brick's slot,
@@ -17,7 +17,6 @@ layout(std430, set = 0, binding = 3) writeonly buffer Draws { uint draws[]; };
 layout(std430, set = 0, binding = 4) readonly buffer Cases { uint cases[]; };  // 256 x (count, 15 edges)
 #include "cells.glsl"
 
-const uint kMaxTriangles = 3072u;
 const int kTile = 21;  // cells -2..18 around the brick
 const uint kTileCells = uint(kTile * kTile * kTile);
 const float kIso = 0.35;
@@ -53,6 +52,7 @@ uint octahedral(vec3 n) {
 }
 
 void main() {
+  uint max_triangles = uint(pc.bricks.w);  // the brick's slot size (MarchingCubesRenderer)
   uint brick = brick_list[gl_WorkGroupID.x];
   ivec3 origin = brick_origin(brick);
   if (gl_LocalInvocationIndex == 0u) triangle_count = 0u;
@@ -92,7 +92,7 @@ void main() {
     uint first = atomicAdd(triangle_count, edge_count / 3u);
     for (uint k = 0u; k < edge_count; ++k) {
       uint triangle = first + k / 3u;
-      if (triangle >= kMaxTriangles) break;
+      if (triangle >= max_triangles) break;
       uint edge = cases[mask * 16u + 1u + k];
       uint axis = edge >> 2;
       uint rest = edge & 3u;
@@ -106,15 +106,15 @@ void main() {
       vec3 normal = -mix(gradient(pa), gradient(pb), t);
       if (dot(normal, normal) < 1e-8) normal = vec3(0.0, 0.0, 1.0);
       uvec3 fixed_position = uvec3((position + 1.0) * kPositionScale + 0.5);
-      vertices[brick * kMaxTriangles * 3u + first * 3u + k] =
+      vertices[brick * max_triangles * 3u + first * 3u + k] =
           uvec2(fixed_position.x | (fixed_position.y << 10) | (fixed_position.z << 20) | (material << 30), octahedral(normalize(normal)));
     }
   }
   barrier();
   if (gl_LocalInvocationIndex == 0u) {
-    draws[brick * 4u + 0u] = min(triangle_count, kMaxTriangles) * 3u;
+    draws[brick * 4u + 0u] = min(triangle_count, max_triangles) * 3u;
     draws[brick * 4u + 1u] = 1u;
-    draws[brick * 4u + 2u] = brick * kMaxTriangles * 3u;
+    draws[brick * 4u + 2u] = brick * max_triangles * 3u;
     draws[brick * 4u + 3u] = brick;
   }
 }

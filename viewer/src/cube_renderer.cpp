@@ -6,6 +6,7 @@
 #include "brick_set.hpp"
 #include "cell_buffer.hpp"
 #include "granular/activity.hpp"
+#include "vulkan_check.hpp"
 #include "vulkan_context.hpp"
 
 namespace viewer {
@@ -15,13 +16,29 @@ constexpr VkDeviceSize kInstancesPerBrick = 4096;
 
 std::uint32_t total_of(granular::Int3 counts) { return std::uint32_t(counts.x) * counts.y * counts.z; }
 
+/// Throws a VulkanError suggesting the ray march when `bricks` instance slots or draw commands
+/// exceed what this device allows.
+std::uint32_t checked_bricks(const VulkanContext& context, std::uint32_t bricks) {
+  VkPhysicalDeviceMaintenance3Properties maintenance3{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_3_PROPERTIES};
+  VkPhysicalDeviceProperties2 properties{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+  properties.pNext = &maintenance3;
+  vkGetPhysicalDeviceProperties2(context.physical_device(), &properties);
+  const VkPhysicalDeviceLimits& limits = properties.properties.limits;
+  const VkDeviceSize instance_bytes = VkDeviceSize(bricks) * kInstancesPerBrick * 4;
+  if (instance_bytes > limits.maxStorageBufferRange || instance_bytes > maintenance3.maxMemoryAllocationSize ||
+      bricks > limits.maxDrawIndirectCount)
+    throw VulkanError("the grid is too large for the instanced-cube renderer on " + context.device_name() +
+                      " (instance buffer or draw count over the device's limits); use --renderer raymarch");
+  return bricks;
+}
+
 }  // namespace
 
 CubeRenderer::CubeRenderer(const VulkanContext& context, const CellBuffer& cells, VkRenderPass target_pass)
     : context_(context),
       cells_(cells),
       brick_counts_(granular::brick_counts(cells.size())),
-      brick_total_(total_of(brick_counts_)),
+      brick_total_(checked_bricks(context, total_of(brick_counts_))),
       instances_(context, brick_total_ * kInstancesPerBrick * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryKind::DeviceLocal),
       draws_(context, VkDeviceSize(brick_total_) * sizeof(VkDrawIndirectCommand),
              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,

@@ -1,5 +1,6 @@
 #include "marching_cubes_renderer.hpp"
 
+#include <algorithm>
 #include <cstring>
 #include <vector>
 
@@ -7,13 +8,30 @@
 #include "cell_buffer.hpp"
 #include "granular/activity.hpp"
 #include "marching_cubes_tables.hpp"
+#include "vulkan_check.hpp"
 #include "vulkan_context.hpp"
 
 namespace viewer {
 namespace {
 
-constexpr VkDeviceSize kMaxTrianglesPerBrick = 3072;  // matches mc_build.comp
+constexpr VkDeviceSize kMaxTrianglesPerBrick = 3072;
 constexpr VkDeviceSize kVertexBytes = 8;
+
+/// Triangles per brick slot: 3072 (a rough surface through a brick needs ~1000), fewer when the
+/// vertex buffer would exceed what one storage buffer or allocation may hold on this device.
+std::uint32_t triangles_per_brick(const VulkanContext& context, std::uint32_t bricks) {
+  VkPhysicalDeviceMaintenance3Properties maintenance3{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_3_PROPERTIES};
+  VkPhysicalDeviceProperties2 properties{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+  properties.pNext = &maintenance3;
+  vkGetPhysicalDeviceProperties2(context.physical_device(), &properties);
+  const VkDeviceSize limit =
+      std::min<VkDeviceSize>(properties.properties.limits.maxStorageBufferRange, maintenance3.maxMemoryAllocationSize);
+  const VkDeviceSize fitting = limit / (VkDeviceSize(bricks) * 3 * kVertexBytes);
+  if (fitting < 256)
+    throw VulkanError("the grid is too large for the marching-cubes renderer on " + context.device_name() +
+                      " (vertex buffer over the device's storage-buffer limit); use --renderer raymarch");
+  return std::uint32_t(std::min(kMaxTrianglesPerBrick, fitting));
+}
 
 std::uint32_t total_of(granular::Int3 counts) { return std::uint32_t(counts.x) * counts.y * counts.z; }
 
@@ -33,8 +51,9 @@ std::vector<std::uint32_t> gpu_case_table() {
 MarchingCubesRenderer::MarchingCubesRenderer(const VulkanContext& context, const CellBuffer& cells, VkRenderPass target_pass)
     : brick_counts_(granular::brick_counts(cells.size())),
       brick_total_(total_of(brick_counts_)),
-      vertices_(context, brick_total_ * kMaxTrianglesPerBrick * 3 * kVertexBytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
-                MemoryKind::DeviceLocal),
+      triangles_per_brick_(triangles_per_brick(context, brick_total_)),
+      vertices_(context, VkDeviceSize(brick_total_) * triangles_per_brick_ * 3 * kVertexBytes,
+                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryKind::DeviceLocal),
       draws_(context, VkDeviceSize(brick_total_) * sizeof(VkDrawIndirectCommand),
              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, MemoryKind::DeviceLocal),
       cases_(context, 256 * 16 * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
@@ -79,6 +98,7 @@ std::uint64_t MarchingCubesRenderer::prepare(VkCommandBuffer commands, const Fra
                  VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
   ViewConstants constants = view.raster;
   constants.grid.w = int(changed_bricks.size());
+  constants.bricks.w = int(triangles_per_brick_);
   build_.bind(commands, VK_PIPELINE_BIND_POINT_COMPUTE, sets_.set(view.slot));
   vkCmdPushConstants(commands, build_.layout(), VK_SHADER_STAGE_ALL, 0, sizeof(constants), &constants);
   vkCmdDispatch(commands, std::uint32_t(changed_bricks.size()), 1, 1);

@@ -1,7 +1,8 @@
 #pragma once
 /// @file marching_cubes_renderer.hpp
 /// Marching cubes: a compute pass meshes, per brick, the iso-surface of the non-void density into
-/// the brick's fixed slot of the vertex buffer (at most 3072 triangles a brick) and writes the
+/// the brick's fixed slot of the vertex buffer (3072 triangles a brick, fewer where the device's
+/// buffer limits require; a brick's excess triangles are dropped) and writes the
 /// brick's indirect draw command; one multi-draw-indirect draws every brick. Only the bricks that
 /// changed (and their neighbours) are re-meshed.
 
@@ -32,6 +33,7 @@ class MarchingCubesRenderer final : public Renderer {
  private:
   granular::Int3 brick_counts_;
   std::uint32_t brick_total_;
+  std::uint32_t triangles_per_brick_;
   GpuBuffer vertices_;
   GpuBuffer draws_;
   GpuBuffer cases_;
