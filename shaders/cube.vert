@@ -1,6 +1,7 @@
 #version 460
-// Instanced cubes, draw pass: 36 vertices per instance, faces not exposed collapse to nothing.
-// Per-vertex ambient occlusion from the three cells around each face corner.
+// Instanced cubes, draw pass: 18 vertices per instance, two triangles for each of the three faces
+// that can face the camera (on each axis, the side towards the eye); faces not exposed collapse to
+// nothing. Per-vertex ambient occlusion from the three cells around each face corner.
 #extension GL_EXT_shader_8bit_storage : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int8 : require
 #include "view.glsl"
@@ -18,16 +19,16 @@ const ivec2 kCorners[6] = ivec2[](ivec2(0, 0), ivec2(1, 0), ivec2(1, 1), ivec2(0
 void main() {
   uint brick = uint(gl_InstanceIndex) / kBrickCells;
   uint instance = instances[gl_InstanceIndex];
-  uint face = uint(gl_VertexIndex) / 6u;
+  uint local = instance & 4095u;
+  ivec3 p = brick_origin(brick) + ivec3(int(local & 15u), int((local >> 4) & 15u), int(local >> 8));
+  int axis = gl_VertexIndex / 6;
+  bool positive = pc.eye[axis] > float(p[axis]) + 0.5;
+  uint face = uint(axis) * 2u + (positive ? 1u : 0u);
   if ((instance & (1u << (16u + face))) == 0u) {
     gl_Position = vec4(2.0, 2.0, 2.0, 1.0);
     return;
   }
-  uint local = instance & 4095u;
-  ivec3 p = brick_origin(brick) + ivec3(int(local & 15u), int((local >> 4) & 15u), int(local >> 8));
   uint material = (instance >> 12) & 7u;
-  int axis = int(face >> 1);
-  bool positive = (face & 1u) == 1u;
   ivec3 n = ivec3(0);
   n[axis] = positive ? 1 : -1;
   int u_axis = (axis + 1) % 3, v_axis = (axis + 2) % 3;

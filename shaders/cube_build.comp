@@ -34,7 +34,7 @@ void main() {
   }
   barrier();
   if (gl_LocalInvocationIndex == 0u) {
-    draws[brick * 4u + 0u] = 36u;
+    draws[brick * 4u + 0u] = 18u;  // three camera-facing faces (cube.vert)
     draws[brick * 4u + 1u] = instance_count;
     draws[brick * 4u + 2u] = 0u;
     draws[brick * 4u + 3u] = brick * kBrickCells;
