@@ -1,13 +1,15 @@
 #version 460
 // Ray-march renderer: one invocation per pixel walks the grid cell by cell (3D DDA, Amanatides &
-// Woo) from the eye until the first non-void cell, and shades it like the cube renderer does
-// (face normal, sun + sky, ambient occlusion from the cells around the hit face). No geometry.
+// Woo) from the eye until the first non-void cell, crossing empty bricks (brick_occupancy.comp) in
+// one step, and shades the cell like the cube renderer does (face normal, sun + sky, ambient
+// occlusion from the cells around the hit face). No geometry.
 #extension GL_EXT_shader_8bit_storage : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int8 : require
 layout(local_size_x = 8, local_size_y = 8) in;
 #include "view.glsl"
 layout(std430, set = 0, binding = 0) readonly buffer Cells { uint8_t cells[]; };
 layout(set = 0, binding = 1, rgba8) uniform writeonly image2D color_out;
+layout(std430, set = 0, binding = 3) readonly buffer Occupancy { uint occupancy[]; };
 #include "cells.glsl"
 
 const vec3 kBackground = vec3(0.62, 0.72, 0.84);
@@ -40,6 +42,21 @@ void main() {
     int max_steps = pc.grid.x + pc.grid.y + pc.grid.z + 3;
     for (int i = 0; i < max_steps; ++i) {
       if (!inside_grid(cell)) break;
+      ivec3 brick = cell / kBrickSize;
+      if (occupancy[uint(brick.x) + uint(pc.bricks.x) * (uint(brick.y) + uint(pc.bricks.y) * uint(brick.z))] == 0u) {
+        // Jump to where the ray leaves this empty brick and restart the walk there.
+        vec3 low = vec3(brick * kBrickSize), high = min(low + float(kBrickSize), vec3(pc.grid.xyz));
+        vec3 t_out = (mix(low, high, greaterThan(direction, vec3(0.0))) - origin) * inv;
+        t_out = mix(t_out, vec3(1e30), equal(direction, vec3(0.0)));
+        float t_leave = min(min(t_out.x, t_out.y), t_out.z);
+        axis = t_out.x <= t_out.y && t_out.x <= t_out.z ? 0 : (t_out.y <= t_out.z ? 1 : 2);
+        ivec3 next = ivec3(floor(origin + direction * t_leave));
+        // The exit face decides the next cell along `axis`; rounding must not keep us inside.
+        next[axis] = step_dir[axis] > 0 ? int(high[axis]) : int(low[axis]) - 1;
+        cell = next;
+        t_max = (vec3(cell) + max(vec3(step_dir), vec3(0.0)) - origin) * inv;
+        continue;
+      }
       uint material = uint(cells[cell_index(cell)]);
       if (material != 0u) {
         ivec3 n = ivec3(0);

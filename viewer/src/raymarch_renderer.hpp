@@ -3,7 +3,12 @@
 /// The ray-march renderer: a compute shader walks each pixel's ray through the cell buffer and
 /// writes the colour into a storage image, which is blitted into the frame's colour image; no
 /// instance build, no rasterised geometry (for GPUs where rasterisation is the limit, and 1024^3).
+/// Its only per-brick state is one occupancy flag per brick (rebuilt for changed bricks), which
+/// lets rays cross empty bricks in one step.
 
+#include "gpu_buffer.hpp"
+#include "granular/geometry.hpp"
+#include "host_buffer_slots.hpp"
 #include "pipeline_builder.hpp"
 #include "renderer.hpp"
 
@@ -20,7 +25,7 @@ class RaymarchRenderer final : public Renderer {
   ~RaymarchRenderer() override;
 
   RendererKind kind() const override { return RendererKind::Raymarch; }
-  void invalidate() override {}
+  void invalidate() override { rebuild_all_ = true; }
   std::uint64_t prepare(VkCommandBuffer commands, const FrameView& view,
                         std::span<const std::uint32_t> changed_bricks) override;
   ColorLoad color_load() const override { return ColorLoad::Load; }
@@ -31,8 +36,13 @@ class RaymarchRenderer final : public Renderer {
   void release_image();
 
   const VulkanContext& context_;
+  granular::Int3 brick_counts_;
+  GpuBuffer occupancy_;
+  HostBufferSlots brick_lists_;
   DescriptorSets sets_;
+  Pipeline occupancy_pass_;
   Pipeline march_;
+  bool rebuild_all_ = true;
   VkExtent2D extent_{};
   VkImage image_ = VK_NULL_HANDLE;
   VkDeviceMemory memory_ = VK_NULL_HANDLE;
