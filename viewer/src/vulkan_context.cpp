@@ -63,6 +63,8 @@ std::vector<const char*> device_extensions(const ContextOptions& options) {
 
 }  // namespace
 
+bool validation_layer_available() { return has_layer(kValidationLayer); }
+
 VulkanContext::VulkanContext(const ContextOptions& options) : external_memory_(options.external_memory) {
   try {
     create_instance(options);

@@ -30,6 +30,9 @@ struct ContextOptions {
   bool external_memory = false;
 };
 
+/// True when the Khronos validation layer is installed (VK_LAYER_PATH included).
+bool validation_layer_available();
+
 /// Owns the instance, debug messenger, surface (if any), device and queue.
 class VulkanContext {
  public:
