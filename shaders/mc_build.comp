@@ -24,6 +24,7 @@ const float kPositionScale = 50.0;  // fixed point: (local + 1) * 50 fits 10 bit
 
 shared uint tile[(kTileCells + 3u) / 4u];
 shared uint triangle_count;
+shared uint tile_kinds;  // bit 0: some cell of the tile is void; bit 1: some cell is not
 
 uint tile_index(ivec3 t) { return uint(t.x + kTile * (t.y + kTile * t.z)); }
 
@@ -55,18 +56,36 @@ void main() {
   uint max_triangles = uint(pc.bricks.w);  // the brick's slot size (MarchingCubesRenderer)
   uint brick = brick_list[gl_WorkGroupID.x];
   ivec3 origin = brick_origin(brick);
-  if (gl_LocalInvocationIndex == 0u) triangle_count = 0u;
+  if (gl_LocalInvocationIndex == 0u) {
+    triangle_count = 0u;
+    tile_kinds = 0u;
+  }
+  barrier();
+  uint kinds = 0u;
   for (uint w = gl_LocalInvocationIndex; w < (kTileCells + 3u) / 4u; w += 256u) {
     uint word = 0u;
     for (uint b = 0u; b < 4u; ++b) {
       uint i = w * 4u + b;
       if (i >= kTileCells) break;
       ivec3 t = ivec3(int(i % uint(kTile)), int((i / uint(kTile)) % uint(kTile)), int(i / uint(kTile * kTile)));
-      word |= cell_at(origin + t - 2) << (b * 8u);
+      uint cell = cell_at(origin + t - 2);
+      kinds |= cell == 0u ? 1u : 2u;
+      word |= cell << (b * 8u);
     }
     tile[w] = word;
   }
+  atomicOr(tile_kinds, kinds);
   barrier();
+  // A tile that is all void or all filled holds no surface (most bricks): skip the meshing.
+  if (tile_kinds != 3u) {
+    if (gl_LocalInvocationIndex == 0u) {
+      draws[brick * 4u + 0u] = 0u;
+      draws[brick * 4u + 1u] = 1u;
+      draws[brick * 4u + 2u] = 0u;
+      draws[brick * 4u + 3u] = brick;
+    }
+    return;
+  }
   // Cubes this brick meshes: its own, plus index -1 / index N along an axis at the grid's faces.
   ivec3 first_cube = ivec3(equal(origin, ivec3(0))) * -1;
   bvec3 last_brick = greaterThanEqual(origin + kBrickSize, pc.grid.xyz);
