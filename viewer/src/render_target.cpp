@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cstring>
+#include <utility>
 
 #include "gpu_buffer.hpp"
 #include "vulkan_check.hpp"
@@ -197,17 +198,25 @@ void RenderTarget::begin(VkCommandBuffer commands, std::uint32_t index, ColorLoa
 
 void RenderTarget::end(VkCommandBuffer commands) const { vkCmdEndRenderPass(commands); }
 
-std::vector<std::uint8_t> RenderTarget::read_pixels(const VulkanContext& context) const {
+std::vector<std::uint8_t> RenderTarget::read_pixels(const VulkanContext& context, std::uint32_t index,
+                                                    VkImageLayout layout) const {
   const VkDeviceSize bytes = VkDeviceSize(extent_.width) * extent_.height * 4;
   GpuBuffer readback(context, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryKind::HostVisible);
+  const VkImage image = color_images_[index];
   context.run_once([&](VkCommandBuffer commands) {
+    if (layout != VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL)
+      transition_color_image(commands, image, layout, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
     VkBufferImageCopy region{};
     region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
     region.imageExtent = {extent_.width, extent_.height, 1};
-    vkCmdCopyImageToBuffer(commands, color_images_[0], VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback.buffer(), 1, &region);
+    vkCmdCopyImageToBuffer(commands, image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback.buffer(), 1, &region);
+    if (layout != VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL)
+      transition_color_image(commands, image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, layout);
   });
   std::vector<std::uint8_t> pixels(bytes);
   std::memcpy(pixels.data(), readback.mapped(), bytes);
+  if (color_format_ == VK_FORMAT_B8G8R8A8_UNORM || color_format_ == VK_FORMAT_B8G8R8A8_SRGB)
+    for (std::size_t i = 0; i < pixels.size(); i += 4) std::swap(pixels[i], pixels[i + 2]);
   return pixels;
 }
 

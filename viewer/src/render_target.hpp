@@ -45,8 +45,10 @@ class RenderTarget {
   void begin(VkCommandBuffer commands, std::uint32_t index, ColorLoad load) const;
   /// Ends the render pass.
   void end(VkCommandBuffer commands) const;
-  /// Copies the (offscreen) colour image into RGBA8 bytes, rows top to bottom. Waits for the GPU.
-  std::vector<std::uint8_t> read_pixels(const VulkanContext& context) const;
+  /// Copies colour image `index` (in `layout`, to which it is returned) into RGBA8 bytes, rows top to
+  /// bottom (BGRA formats are swizzled). The image needs TRANSFER_SRC usage. Waits for the GPU.
+  std::vector<std::uint8_t> read_pixels(const VulkanContext& context, std::uint32_t index = 0,
+                                        VkImageLayout layout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL) const;
 
  private:
   void release() noexcept;

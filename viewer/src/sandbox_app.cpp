@@ -22,6 +22,7 @@
 #include "hud.hpp"
 #include "input_tracker.hpp"
 #include "pausable_subsystem.hpp"
+#include "png_writer.hpp"
 #include "renderer_factory.hpp"
 #include "sandbox_tools.hpp"
 #include "shared_cells.hpp"
@@ -76,6 +77,12 @@ class SandboxApp final : public engine::Subsystem {
       }
     }
     vkDeviceWaitIdle(context_.device());
+    if (!options_.screenshot.empty()) {
+      const RenderTarget& target = swapchain_.target();
+      write_png(options_.screenshot, target.extent().width, target.extent().height,
+                target.read_pixels(context_, swapchain_.last_presented(), VK_IMAGE_LAYOUT_PRESENT_SRC_KHR));
+      std::printf("screenshot     %s\n", options_.screenshot.c_str());
+    }
     std::printf("frames         %llu\n", static_cast<unsigned long long>(frames));
     std::printf("validation     %s, %llu messages\n", options_.validation ? "on" : "off",
                 static_cast<unsigned long long>(context_.validation_messages()));
@@ -259,7 +266,7 @@ class SandboxApp final : public engine::Subsystem {
     }
     const ToolState& tool = session_->tools->state();
     ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowSize(ImVec2(340, 0), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(440, 0), ImGuiCond_FirstUseEver);
     ImGui::Begin("granular sandbox");
     ImGui::Text("%.1f FPS, frame %.2f ms", fps_, frame_seconds_ * 1e3);
     const int ticks = session_->simulation->ticks_per_fixed_update();

@@ -18,7 +18,7 @@ void add_sandbox_options(CLI::App& app, SandboxOptions& o) {
   app.add_option("--threads", o.world.threads, "CPU backend threads (0: all)");
   app.add_flag("--headless", o.headless, "render offscreen, no window, no display needed");
   app.add_option("--frames", o.frames, "frames to run (headless; windowed: 0 = until the window closes)");
-  app.add_option("--screenshot", o.screenshot, "write the last frame to this PNG (headless)");
+  app.add_option("--screenshot", o.screenshot, "write the last frame to this PNG (headless, or windowed with --frames)");
   app.add_option("--camera", o.camera, "yaw,pitch,distance[,tx,ty,tz]: degrees, distance and target as fractions of the grid");
   app.add_option("--renderer", o.renderer, "cubes, marching or raymarch");
   app.add_option("--ticks-per-frame", o.ticks_per_frame, "world ticks per fixed update");
@@ -35,7 +35,8 @@ void validate(const SandboxOptions& o) {
   if (o.width < 16 || o.height < 16 || o.width > 16384 || o.height > 16384)
     throw std::invalid_argument("--width/--height must be in 16..16384, got " + std::to_string(o.width) + "x" + std::to_string(o.height));
   if (!parse_renderer_kind(o.renderer)) throw std::invalid_argument("--renderer '" + o.renderer + "': expected cubes, marching or raymarch");
-  if (!o.screenshot.empty() && !o.headless) throw std::invalid_argument("--screenshot needs --headless");
+  if (!o.screenshot.empty() && !o.headless && o.frames < 1)
+    throw std::invalid_argument("--screenshot in a window needs --frames N (the frame to capture)");
 }
 
 }  // namespace viewer

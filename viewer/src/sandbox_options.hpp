@@ -17,7 +17,7 @@ struct SandboxOptions {
   WorldChoice world;              ///< scene, size, backend, rules, threads
   bool headless = false;          ///< render offscreen with no window (no GLFW at all)
   int frames = 60;                ///< headless: frames to render (0 in windowed mode: until closed)
-  std::string screenshot;         ///< headless: PNG of the last frame
+  std::string screenshot;         ///< PNG of the last frame (headless, or windowed with --frames)
   std::string camera;             ///< "yaw,pitch,distance[,tx,ty,tz]" (empty: framing the grid)
   std::string renderer = "cubes"; ///< cubes, marching or raymarch
   int ticks_per_frame = 1;        ///< world ticks per engine fixed update (one fixed update per frame headless)

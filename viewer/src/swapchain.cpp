@@ -80,7 +80,9 @@ void Swapchain::create(VkExtent2D extent) {
   info.imageColorSpace = format.colorSpace;
   info.imageExtent = extent;
   info.imageArrayLayers = 1;
-  info.imageUsage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+  // Transfer destination: the ray march blits into the image; source: --screenshot reads it back.
+  info.imageUsage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT |
+                    (capabilities.supportedUsageFlags & VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
   info.imageSharingMode = VK_SHARING_MODE_EXCLUSIVE;
   info.preTransform = capabilities.currentTransform;
   info.compositeAlpha = VK_COMPOSITE_ALPHA_OPAQUE_BIT_KHR;
@@ -139,6 +141,7 @@ bool Swapchain::end_frame(const AcquiredFrame& frame) {
   present.pSwapchains = &swapchain_;
   present.pImageIndices = &frame.image_index;
   const VkResult presented = vkQueuePresentKHR(context_.queue(), &present);
+  last_presented_ = frame.image_index;
   slot_ = (slot_ + 1) % kFramesInFlight;
   if (presented == VK_ERROR_OUT_OF_DATE_KHR || presented == VK_SUBOPTIMAL_KHR) return false;
   vk_check(presented, "vkQueuePresentKHR");

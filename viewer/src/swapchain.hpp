@@ -46,6 +46,8 @@ class Swapchain {
   const RenderTarget& target() const { return *target_; }
   /// Number of images.
   std::uint32_t image_count() const { return std::uint32_t(images_.size()); }
+  /// The image presented last (for a screenshot after the device went idle).
+  std::uint32_t last_presented() const { return last_presented_; }
   /// The minimum image count asked for.
   std::uint32_t min_image_count() const { return min_image_count_; }
 
@@ -63,6 +65,7 @@ class Swapchain {
   std::array<VkSemaphore, kFramesInFlight> image_available_{};
   std::vector<VkSemaphore> render_finished_;
   int slot_ = 0;
+  std::uint32_t last_presented_ = 0;
 };
 
 }  // namespace viewer
