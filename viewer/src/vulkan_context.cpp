@@ -219,7 +219,6 @@ void VulkanContext::create_device(const ContextOptions& options) {
   features12.storageBuffer8BitAccess = VK_TRUE;
   features12.shaderInt8 = VK_TRUE;
   features12.timelineSemaphore = VK_TRUE;
-  features12.hostQueryReset = VK_TRUE;
   VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
   features.pNext = &features12;
   features.features.multiDrawIndirect = VK_TRUE;
