@@ -1,5 +1,6 @@
 #include "marching_cubes_tables.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 #include <vector>
 
@@ -25,6 +26,32 @@ int edge_between(int a, int b) {
 struct Vec {
   double x, y, z;
 };
+
+/// True when edges a and b lie on one face of the cube (all four corners share a coordinate).
+bool on_one_face(int a, int b) {
+  const int corners[4] = {kEdgeCorners[a][0], kEdgeCorners[a][1], kEdgeCorners[b][0], kEdgeCorners[b][1]};
+  for (int axis = 0; axis < 3; ++axis)
+    for (int side = 0; side < 2; ++side) {
+      bool all = true;
+      for (int c : corners) all = all && ((c >> axis) & 1) == side;
+      if (all) return true;
+    }
+  return false;
+}
+
+/// Rotates `loop` so that a fan from its first vertex adds no diagonal lying in a cube face (such a
+/// triangle would overlap the neighbouring cube's surface instead of meeting it at an edge).
+void choose_fan_apex(std::vector<int>& loop) {
+  const std::size_t n = loop.size();
+  for (std::size_t apex = 0; apex < n; ++apex) {
+    bool clean = true;
+    for (std::size_t i = 2; i + 1 < n && clean; ++i) clean = !on_one_face(loop[apex], loop[(apex + i) % n]);
+    if (clean) {
+      std::rotate(loop.begin(), loop.begin() + std::ptrdiff_t(apex), loop.end());
+      return;
+    }
+  }
+}
 
 Vec edge_midpoint(int e) {
   const int a = kEdgeCorners[e][0], b = kEdgeCorners[e][1];
@@ -57,13 +84,6 @@ MarchingCase make_case(int mask) {
       }
     }
   }
-  Vec outward{0, 0, 0};
-  for (int c = 0; c < 8; ++c) {
-    const double sign = inside(c) ? -1.0 : 1.0;
-    outward.x += sign * ((c & 1) - 0.5);
-    outward.y += sign * (((c >> 1) & 1) - 0.5);
-    outward.z += sign * (((c >> 2) & 1) - 0.5);
-  }
   MarchingCase result;
   std::array<bool, 12> used{};
   for (int start = 0; start < 12; ++start) {
@@ -73,7 +93,18 @@ MarchingCase make_case(int mask) {
       used[e] = true;
       loop.push_back(e);
     }
-    // Orient the fan so that its summed normal points away from the inside corners.
+    choose_fan_apex(loop);
+    // Orient the fan so that its summed normal points from the loop's inside corners (one end of
+    // each of its edges) to its outside corners.
+    Vec outward{0, 0, 0};
+    for (int e : loop)
+      for (int end = 0; end < 2; ++end) {
+        const int corner = kEdgeCorners[e][end];
+        const double sign = inside(corner) ? -1.0 : 1.0;
+        outward.x += sign * (corner & 1);
+        outward.y += sign * ((corner >> 1) & 1);
+        outward.z += sign * ((corner >> 2) & 1);
+      }
     double facing = 0;
     const Vec a = edge_midpoint(loop[0]);
     for (std::size_t i = 1; i + 1 < loop.size(); ++i) {
