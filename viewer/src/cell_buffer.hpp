@@ -26,6 +26,7 @@ class CellBuffer {
  public:
   /// A buffer for a grid of `size` cells.
   CellBuffer(const VulkanContext& context, granular::Int3 size);
+  /// Destroys its Vulkan objects (after the GPU is done with them).
   ~CellBuffer();
   CellBuffer(const CellBuffer&) = delete;
   CellBuffer& operator=(const CellBuffer&) = delete;

@@ -23,12 +23,17 @@ class CubeRenderer final : public Renderer {
  public:
   /// Reads `cells` (which must outlive it) and draws into passes compatible with `target_pass`.
   CubeRenderer(const VulkanContext& context, const CellBuffer& cells, VkRenderPass target_pass);
+  /// Destroys its Vulkan objects (after the GPU is done with them).
   ~CubeRenderer() override;
 
+  /// See Renderer (renderer.hpp).
   RendererKind kind() const override { return RendererKind::Cubes; }
+  /// See Renderer (renderer.hpp).
   void invalidate() override { rebuild_all_ = true; }
   std::uint64_t prepare(VkCommandBuffer commands, const FrameView& view,
+                        /// See Renderer (renderer.hpp).
                         std::span<const std::uint32_t> changed_bricks) override;
+  /// See Renderer (renderer.hpp).
   void draw(VkCommandBuffer commands, const FrameView& view) override;
 
  private:

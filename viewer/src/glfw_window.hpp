@@ -18,6 +18,7 @@ class GlfwWindow {
   /// Opens a `width` x `height` window titled `title`. Throws VulkanError when there is no display
   /// or GLFW finds no Vulkan loader (the message suggests --headless).
   GlfwWindow(int width, int height, const std::string& title);
+  /// Destroys its Vulkan objects (after the GPU is done with them).
   ~GlfwWindow();
   GlfwWindow(const GlfwWindow&) = delete;
   GlfwWindow& operator=(const GlfwWindow&) = delete;

@@ -23,8 +23,11 @@ class GpuBuffer {
   GpuBuffer() = default;
   /// Allocates `size` bytes (> 0) usable as `usage`.
   GpuBuffer(const VulkanContext& context, VkDeviceSize size, VkBufferUsageFlags usage, MemoryKind kind);
+  /// Destroys its Vulkan objects (after the GPU is done with them).
   ~GpuBuffer();
+  /// Takes over `other`'s buffer, leaving it empty.
   GpuBuffer(GpuBuffer&& other) noexcept;
+  /// Releases this buffer and takes over `other`'s.
   GpuBuffer& operator=(GpuBuffer&& other) noexcept;
   GpuBuffer(const GpuBuffer&) = delete;
   GpuBuffer& operator=(const GpuBuffer&) = delete;

@@ -19,6 +19,7 @@ class Hud {
   /// ImGui's GLFW callbacks, which chain to callbacks installed before.
   Hud(const VulkanContext& context, const GlfwWindow& window, VkRenderPass render_pass, std::uint32_t min_image_count,
       std::uint32_t image_count);
+  /// Destroys its Vulkan objects (after the GPU is done with them).
   ~Hud();
   Hud(const Hud&) = delete;
   Hud& operator=(const Hud&) = delete;

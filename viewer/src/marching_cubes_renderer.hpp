@@ -22,12 +22,17 @@ class MarchingCubesRenderer final : public Renderer {
  public:
   /// Reads `cells` (which must outlive it) and draws into passes compatible with `target_pass`.
   MarchingCubesRenderer(const VulkanContext& context, const CellBuffer& cells, VkRenderPass target_pass);
+  /// Destroys its Vulkan objects (after the GPU is done with them).
   ~MarchingCubesRenderer() override;
 
+  /// See Renderer (renderer.hpp).
   RendererKind kind() const override { return RendererKind::Marching; }
+  /// See Renderer (renderer.hpp).
   void invalidate() override { rebuild_all_ = true; }
   std::uint64_t prepare(VkCommandBuffer commands, const FrameView& view,
+                        /// See Renderer (renderer.hpp).
                         std::span<const std::uint32_t> changed_bricks) override;
+  /// See Renderer (renderer.hpp).
   void draw(VkCommandBuffer commands, const FrameView& view) override;
 
  private:

@@ -24,6 +24,7 @@ class OffscreenRenderer {
   /// `shared` (CUDA interop) when given.
   OffscreenRenderer(const VulkanContext& context, const granular::World& world, VkExtent2D extent, RendererKind kind,
                     SharedCells* shared = nullptr);
+  /// Destroys its Vulkan objects (after the GPU is done with them).
   ~OffscreenRenderer();
   OffscreenRenderer(const OffscreenRenderer&) = delete;
   OffscreenRenderer& operator=(const OffscreenRenderer&) = delete;

@@ -18,6 +18,7 @@ class DescriptorSets {
  public:
   /// Bindings 0..types.size()-1 of the given types, visible to every shader stage.
   DescriptorSets(VkDevice device, const std::vector<VkDescriptorType>& types);
+  /// Destroys its Vulkan objects (after the GPU is done with them).
   ~DescriptorSets();
   DescriptorSets(const DescriptorSets&) = delete;
   DescriptorSets& operator=(const DescriptorSets&) = delete;
@@ -53,6 +54,7 @@ class Pipeline {
   /// A graphics pipeline (triangle lists, no vertex input, depth test) for `render_pass`.
   Pipeline(VkDevice device, VkDescriptorSetLayout set_layout, VkRenderPass render_pass, const std::string& vertex,
            const std::string& fragment, const GraphicsOptions& options = {});
+  /// Destroys its Vulkan objects (after the GPU is done with them).
   ~Pipeline();
   Pipeline(const Pipeline&) = delete;
   Pipeline& operator=(const Pipeline&) = delete;

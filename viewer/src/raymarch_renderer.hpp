@@ -22,13 +22,19 @@ class RaymarchRenderer final : public Renderer {
  public:
   /// Reads `cells` (which must outlive it).
   RaymarchRenderer(const VulkanContext& context, const CellBuffer& cells);
+  /// Destroys its Vulkan objects (after the GPU is done with them).
   ~RaymarchRenderer() override;
 
+  /// See Renderer (renderer.hpp).
   RendererKind kind() const override { return RendererKind::Raymarch; }
+  /// See Renderer (renderer.hpp).
   void invalidate() override { rebuild_all_ = true; }
   std::uint64_t prepare(VkCommandBuffer commands, const FrameView& view,
+                        /// See Renderer (renderer.hpp).
                         std::span<const std::uint32_t> changed_bricks) override;
+  /// See Renderer (renderer.hpp).
   ColorLoad color_load() const override { return ColorLoad::Load; }
+  /// See Renderer (renderer.hpp).
   void draw(VkCommandBuffer, const FrameView&) override {}
 
  private:

@@ -27,6 +27,7 @@ class RenderTarget {
   RenderTarget(const VulkanContext& context, VkExtent2D extent);
   /// A target over the swapchain's `images` of `format`, left in PRESENT_SRC_KHR after a frame.
   RenderTarget(const VulkanContext& context, VkExtent2D extent, VkFormat format, const std::vector<VkImage>& images);
+  /// Destroys its Vulkan objects (after the GPU is done with them).
   ~RenderTarget();
   RenderTarget(const RenderTarget&) = delete;
   RenderTarget& operator=(const RenderTarget&) = delete;

@@ -35,6 +35,7 @@ class SharedCells {
   /// UUID). Throws VulkanError when the device cannot export, granular::BackendError from the world.
   /// Destroy the World (or stop using it) before this object.
   SharedCells(const VulkanContext& context, granular::World& world);
+  /// Destroys its Vulkan objects (after the GPU is done with them).
   ~SharedCells();
   SharedCells(const SharedCells&) = delete;
   SharedCells& operator=(const SharedCells&) = delete;

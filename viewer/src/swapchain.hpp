@@ -30,6 +30,7 @@ class Swapchain {
  public:
   /// Creates the swapchain for the context's surface at `extent`.
   Swapchain(const VulkanContext& context, VkExtent2D extent);
+  /// Destroys its Vulkan objects (after the GPU is done with them).
   ~Swapchain();
   Swapchain(const Swapchain&) = delete;
   Swapchain& operator=(const Swapchain&) = delete;

@@ -39,6 +39,7 @@ class VulkanContext {
   /// Creates everything; throws VulkanError with an actionable message when there is no Vulkan
   /// 1.3 device with a graphics+compute queue and the features the renderers need.
   explicit VulkanContext(const ContextOptions& options);
+  /// Destroys its Vulkan objects (after the GPU is done with them).
   ~VulkanContext();
   VulkanContext(const VulkanContext&) = delete;
   VulkanContext& operator=(const VulkanContext&) = delete;

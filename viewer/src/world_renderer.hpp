@@ -52,6 +52,7 @@ class WorldRenderer {
   /// outliving this), each frame snapshots the shared cells on the device instead of uploading.
   WorldRenderer(const VulkanContext& context, const granular::World& world, VkRenderPass target_pass, RendererKind kind,
                 SharedCells* shared = nullptr);
+  /// Destroys its Vulkan objects (after the GPU is done with them).
   ~WorldRenderer();
   WorldRenderer(const WorldRenderer&) = delete;
   WorldRenderer& operator=(const WorldRenderer&) = delete;
