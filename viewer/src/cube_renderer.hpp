@@ -30,8 +30,8 @@ class CubeRenderer final : public Renderer {
   RendererKind kind() const override { return RendererKind::Cubes; }
   /// See Renderer (renderer.hpp).
   void invalidate() override { rebuild_all_ = true; }
+  /// See Renderer (renderer.hpp).
   std::uint64_t prepare(VkCommandBuffer commands, const FrameView& view,
-                        /// See Renderer (renderer.hpp).
                         std::span<const std::uint32_t> changed_bricks) override;
   /// See Renderer (renderer.hpp).
   void draw(VkCommandBuffer commands, const FrameView& view) override;

@@ -29,8 +29,8 @@ class MarchingCubesRenderer final : public Renderer {
   RendererKind kind() const override { return RendererKind::Marching; }
   /// See Renderer (renderer.hpp).
   void invalidate() override { rebuild_all_ = true; }
+  /// See Renderer (renderer.hpp).
   std::uint64_t prepare(VkCommandBuffer commands, const FrameView& view,
-                        /// See Renderer (renderer.hpp).
                         std::span<const std::uint32_t> changed_bricks) override;
   /// See Renderer (renderer.hpp).
   void draw(VkCommandBuffer commands, const FrameView& view) override;
