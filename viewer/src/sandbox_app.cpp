@@ -57,7 +57,8 @@ class SandboxApp final : public engine::Subsystem {
         swapchain_(context_, window_.framebuffer_extent()),
         input_(window_.handle()),
         hud_(context_, window_, swapchain_.target().compatible_pass(), swapchain_.min_image_count(), swapchain_.image_count()),
-        kind_(*parse_renderer_kind(options.renderer)) {
+        kind_(*parse_renderer_kind(options.renderer)),
+        requested_extent_(window_.framebuffer_extent()) {
     load(options.world);
     camera_ = options.camera.empty() ? OrbitCamera::framing(world().size()) : OrbitCamera::parse(options.camera, world().size());
   }
@@ -101,9 +102,9 @@ class SandboxApp final : public engine::Subsystem {
   void render(double) override {
     const VkExtent2D extent = window_.framebuffer_extent();
     if (extent.width == 0 || extent.height == 0) return;  // minimised
-    if (extent.width != swapchain_.target().extent().width || extent.height != swapchain_.target().extent().height) {
-      recreate_swapchain(extent);
-    }
+    // Recreate when the window's size changed since the swapchain was made for it (compared with
+    // the size asked for: the surface may round it).
+    if (extent.width != requested_extent_.width || extent.height != requested_extent_.height) recreate_swapchain(extent);
     const std::optional<AcquiredFrame> frame = swapchain_.begin_frame();
     if (!frame) {
       recreate_swapchain(extent);
@@ -178,6 +179,7 @@ class SandboxApp final : public engine::Subsystem {
 
   void recreate_swapchain(VkExtent2D extent) {
     if (extent.width == 0 || extent.height == 0) return;
+    requested_extent_ = extent;
     swapchain_.recreate(extent);
     renderer_->set_target_pass(swapchain_.target().compatible_pass());
     hud_.set_min_image_count(swapchain_.min_image_count());
@@ -321,6 +323,7 @@ class SandboxApp final : public engine::Subsystem {
   InputTracker input_;
   Hud hud_;
   RendererKind kind_;
+  VkExtent2D requested_extent_;
   engine::SteadyClock clock_;
   std::unique_ptr<Session> session_;
   std::unique_ptr<WorldRenderer> renderer_;
