@@ -1,6 +1,7 @@
 /// @file bench_cpu_step.cpp
-/// CPU step throughput on the paper's bowl scene: the backend against the plain per-block loop,
-/// in the same process, over the same ticks. Reports cell-updates per second.
+/// CPU step throughput on the paper's bowl scene: the backend (dense stepping) against the plain
+/// per-block loop, in the same process, over the same ticks; and the settled bowl stepped dense
+/// against sparse. Reports cell-updates per second (grid cells times ticks, stepped or skipped).
 ///
 ///   build/bench/bench_cpu_step [--benchmark_filter=...]   (environment: GRANULAR_BENCH_N, default 256)
 
@@ -54,6 +55,7 @@ void BM_Backend(benchmark::State& state) {
   WorldDef def;
   def.backend = BackendKind::Cpu;
   def.threads = threads;
+  def.sparse = false;
   const World keep_tables_alive(def, g);  // worlds of one process share the 64 MiB tables
   for (auto _ : state) {
     state.PauseTiming();
@@ -80,6 +82,25 @@ void BM_PlainLoop(benchmark::State& state) {
   report(state, g);
 }
 
+/// The bowl at rest (tick 10240; at N = 256 the last grain stops near tick 9400), stepped dense
+/// (range 0) or sparse (range 1) on all hardware threads. The sparse world first runs 3 cycles, so
+/// that it has found out what sleeps.
+void BM_Settled(benchmark::State& state) {
+  const bool sparse = state.range(0) != 0;
+  const Grid& g = bowl_at(10240);
+  WorldDef def;
+  def.backend = BackendKind::Cpu;
+  def.sparse = sparse;
+  World w(def, g);
+  w.step(24);
+  for (auto _ : state) {
+    w.step(kTicksPerIteration);
+    benchmark::DoNotOptimize(w.tick());
+  }
+  state.counters["active_bricks"] = double(w.activity().active_bricks);
+  report(state, g);
+}
+
 // Phases of the bowl run: 0 = released, 128 = falling onto the bowl, 1024 = piling, 4096 = settled.
 void phases(benchmark::internal::Benchmark* b) {
   for (int start : {0, 128, 1024, 4096})
@@ -91,5 +112,6 @@ void phases(benchmark::internal::Benchmark* b) {
 
 BENCHMARK(BM_Backend)->Apply(phases);
 BENCHMARK(BM_PlainLoop)->Apply(phases);
+BENCHMARK(BM_Settled)->ArgName("sparse")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 BENCHMARK_MAIN();

@@ -53,6 +53,15 @@ void run(const RunOptions& o) {
   s["grains_after"] = counts_json(after);
   s["mass_conserved"] = before == after;
   s["hash"] = hex64(w.hash());
+  const ActivityStats a = w.activity();
+  const double mean_cells = o.ticks ? double(p.cell_ticks) / double(o.ticks) : 0.0;
+  s["activity"] = {{"sparse", w.def().sparse},
+                   {"total_bricks", a.total_bricks},
+                   {"brick_size", kBrickSize},
+                   {"last_tick_active_bricks", a.active_bricks},
+                   {"last_tick_active_cells", a.active_cells},
+                   {"mean_active_bricks_per_tick", o.ticks ? double(p.brick_ticks) / double(o.ticks) : 0.0},
+                   {"mean_active_cells_per_tick", mean_cells}};
   if (o.json) {
     std::cout << s.dump(2) << "\n";
     return;
@@ -66,6 +75,10 @@ void run(const RunOptions& o) {
   std::printf("ticks          %llu in %.3f s (%.3f ms/tick)\n", static_cast<unsigned long long>(o.ticks), seconds,
               o.ticks ? seconds * 1000.0 / double(o.ticks) : 0.0);
   std::printf("cell-updates/s %.3g\n", rate);
+  std::printf("stepping       %s, bricks of %d^3\n", w.def().sparse ? "sparse" : "dense (--dense)", kBrickSize);
+  std::printf("active         last tick %llu of %llu bricks (%llu cells); mean %.0f cells/tick (%.2f%% of the grid)\n",
+              static_cast<unsigned long long>(a.active_bricks), static_cast<unsigned long long>(a.total_bricks),
+              static_cast<unsigned long long>(a.active_cells), mean_cells, cells > 0 ? 100.0 * mean_cells / cells : 0.0);
   std::printf("%-14s %14s %14s\n", "material", "before", "after");
   for (int m = 0; m < kMaterialCount; ++m)
     if (before[m] || after[m])

@@ -20,6 +20,7 @@ void add_world_options(CLI::App& command, WorldOptions& o) {
   command.add_option("-j,--threads", o.threads, "CPU threads (0 = all hardware threads)")->capture_default_str();
   command.add_option("--seed", o.seed, "seed of every random choice")->capture_default_str();
   command.add_flag("--no-lut-cache", o.no_lut_cache, "build the transition table even when it is cached");
+  command.add_flag("--dense", o.dense, "step every block every tick (no sleeping bricks; same result, for comparison)");
 }
 
 PreparedWorld prepare_world(const WorldOptions& o) {
@@ -28,6 +29,7 @@ PreparedWorld prepare_world(const WorldOptions& o) {
   def.seed = o.seed;
   def.threads = o.threads;
   def.use_lut_cache = !o.no_lut_cache;
+  def.sparse = !o.dense;
   def.backend = o.backend == "cpu" ? BackendKind::Cpu : o.backend == "cuda" ? BackendKind::Cuda : BackendKind::Auto;
   PreparedWorld p;
   const std::filesystem::path as_path(o.scene);
@@ -59,6 +61,8 @@ double run_ticks(PreparedWorld& p, std::uint64_t ticks, bool progress) {
     const auto start = std::chrono::steady_clock::now();
     p.world->step(n);
     seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    p.brick_ticks += p.world->activity().brick_ticks;
+    p.cell_ticks += p.world->activity().cell_ticks;
     done += std::uint64_t(n);
     bar.update(done);
   }

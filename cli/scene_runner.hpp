@@ -23,6 +23,7 @@ struct WorldOptions {
   int threads = 0;             ///< CPU threads (0 = all)
   std::uint64_t seed = 0;      ///< seed of random choices
   bool no_lut_cache = false;   ///< build the transition table even when cached
+  bool dense = false;          ///< step every block every tick (no activity tracking)
 };
 
 /// Registers the world options on a subcommand.
@@ -34,6 +35,8 @@ struct PreparedWorld {
   int n = 0;                             ///< the size parameter used (0 for grid files)
   std::vector<Emitter> emitters;         ///< the scene's emitters, in cells
   std::unique_ptr<World> world;          ///< the world
+  std::uint64_t brick_ticks = 0;         ///< bricks stepped, summed over every tick run_ticks ran
+  std::uint64_t cell_ticks = 0;          ///< cells in stepped bricks, summed likewise
 };
 
 /// Builds the world (throws granular::Error on bad input) and prints its notices to stderr.

@@ -1,8 +1,10 @@
 #include <cuda_runtime.h>
 
+#include <algorithm>
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "backend.hpp"
 #include "cuda_check.cuh"
@@ -16,7 +18,9 @@
 #include "granular/lut.hpp"
 #include "granular/rule_set.hpp"
 #include "granular_cuda/cuda_backend_factory.hpp"
+#include "pinned_counters.cuh"
 #include "reduce_kernels.cuh"
+#include "sparse_step_kernel.cuh"
 #include "step_kernel.cuh"
 #include "step_pair_kernel.cuh"
 #include "table_kernels.cuh"
@@ -38,7 +42,7 @@ cuda::DeviceInfo prepare_device(Int3 size) {
 class CudaBackend final : public Backend {
  public:
   /// Uploads `initial` and derives the result table from `lut` on the device.
-  CudaBackend(const Grid& initial, const Lut& lut, bool random_symmetry, std::uint64_t seed)
+  CudaBackend(const Grid& initial, const Lut& lut, bool random_symmetry, std::uint64_t seed, bool sparse)
       : device_(prepare_device(initial.size())),
         size_(initial.size()),
         cell_count_(std::uint64_t(initial.cell_count())),
@@ -48,8 +52,12 @@ class CudaBackend final : public Backend {
         owned_cells_(cuda::cell_buffer_bytes(cell_count_), "the grid's cells"),
         cells_(owned_cells_.data()),
         result_(kBlockKeyCount, "the result table"),
-        scratch_(kMaterialCount, "reduction counters") {
+        scratch_(kMaterialCount, "reduction counters"),
+        sparse_(sparse),
+        bricks_(brick_counts(initial.size())),
+        total_bricks_(std::uint32_t(std::uint64_t(bricks_.x) * std::uint64_t(bricks_.y) * std::uint64_t(bricks_.z))) {
     cudaStream_t s = stream_.get();
+    last_.total_bricks = total_bricks_;
     if (owned_cells_.bytes() > cell_count_)  // the tail of the last word, read (masked) by the reductions
       cuda::check(cudaMemsetAsync(cells_ + cell_count_, 0, owned_cells_.bytes() - cell_count_, s),
                   "cudaMemsetAsync (cells)");
@@ -59,6 +67,7 @@ class CudaBackend final : public Backend {
     cuda::check(cudaMemcpyAsync(table.data(), lut.entries().data(), table.bytes(), cudaMemcpyHostToDevice, s),
                 "cudaMemcpyAsync (upload transition table)");
     cuda::launch_result_table(table.data(), result_.data(), s);
+    if (sparse_) init_sparse(s);
     stream_.synchronize("building the result table");
   }
 
@@ -81,6 +90,22 @@ class CudaBackend final : public Backend {
   void step_ticks(std::uint64_t first_tick, int ticks) {
     activate();
     before_write();
+    if (sparse_ && asleep_) {
+      // Nothing is awake and nothing can wake without a tool: the ticks change no cell, so they
+      // cost no device work at all (a settled world costs nothing).
+      last_ = ActivityStats{};
+      last_.total_bricks = total_bricks_;
+      last_.ticks = std::uint64_t(ticks);
+      after_write();
+      return;
+    }
+    if (sparse_) {
+      enqueue_sparse(first_tick, ticks);
+      after_write();
+      // With a renderer attached the host goes on at once; last_activity() waits for the counters.
+      if (!ready_) collect_sparse_counters();
+      return;
+    }
     cuda::StepParams p;
     p.cells = cells_;
     p.size = size_;
@@ -115,9 +140,45 @@ class CudaBackend final : public Backend {
     after_write();
     // With a renderer attached the host goes on at once; the timelines order the device's work.
     if (!ready_) stream_.synchronize("step");
+    last_.active_bricks = last_.total_bricks;
+    last_.active_cells = cell_count_;
+    last_.ticks = std::uint64_t(ticks);
+    last_.brick_ticks = last_.total_bricks * std::uint64_t(ticks);
+    last_.cell_ticks = cell_count_ * std::uint64_t(ticks);
   }
 
  public:
+
+  void wake(std::span<const std::uint32_t> bricks) override {
+    if (!sparse_ || bricks.empty()) return;
+    asleep_ = false;
+    activate();
+    cudaStream_t s = stream_.get();
+    cuda::check(cudaMemcpyAsync(wake_list_.data(), bricks.data(), bricks.size_bytes(), cudaMemcpyHostToDevice, s),
+                "cudaMemcpyAsync (bricks to wake)");
+    cuda::launch_wake(sparse_params(), wake_list_.data(), unsigned(bricks.size()), s);
+    stream_.synchronize("waking bricks");
+  }
+
+  void take_changed_bricks(std::span<std::uint8_t> flags) override {
+    if (!sparse_) {
+      std::fill(flags.begin(), flags.end(), std::uint8_t(1));
+      return;
+    }
+    activate();
+    cudaStream_t s = stream_.get();
+    std::vector<std::uint8_t> changed(total_bricks_);
+    cuda::check(cudaMemcpyAsync(changed.data(), changed_.data(), changed.size(), cudaMemcpyDeviceToHost, s),
+                "cudaMemcpyAsync (changed bricks)");
+    cuda::check(cudaMemsetAsync(changed_.data(), 0, changed_.bytes(), s), "cudaMemsetAsync (changed bricks)");
+    stream_.synchronize("taking the changed bricks");
+    for (std::size_t i = 0; i < changed.size(); ++i) flags[i] |= changed[i];
+  }
+
+  ActivityStats last_activity() const override {
+    if (counters_pending_) collect_sparse_counters();
+    return last_;
+  }
 
   void read(const Box& box, std::span<std::uint8_t> out) const override {
     check_box(box, out.size(), "read");
@@ -189,6 +250,84 @@ class CudaBackend final : public Backend {
   }
 
  private:
+  /// Allocates and initialises the sparse state (every brick dirty and awake) and the inert-key table.
+  void init_sparse(cudaStream_t s) {
+    awake_ = cuda::DeviceBuffer<std::uint8_t>(total_bricks_, "awake bricks");
+    dirty_ = cuda::DeviceBuffer<std::uint8_t>(total_bricks_, "dirty bricks");
+    changed_ = cuda::DeviceBuffer<std::uint8_t>(total_bricks_, "changed bricks");
+    list_ = cuda::DeviceBuffer<std::uint32_t>(total_bricks_, "the awake brick list");
+    wake_list_ = cuda::DeviceBuffer<std::uint32_t>(total_bricks_, "bricks to wake");
+    count_ = cuda::DeviceBuffer<unsigned>(1, "the awake brick count");
+    counters_ = cuda::DeviceBuffer<unsigned long long>(cuda::kCounterSlots, "activity counters");
+    counters_host_ = cuda::pinned_counters(cuda::kCounterSlots);
+    cuda::check(cudaMemsetAsync(awake_.data(), 1, total_bricks_, s), "cudaMemsetAsync (awake bricks)");
+    cuda::check(cudaMemsetAsync(dirty_.data(), 1, total_bricks_, s), "cudaMemsetAsync (dirty bricks)");
+    cuda::check(cudaMemsetAsync(changed_.data(), 0, total_bricks_, s), "cudaMemsetAsync (changed bricks)");
+    cuda::check(cudaMemsetAsync(count_.data(), 0, sizeof(unsigned), s), "cudaMemsetAsync (brick count)");
+    cuda::build_list_kernel<<<cuda::activity_blocks(total_bricks_), cuda::kActivityThreads, 0, s>>>(sparse_params());
+    cuda::check_launch("build brick list kernel launch");
+    if (random_symmetry_) {
+      inert_ = cuda::DeviceBuffer<std::uint64_t>(kInertTableWords, "the inert-key table");
+      cuda::inert_table_kernel<<<cuda::activity_blocks(kInertTableWords), cuda::kActivityThreads, 0, s>>>(
+          result_.data(), true, inert_.data());
+      cuda::check_launch("inert-key table kernel launch");
+    }
+    // Enough CUDA blocks of the sparse kernel to fill the device; each walks the list from there.
+    const std::uint64_t resident = std::uint64_t(device_.sm_count) * (2048 / cuda::kBrickThreads);
+    sparse_grid_ = unsigned(std::max<std::uint64_t>(1, std::min<std::uint64_t>(resident, total_bricks_)));
+  }
+
+  /// The device state of sparse stepping, as the kernels take it.
+  cuda::SparseParams sparse_params() const {
+    cuda::SparseParams sp;
+    sp.bricks = bricks_;
+    sp.total = total_bricks_;
+    sp.awake = awake_.data();
+    sp.dirty = dirty_.data();
+    sp.changed = changed_.data();
+    sp.list = list_.data();
+    sp.count = count_.data();
+    sp.counters = counters_.data();
+    sp.inert = inert_.data();
+    return sp;
+  }
+
+  /// Enqueues the ticks over the awake bricks, one launch per tick plus the sleep/wake update at
+  /// the end of every 8-tick cycle, and the copy of the activity counters to pinned host memory.
+  void enqueue_sparse(std::uint64_t first_tick, int ticks) {
+    cudaStream_t s = stream_.get();
+    cuda::StepParams p;
+    p.cells = cells_;
+    p.size = size_;
+    p.result = result_.data();
+    p.seed = seed_;
+    const cuda::SparseParams sp = sparse_params();
+    cuda::check(cudaMemsetAsync(counters_.data(), 0, counters_.bytes(), s), "cudaMemsetAsync (activity counters)");
+    for (int i = 0; i < ticks; ++i) {
+      p.tick = first_tick + std::uint64_t(i);
+      cuda::launch_sparse_step(p, sp, random_symmetry_, i + 1 == ticks, sparse_grid_, s);
+      if ((p.tick & 7u) == 7u) cuda::launch_end_cycle(sp, s);
+    }
+    cuda::check(cudaMemcpyAsync(counters_host_.get(), counters_.data(), counters_.bytes(), cudaMemcpyDeviceToHost, s),
+                "cudaMemcpyAsync (activity counters)");
+    last_.ticks = std::uint64_t(ticks);
+    counters_pending_ = true;
+  }
+
+  /// Waits for the last step and takes its activity counters into last_.
+  void collect_sparse_counters() const {
+    stream_.synchronize("step");
+    counters_pending_ = false;
+    const unsigned long long* counters = counters_host_.get();
+    last_.brick_ticks = counters[cuda::kBrickTicks];
+    last_.cell_ticks = counters[cuda::kCellTicks];
+    last_.active_bricks = counters[cuda::kLastBricks];
+    last_.active_cells = counters[cuda::kLastCells];
+    // The last tick stepped no brick: the awake list was empty since the last cycle's end (only a
+    // cycle's end or a tool rebuilds it), so no brick was dirty either and it stays empty.
+    asleep_ = last_.active_bricks == 0;
+  }
+
   /// With timelines attached: the next write waits until the renderer released its last read.
   void before_write() {
     if (released_) released_->wait(handoffs_, stream_.get());
@@ -269,16 +408,29 @@ class CudaBackend final : public Backend {
   std::uint64_t handoffs_ = 0;                     ///< last value handed out for released_
   cuda::DeviceBuffer<BlockKey> result_;
   cuda::DeviceBuffer<unsigned long long> scratch_;
+  bool sparse_;
+  Int3 bricks_;
+  std::uint32_t total_bricks_;
+  unsigned sparse_grid_ = 1;
+  cuda::DeviceBuffer<std::uint8_t> awake_, dirty_, changed_;
+  cuda::DeviceBuffer<std::uint32_t> list_, wake_list_;
+  cuda::DeviceBuffer<unsigned> count_;
+  cuda::DeviceBuffer<unsigned long long> counters_;
+  cuda::DeviceBuffer<std::uint64_t> inert_;
+  cuda::PinnedCounters counters_host_;        ///< the activity counters, copied back by each step
+  mutable bool counters_pending_ = false;     ///< a step's counters are on their way to counters_host_
+  mutable ActivityStats last_{};
+  mutable bool asleep_ = false;  ///< no brick awake and none dirty: ticks need no device work until a wake
 };
 
 }  // namespace
 
 std::unique_ptr<Backend> make_cuda_backend(const Grid& initial, std::shared_ptr<const Lut> lut, const RuleSet& rules,
-                                           std::uint64_t seed) {
+                                           std::uint64_t seed, bool sparse) {
   if (initial.cell_count() == 0) throw InvalidArgument("cuda backend: the initial grid is empty (0 cells)");
   if (!lut || lut->entries().size() != kBlockKeyCount)
     throw InvalidArgument("cuda backend: a full transition table (16,777,216 entries) is required");
-  return std::make_unique<CudaBackend>(initial, *lut, rules.random_symmetry, seed);
+  return std::make_unique<CudaBackend>(initial, *lut, rules.random_symmetry, seed, sparse);
 }
 
 }  // namespace granular

@@ -7,6 +7,7 @@
 #include <span>
 #include <string>
 
+#include "granular/activity.hpp"
 #include "granular/errors.hpp"
 #include "granular/external_memory.hpp"
 #include "granular/geometry.hpp"
@@ -33,6 +34,14 @@ class Backend {
   virtual MaterialCounts count() const = 0;
   /// The grid hash (hash_cells).
   virtual std::uint64_t hash() const = 0;
+  /// Cells of these bricks (activity.hpp indices) were overwritten by write(): a sparse backend
+  /// steps them and their neighbours again (docs/ARCHITECTURE.md, "Activity tracking").
+  virtual void wake(std::span<const std::uint32_t> bricks) = 0;
+  /// Sets flags[i] = 1 (one entry per brick) for every brick whose cells step() changed since the
+  /// last call, and forgets them. A dense backend sets every flag.
+  virtual void take_changed_bricks(std::span<std::uint8_t> flags) = 0;
+  /// What the last step() call stepped (total_bricks included).
+  virtual ActivityStats last_activity() const = 0;
 
   /// Bytes an imported cell buffer must hold (share_cells), or 0 when this backend cannot share.
   virtual std::uint64_t shared_cell_bytes() const { return 0; }

@@ -5,7 +5,9 @@
 #include <map>
 #include <mutex>
 
+#include "cpu_sparse_step.hpp"
 #include "cpu_step.hpp"
+#include "inert_keys.hpp"
 
 namespace granular {
 
@@ -23,26 +25,59 @@ std::shared_ptr<const std::vector<BlockKey>> shared_result_table(const Lut& lut,
   return table;
 }
 
+/// Inert-key tables are 2 MiB: backends of one process share them per result table and variants.
+std::shared_ptr<const std::vector<std::uint64_t>> shared_inert_table(const Lut& lut, const std::vector<BlockKey>& result,
+                                                                      bool random_symmetry, int threads) {
+  static std::mutex mutex;
+  static std::map<std::pair<std::uint64_t, bool>, std::weak_ptr<const std::vector<std::uint64_t>>> live;
+  std::lock_guard lock(mutex);
+  auto& slot = live[{lut.content_hash(), random_symmetry}];
+  if (auto table = slot.lock()) return table;
+  auto table = std::make_shared<const std::vector<std::uint64_t>>(derive_inert_table(result, random_symmetry, threads));
+  slot = table;
+  return table;
+}
+
 }  // namespace
 
 CpuBackend::CpuBackend(const Grid& initial, std::shared_ptr<const Lut> lut, bool random_symmetry, std::uint64_t seed,
-                       int threads)
+                       int threads, bool sparse)
     : grid_(initial),
       lut_(std::move(lut)),
       result_(shared_result_table(*lut_, threads)),
       random_symmetry_(random_symmetry),
       seed_(seed),
-      pool_(threads) {}
+      sparse_(sparse),
+      inert_(sparse && random_symmetry ? shared_inert_table(*lut_, *result_, random_symmetry, threads) : nullptr),
+      activity_(initial.size()),
+      pool_(threads) {
+  const Int3 b = activity_.bricks();
+  last_.total_bricks = std::uint64_t(b.x) * std::uint64_t(b.y) * std::uint64_t(b.z);
+}
 
 std::string CpuBackend::description() const {
   return "cpu (" + std::to_string(pool_.size()) + (pool_.size() == 1 ? " thread)" : " threads)");
 }
 
 void CpuBackend::step(std::uint64_t first_tick, int ticks) {
-  for (int i = 0; i < ticks; ++i) step_tick(first_tick + std::uint64_t(i));
+  const std::uint64_t total = last_.total_bricks;
+  last_ = ActivityStats{};
+  last_.total_bricks = total;
+  for (int i = 0; i < ticks; ++i) {
+    if (sparse_) {
+      step_tick_sparse(first_tick + std::uint64_t(i));
+    } else {
+      step_tick(first_tick + std::uint64_t(i));
+      last_.active_bricks = total;
+      last_.active_cells = std::uint64_t(grid_.cell_count());
+    }
+    ++last_.ticks;
+    last_.brick_ticks += last_.active_bricks;
+    last_.cell_ticks += last_.active_cells;
+  }
 }
 
-void CpuBackend::step_tick(std::uint64_t tick) {
+StepContext CpuBackend::context(std::uint64_t tick) {
   StepContext c;
   c.cells = grid_.cells().data();
   c.size = grid_.size();
@@ -50,6 +85,40 @@ void CpuBackend::step_tick(std::uint64_t tick) {
   c.seed = seed_;
   c.tick = tick;
   c.random_symmetry = random_symmetry_;
+  return c;
+}
+
+void CpuBackend::step_tick_sparse(std::uint64_t tick) {
+  const StepContext c = context(tick);
+  const BrickRecord record = activity_.record(inert_ ? inert_->data() : nullptr);
+  const auto& runs = activity_.runs();
+  last_.active_bricks = activity_.active().size();
+  last_.active_cells = activity_.active_cells();
+  const int count = int(runs.size());
+  const int tasks = std::min(count, pool_.size() == 1 ? 1 : pool_.size() * 8);
+  if (tasks > 0)
+    pool_.run(tasks, [&](int task) {
+      const int first = int(std::int64_t(count) * task / tasks);
+      const int last = int(std::int64_t(count) * (task + 1) / tasks);
+      for (int i = first; i < last; ++i) step_brick_run(c, record, runs[std::size_t(i)].first, runs[std::size_t(i)].length);
+    });
+  // The sleep/wake decision rests on a full cycle of all 8 offsets (ticks 8k .. 8k + 7).
+  if ((tick & 7u) == 7u) activity_.end_cycle();
+}
+
+void CpuBackend::wake(std::span<const std::uint32_t> bricks) {
+  if (sparse_) activity_.wake(bricks);
+}
+
+void CpuBackend::take_changed_bricks(std::span<std::uint8_t> flags) {
+  if (sparse_)
+    activity_.take_changed(flags);
+  else
+    std::fill(flags.begin(), flags.end(), std::uint8_t(1));
+}
+
+void CpuBackend::step_tick(std::uint64_t tick) {
+  const StepContext c = context(tick);
   const int layers = block_layers(c);
   // Several layer ranges per thread so that uneven layers (sand vs. air) still balance.
   const int tasks = std::min(layers, pool_.size() == 1 ? 1 : pool_.size() * 8);

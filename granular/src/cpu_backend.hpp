@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "backend.hpp"
+#include "brick_activity.hpp"
 #include "granular/grid.hpp"
 #include "granular/lut.hpp"
 #include "thread_pool.hpp"
@@ -15,8 +16,9 @@ namespace granular {
 /// are shared out among threads freely: the result never depends on the thread count.
 class CpuBackend final : public Backend {
  public:
-  /// Takes a copy of `initial`; `threads` >= 1.
-  CpuBackend(const Grid& initial, std::shared_ptr<const Lut> lut, bool random_symmetry, std::uint64_t seed, int threads);
+  /// Takes a copy of `initial`; `threads` >= 1. `sparse` steps only the awake bricks.
+  CpuBackend(const Grid& initial, std::shared_ptr<const Lut> lut, bool random_symmetry, std::uint64_t seed, int threads,
+             bool sparse);
 
   BackendKind kind() const override { return BackendKind::Cpu; }
   std::string description() const override;
@@ -25,15 +27,24 @@ class CpuBackend final : public Backend {
   void write(const Box& box, std::span<const std::uint8_t> in) override;
   MaterialCounts count() const override;
   std::uint64_t hash() const override;
+  void wake(std::span<const std::uint32_t> bricks) override;
+  void take_changed_bricks(std::span<std::uint8_t> flags) override;
+  ActivityStats last_activity() const override { return last_; }
 
  private:
+  StepContext context(std::uint64_t tick);
   void step_tick(std::uint64_t tick);
+  void step_tick_sparse(std::uint64_t tick);
 
   Grid grid_;
   std::shared_ptr<const Lut> lut_;
   std::shared_ptr<const std::vector<BlockKey>> result_;
   bool random_symmetry_;
   std::uint64_t seed_;
+  bool sparse_;
+  std::shared_ptr<const std::vector<std::uint64_t>> inert_;  ///< inert-key bits (sparse, random symmetry)
+  BrickActivity activity_;
+  ActivityStats last_{};
   mutable ThreadPool pool_;
 };
 

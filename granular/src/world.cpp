@@ -156,6 +156,7 @@ void World::init(const Grid& initial) {
   def_.size = size_;
   const Int3 bricks = granular::brick_counts(size_);
   brick_version_.assign(std::size_t(bricks.x) * std::size_t(bricks.y) * std::size_t(bricks.z), 0);
+  changed_flags_.assign(brick_version_.size(), 0);
   activity_.total_bricks = brick_version_.size();
   rules_ = make_rule_set(def_.rules);
   const int threads = def_.threads > 0 ? def_.threads : hardware_threads();
@@ -165,11 +166,11 @@ void World::init(const Grid& initial) {
   if (!notice.empty()) notices_.push_back(notice);
 #ifdef GRANULAR_HAS_CUDA
   if (kind == BackendKind::Cuda) {
-    backend_ = make_cuda_backend(initial, lut_, *rules_, def_.seed);
+    backend_ = make_cuda_backend(initial, lut_, *rules_, def_.seed, def_.sparse);
     return;
   }
 #endif
-  backend_ = std::make_unique<CpuBackend>(initial, lut_, rules_->random_symmetry, def_.seed, threads);
+  backend_ = std::make_unique<CpuBackend>(initial, lut_, rules_->random_symmetry, def_.seed, threads, def_.sparse);
 }
 
 BackendKind World::choose_backend(BackendKind wanted) {
@@ -194,21 +195,67 @@ void World::step(int ticks) {
   if (ticks == 0) return;
   backend_->step(tick_, ticks);
   tick_ += std::uint64_t(ticks);
-  // Every tick steps the whole grid, so every brick may have changed.
-  ++change_version_;
-  std::fill(brick_version_.begin(), brick_version_.end(), change_version_);
-  activity_.active_bricks = activity_.total_bricks;
-  activity_.active_cells = std::uint64_t(size_.x) * std::uint64_t(size_.y) * std::uint64_t(size_.z);
+  activity_pending_ = true;
+  step_changes_pending_ = true;
 }
 
-void World::mark_changed(const Box& region) {
+ActivityStats World::activity() const {
+  // Read lazily: with a renderer's timelines attached the CUDA backend returns from step() before
+  // the device has finished, and only this waits for the activity counters.
+  if (activity_pending_) {
+    activity_ = backend_->last_activity();
+    activity_pending_ = false;
+  }
+  return activity_;
+}
+
+void World::take_step_changes() const {
+  if (!step_changes_pending_) return;
+  step_changes_pending_ = false;
+  std::fill(changed_flags_.begin(), changed_flags_.end(), std::uint8_t(0));
+  backend_->take_changed_bricks(changed_flags_);
+  std::vector<std::uint32_t> changed;
+  for (std::uint32_t i = 0; i < changed_flags_.size(); ++i)
+    if (changed_flags_[i]) changed.push_back(i);
+  mark_bricks(changed);
+}
+
+std::uint64_t World::change_version() const {
+  take_step_changes();
+  return change_version_;
+}
+
+void World::mark_bricks(std::span<const std::uint32_t> bricks) const {
+  take_step_changes();
+  if (bricks.empty()) return;
   ++change_version_;
+  for (const std::uint32_t b : bricks) brick_version_[b] = change_version_;
+}
+
+void World::mark_changed(const Box& region, std::span<const std::uint8_t> before, std::span<const std::uint8_t> after) {
+  // The bricks holding a changed cell: marked for bricks_changed_since and woken for stepping.
   const Int3 n = granular::brick_counts(size_);
-  for (int bz = region.min.z / kBrickSize; bz <= (region.max.z - 1) / kBrickSize; ++bz)
-    for (int by = region.min.y / kBrickSize; by <= (region.max.y - 1) / kBrickSize; ++by)
-      for (int bx = region.min.x / kBrickSize; bx <= (region.max.x - 1) / kBrickSize; ++bx)
-        brick_version_[(std::size_t(bz) * std::size_t(n.y) + std::size_t(by)) * std::size_t(n.x) + std::size_t(bx)] =
-            change_version_;
+  const Int3 lo{region.min.x / kBrickSize, region.min.y / kBrickSize, region.min.z / kBrickSize};
+  const Int3 span{(region.max.x - 1) / kBrickSize - lo.x + 1, (region.max.y - 1) / kBrickSize - lo.y + 1,
+                  (region.max.z - 1) / kBrickSize - lo.z + 1};
+  std::vector<std::uint8_t> touched(std::size_t(span.x) * std::size_t(span.y) * std::size_t(span.z), 0);
+  std::size_t i = 0;
+  for (int z = region.min.z; z < region.max.z; ++z)
+    for (int y = region.min.y; y < region.max.y; ++y)
+      for (int x = region.min.x; x < region.max.x; ++x, ++i)
+        if (before[i] != after[i])
+          touched[(std::size_t(z / kBrickSize - lo.z) * std::size_t(span.y) + std::size_t(y / kBrickSize - lo.y)) *
+                      std::size_t(span.x) +
+                  std::size_t(x / kBrickSize - lo.x)] = 1;
+  std::vector<std::uint32_t> bricks;  // ascending: z, then y, then x
+  for (int bz = 0; bz < span.z; ++bz)
+    for (int by = 0; by < span.y; ++by)
+      for (int bx = 0; bx < span.x; ++bx)
+        if (touched[(std::size_t(bz) * std::size_t(span.y) + std::size_t(by)) * std::size_t(span.x) + std::size_t(bx)])
+          bricks.push_back(std::uint32_t(
+              (std::size_t(lo.z + bz) * std::size_t(n.y) + std::size_t(lo.y + by)) * std::size_t(n.x) + std::size_t(lo.x + bx)));
+  mark_bricks(bricks);
+  backend_->wake(bricks);
 }
 
 std::uint64_t World::shared_cell_bytes() const { return backend_->shared_cell_bytes(); }
@@ -232,6 +279,7 @@ void World::attach_timelines(const ExternalTimeline& cells_ready, const External
 CellsHandoff World::hand_off_cells() { return backend_->hand_off_cells(); }
 
 std::vector<std::uint32_t> World::bricks_changed_since(std::uint64_t version) const {
+  take_step_changes();
   std::vector<std::uint32_t> changed;
   for (std::size_t i = 0; i < brick_version_.size(); ++i)
     if (brick_version_[i] > version) changed.push_back(std::uint32_t(i));
@@ -272,8 +320,9 @@ void World::load(const Grid& grid) {
   if (!(grid.size() == size_))
     throw InvalidArgument("World::load: grid is " + to_string(grid.size()) + " but the world is " + to_string(size_));
   check_cells(grid.cells(), grid.size(), "World::load");
+  const Grid before = snapshot();
   backend_->write(grid.bounds(), grid.cells());
-  mark_changed(grid.bounds());
+  mark_changed(grid.bounds(), before.cells(), grid.cells());
 }
 
 ChangeReport World::commit_region(const Box& region, bool clipped, const std::vector<std::uint8_t>& before,
@@ -289,7 +338,7 @@ ChangeReport World::commit_region(const Box& region, bool clipped, const std::ve
     }
   if (report.cells_changed > 0) {
     backend_->write(region, after);
-    mark_changed(region);
+    mark_changed(region, before, after);
   }
   ++tool_calls_;
   return report;

@@ -26,9 +26,12 @@ using granular::test::random_size;
 
 namespace {
 
-/// A WorldDef for `backend` (the CPU with 2 threads) with the build tree's table cache.
+/// A WorldDef for `backend` (the CPU with 2 threads) with the build tree's table cache. Dense
+/// stepping: these cases check the dense kernels; sparse stepping is checked in
+/// test_cuda_activity.cpp.
 WorldDef def_for(BackendKind backend, const char* rules, std::uint64_t seed) {
   WorldDef def;
+  def.sparse = false;
   def.rules = rules;
   def.seed = seed;
   def.backend = backend;

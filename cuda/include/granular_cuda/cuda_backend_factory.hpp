@@ -36,11 +36,12 @@ std::uint64_t cuda_bytes_needed(Int3 size);
 /// InvalidArgument for a non-positive extent. Allocates nothing.
 void check_cuda_fits(Int3 size);
 
-/// Creates the CUDA backend holding a copy of `initial`. Throws BackendError (no GPU, CUDA failure,
-/// with the CUDA error string) or OutOfMemory (with the grid size, bytes needed and bytes free on
-/// the device); InvalidArgument for an empty grid or a null table.
+/// Creates the CUDA backend holding a copy of `initial`; `sparse` steps only awake bricks (the same
+/// result as dense stepping). Throws BackendError (no GPU, CUDA failure, with the CUDA error string)
+/// or OutOfMemory (with the grid size, bytes needed and bytes free on the device); InvalidArgument
+/// for an empty grid or a null table.
 std::unique_ptr<Backend> make_cuda_backend(const Grid& initial, std::shared_ptr<const Lut> lut, const RuleSet& rules,
-                                           std::uint64_t seed);
+                                           std::uint64_t seed, bool sparse = true);
 
 /// Builds the transition table for `rules` on the GPU (rules.device_rule must be "paper", else
 /// InvalidArgument), returns the 16,777,216 entries (copied back), and the kernel time in

@@ -10,8 +10,10 @@
 namespace granular {
 
 /// Edge length of a brick in cells. Bricks tile the grid from the origin; the last brick along an
-/// axis may be partial.
+/// axis may be partial. Even (blocks never straddle a brick boundary at offset 0) and at least 10
+/// (the exactness argument of sparse stepping, docs/ARCHITECTURE.md "Activity tracking").
 inline constexpr int kBrickSize = 16;
+static_assert(kBrickSize % 2 == 0 && kBrickSize >= 10, "see docs/ARCHITECTURE.md, Activity tracking");
 
 /// Bricks per axis for a grid of `size` cells.
 constexpr Int3 brick_counts(Int3 size) {
@@ -29,11 +31,15 @@ constexpr Box brick_box(Int3 size, std::uint32_t index) {
   return intersect(whole, Box{{0, 0, 0}, size});
 }
 
-/// How much of the grid the last tick stepped.
+/// How much of the grid the last step() call stepped. With sparse stepping a brick is stepped only
+/// while it or a neighbour may change; with dense stepping every brick is stepped every tick.
 struct ActivityStats {
   std::uint64_t active_bricks = 0;  ///< bricks stepped in the last tick
   std::uint64_t total_bricks = 0;   ///< bricks in the grid
-  std::uint64_t active_cells = 0;   ///< cells inside the stepped bricks
+  std::uint64_t active_cells = 0;   ///< cells inside the bricks stepped in the last tick
+  std::uint64_t ticks = 0;          ///< ticks of the last step() call
+  std::uint64_t brick_ticks = 0;    ///< bricks stepped, summed over the ticks of the last step() call
+  std::uint64_t cell_ticks = 0;     ///< cells inside stepped bricks, summed over those ticks
 };
 
 }  // namespace granular

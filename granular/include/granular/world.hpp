@@ -88,16 +88,17 @@ class World {
   /// Replaces every cell with those of `grid`, which must have this world's size.
   void load(const Grid& grid);
 
-  /// A counter that grows with every call that may change cells (step, tools, load). Pass a value
+  /// A counter that grows with every call that changes cells (step, tools, load). Pass a value
   /// read earlier to bricks_changed_since() to learn what changed after it.
-  std::uint64_t change_version() const { return change_version_; }
-  /// Indices (x fastest, see brick_box) of the bricks whose cells may have changed after
-  /// change_version() returned `version`. Never misses a changed brick; may list an unchanged one.
+  std::uint64_t change_version() const;
+  /// Indices (x fastest, see brick_box) of the bricks whose cells changed after change_version()
+  /// returned `version`. Never misses a changed brick. Exact with sparse stepping and for tools;
+  /// with dense stepping (WorldDef::sparse = false) a step lists every brick.
   std::vector<std::uint32_t> bricks_changed_since(std::uint64_t version) const;
   /// Bricks per axis (see activity.hpp).
   Int3 brick_counts() const { return granular::brick_counts(size_); }
-  /// How much of the grid the last tick stepped.
-  ActivityStats activity() const { return activity_; }
+  /// How much of the grid the last step() call stepped: its last tick, and sums over its ticks.
+  ActivityStats activity() const;
 
   /// Bytes a buffer shared with share_cells() must hold (the cells, x fastest, padded to whole
   /// 8-byte words); 0 when the backend cannot share its cells (the CPU backend).
@@ -119,7 +120,9 @@ class World {
  private:
   void init(const Grid& initial);
   BackendKind choose_backend(BackendKind wanted);
-  void mark_changed(const Box& region);
+  void mark_changed(const Box& region, std::span<const std::uint8_t> before, std::span<const std::uint8_t> after);
+  void mark_bricks(std::span<const std::uint32_t> bricks) const;
+  void take_step_changes() const;
   ChangeReport commit_region(const Box& region, bool clipped, const std::vector<std::uint8_t>& before,
                              const std::vector<std::uint8_t>& after);
 
@@ -133,9 +136,14 @@ class World {
   std::vector<std::string> notices_;
   double lut_seconds_ = 0;
   bool lut_from_cache_ = false;
-  std::uint64_t change_version_ = 0;
-  std::vector<std::uint64_t> brick_version_;  ///< per brick: change_version_ when it last changed
-  ActivityStats activity_{};
+  // Change versions are brought up to date lazily (take_step_changes), so that step() costs no
+  // read-back of the backend's changed-brick flags unless somebody asks.
+  mutable std::uint64_t change_version_ = 0;
+  mutable std::vector<std::uint64_t> brick_version_;  ///< per brick: change_version_ when it last changed
+  mutable std::vector<std::uint8_t> changed_flags_;   ///< scratch: per brick, changed by steps
+  mutable bool step_changes_pending_ = false;         ///< steps ran since the flags were last taken
+  mutable ActivityStats activity_{};
+  mutable bool activity_pending_ = false;  ///< a step ran since activity_ was read from the backend
 };
 
 }  // namespace granular

@@ -25,6 +25,8 @@ struct WorldDef {
   int threads = 0;              ///< CPU worker threads; 0 = all hardware threads
   bool use_lut_cache = true;    ///< load/save the transition table from/to the on-disk cache
   std::string lut_cache_dir;    ///< cache folder; empty = $GRANULAR_CACHE_DIR, else $XDG_CACHE_HOME/granular, else ~/.cache/granular
+  bool sparse = true;           ///< step only bricks where something may move (same result as dense;
+                                ///< false steps every block every tick, for comparison)
 };
 
 /// The default WorldDef (identical to a value-initialised one; provided for symmetry with Box2D).

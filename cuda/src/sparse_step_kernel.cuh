@@ -1,0 +1,298 @@
+#pragma once
+/// @file sparse_step_kernel.cuh
+/// Sparse stepping on the device: one tick over the list of awake bricks, the per-cycle sleep/wake
+/// update, tool wakes, and the inert-key table (docs/ARCHITECTURE.md, "Activity tracking"; the
+/// CPU counterpart is cpu_sparse_step.cpp + brick_activity.cpp, with the same rules).
+///
+/// State, one byte per brick (x fastest): awake (stepped this cycle), dirty (owned a block with a
+/// non-inert key this cycle, or was touched by a tool), changed (a cell changed since the host last
+/// took the flags); plus the compact list of awake bricks and its length, both built on the device
+/// so that step(n) enqueues every launch and synchronises once.
+///
+/// The step kernel runs a fixed grid of CUDA blocks that walk the list (grid-stride over the
+/// device-side count): a settled world costs one near-empty launch per tick. A CUDA block of
+/// kBrickThreads threads steps one brick: thread t takes the group of kGroupBlocks blocks
+/// (t % kBrickGroups) of row (t / kBrickGroups) % kBrickBlocks of layer t / (kBrickGroups *
+/// kBrickBlocks), and the rows, layers and groups kBrickBlocks further on (the last brick along an
+/// axis may own one block more). Blocks are stepped with step_kernel.cuh's arithmetic, so the
+/// result is the dense kernels' (and the CPU's) bit for bit.
+
+#include <cuda_runtime.h>
+
+#include <cstdint>
+
+#include "brick_grid.hpp"
+#include "cuda_check.cuh"
+#include "granular/block.hpp"
+#include "inert_keys.hpp"
+#include "step_kernel.cuh"
+
+namespace granular::cuda {
+
+/// Groups of kGroupBlocks blocks per brick row.
+inline constexpr int kBrickGroups = kBrickBlocks / kGroupBlocks;
+static_assert(kBrickBlocks % kGroupBlocks == 0, "a brick row is whole groups");
+
+/// Threads of the sparse step kernel's CUDA block: one per group of one brick.
+inline constexpr int kBrickThreads = kBrickGroups * kBrickBlocks * kBrickBlocks;
+
+/// Threads per CUDA block of the small bookkeeping kernels.
+inline constexpr int kActivityThreads = 256;
+
+/// Slots of the activity counters.
+enum ActivityCounter : int {
+  kBrickTicks = 0,     ///< bricks stepped, summed over the ticks of a step() call
+  kCellTicks = 1,      ///< cells of stepped bricks, summed likewise
+  kLastBricks = 2,     ///< bricks stepped in the call's last tick
+  kLastCells = 3,      ///< cells of those bricks
+  kCounterSlots = 4,
+};
+
+/// The device state of sparse stepping.
+struct SparseParams {
+  Int3 bricks{};                          ///< bricks per axis
+  std::uint32_t total = 0;                ///< bricks in the grid
+  std::uint8_t* awake = nullptr;          ///< per brick: stepped this cycle
+  std::uint8_t* dirty = nullptr;          ///< per brick: non-inert key seen / tool this cycle
+  std::uint8_t* changed = nullptr;        ///< per brick: a cell changed (until the host takes it)
+  std::uint32_t* list = nullptr;          ///< the awake bricks, in any order
+  unsigned* count = nullptr;              ///< length of the list
+  unsigned long long* counters = nullptr; ///< ActivityCounter slots
+  const std::uint64_t* inert = nullptr;   ///< inert-key bits (with random symmetry; else unused)
+};
+
+/// What one thread saw of its brick while stepping.
+struct BrickSeen {
+  Int3 brick;               ///< the brick's coordinates
+  bool non_inert = false;   ///< a block had a non-inert key
+  bool owner_changed = false;  ///< a cell of the brick itself changed
+};
+
+/// Notes a stepped block's key (see inert_keys.hpp): without random variants a key is inert iff
+/// it maps to itself.
+template <bool kRandom>
+__device__ inline void note_key(const SparseParams& s, BrickSeen& seen, BlockKey key, BlockKey next) {
+  if constexpr (kRandom) {
+    if (!seen.non_inert && ((__ldg(s.inert + (key >> 6)) >> (key & 63u)) & 1u) == 0) seen.non_inert = true;
+  } else {
+    seen.non_inert |= next != key;
+  }
+}
+
+/// Records that cell (x, y, z) changed: in the owner brick it is collected per CUDA block; a cell
+/// of a neighbour (a straddling block) is flagged at once.
+__device__ inline void note_changed_cell(const SparseParams& s, BrickSeen& seen, int x, int y, int z) {
+  const int bx = brick_of(x), by = brick_of(y), bz = brick_of(z);
+  if (bx == seen.brick.x && by == seen.brick.y && bz == seen.brick.z)
+    seen.owner_changed = true;
+  else
+    s.changed[brick_index(s.bricks, bx, by, bz)] = 1;
+}
+
+/// One block, any position (step_edge_block with the recording).
+template <bool kRandom>
+__device__ inline void sparse_edge_block(const StepParams& p, const SparseParams& s, BrickSeen& seen, int x0, int y0,
+                                         int z0) {
+  const std::int64_t sy = p.size.x, sz = sy * p.size.y;
+  const std::int64_t origin = std::int64_t(x0) + sy * y0 + sz * z0;
+  std::uint32_t cell[8];
+  bool inside[8];
+  BlockKey key = 0;
+#pragma unroll
+  for (int i = 0; i < 8; ++i) {
+    const int x = x0 + (i & 1), y = y0 + ((i >> 1) & 1), z = z0 + (i >> 2);
+    inside[i] = x >= 0 && y >= 0 && z >= 0 && x < p.size.x && y < p.size.y && z < p.size.z;
+    cell[i] = inside[i] ? (p.cells[origin + block_cell_offset(i, sy, sz)] & 7u) : kOutsideCell;
+    key |= cell[i] << (3 * i);
+  }
+  if (key == cell[0] * kUniformKeyUnit) return;
+  const BlockKey next = next_key<kRandom>(p, key, x0, y0, z0);
+  note_key<kRandom>(s, seen, key, next);
+  if (next == key) return;
+#pragma unroll
+  for (int i = 0; i < 8; ++i) {
+    const std::uint32_t value = (next >> (3 * i)) & 7u;
+    if (inside[i] && value != cell[i]) {
+      p.cells[origin + block_cell_offset(i, sy, sz)] = std::uint8_t(value);
+      note_changed_cell(s, seen, x0 + (i & 1), y0 + ((i >> 1) & 1), z0 + (i >> 2));
+    }
+  }
+}
+
+/// kGroupBlocks blocks starting at (x0, y0, z0), all inside the grid (step_inside_group with the
+/// recording).
+template <bool kRandom>
+__device__ inline void sparse_inside_group(const StepParams& p, const SparseParams& s, BrickSeen& seen, int x0, int y0,
+                                           int z0) {
+  constexpr std::uint64_t kEveryByte = 0x0101010101010101ull;
+  const std::int64_t sy = p.size.x, sz = sy * p.size.y;
+  const std::int64_t origin = std::int64_t(x0) + sy * y0 + sz * z0;
+  std::uint64_t row[4];
+#pragma unroll
+  for (int r = 0; r < 4; ++r) row[r] = load_bytes8(p.cells, origin + sy * (r & 1) + sz * (r >> 1)) & (7 * kEveryByte);
+  const std::uint64_t same = (row[0] & 0xFFu) * kEveryByte;
+  if (((row[0] ^ same) | (row[1] ^ same) | (row[2] ^ same) | (row[3] ^ same)) == 0) return;
+#pragma unroll
+  for (int k = 0; k < kGroupBlocks; ++k) {
+    std::uint64_t v = 0;
+#pragma unroll
+    for (int r = 0; r < 4; ++r) v |= ((row[r] >> (16 * k)) & 0xFFFFu) << (16 * r);
+    if (v == (v & 0xFFu) * kEveryByte) continue;
+    const BlockKey key = pack_block_bytes(v);
+    const BlockKey next = next_key<kRandom>(p, key, x0 + 2 * k, y0, z0);
+    note_key<kRandom>(s, seen, key, next);
+    if (next == key) continue;
+#pragma unroll
+    for (int i = 0; i < 8; ++i) {
+      const std::uint32_t value = (next >> (3 * i)) & 7u;
+      if (value != ((key >> (3 * i)) & 7u)) {
+        p.cells[origin + 2 * k + block_cell_offset(i, sy, sz)] = std::uint8_t(value);
+        note_changed_cell(s, seen, x0 + 2 * k + (i & 1), y0 + ((i >> 1) & 1), z0 + (i >> 2));
+      }
+    }
+  }
+}
+
+/// One tick (p.tick) over the awake bricks (see the file comment). `last_tick`: also count the
+/// bricks into the kLastBricks / kLastCells slots.
+template <bool kRandom>
+static __global__ void __launch_bounds__(kBrickThreads) sparse_step_kernel(StepParams p, SparseParams s, bool last_tick) {
+  __shared__ int any_non_inert, any_changed;
+  const BlockOffset o = block_offset(p.tick);
+  const int t = int(threadIdx.x);
+  const int group = t % kBrickGroups, row = (t / kBrickGroups) % kBrickBlocks, layer = t / (kBrickGroups * kBrickBlocks);
+  const unsigned count = *s.count;
+  unsigned long long bricks_done = 0, cells_done = 0;  // thread 0's tally, added once at the end
+  for (unsigned entry = blockIdx.x; entry < count; entry += gridDim.x) {
+    if (t == 0) {
+      any_non_inert = 0;
+      any_changed = 0;
+    }
+    __syncthreads();
+    const std::uint32_t index = s.list[entry];
+    BrickSeen seen;
+    seen.brick = brick_coords(s.bricks, index);
+    const BlockSpan bx = owned_blocks(seen.brick.x, s.bricks.x, p.size.x, o.x);
+    const BlockSpan by = owned_blocks(seen.brick.y, s.bricks.y, p.size.y, o.y);
+    const BlockSpan bz = owned_blocks(seen.brick.z, s.bricks.z, p.size.z, o.z);
+    for (int kz = bz.first + layer; kz < bz.last; kz += kBrickBlocks) {
+      const int z0 = 2 * kz - o.z;
+      for (int ky = by.first + row; ky < by.last; ky += kBrickBlocks) {
+        const int y0 = 2 * ky - o.y;
+        for (int k0 = bx.first + group * kGroupBlocks; k0 < bx.last; k0 += kBrickBlocks) {
+          const int x0 = 2 * k0 - o.x;
+          const int blocks = bx.last - k0 < kGroupBlocks ? bx.last - k0 : kGroupBlocks;
+          if (blocks == kGroupBlocks && x0 >= 0 && x0 + 2 * kGroupBlocks <= p.size.x && y0 >= 0 && y0 + 1 < p.size.y &&
+              z0 >= 0 && z0 + 1 < p.size.z)
+            sparse_inside_group<kRandom>(p, s, seen, x0, y0, z0);
+          else
+            for (int k = 0; k < blocks; ++k) sparse_edge_block<kRandom>(p, s, seen, x0 + 2 * k, y0, z0);
+        }
+      }
+    }
+    if (seen.non_inert) any_non_inert = 1;
+    if (seen.owner_changed) any_changed = 1;
+    __syncthreads();
+    if (t == 0) {
+      if (any_non_inert) s.dirty[index] = 1;
+      if (any_changed) s.changed[index] = 1;
+      ++bricks_done;
+      cells_done += brick_cells(p.size, seen.brick.x, seen.brick.y, seen.brick.z);
+    }
+    __syncthreads();
+  }
+  if (t == 0 && bricks_done > 0) {
+    atomicAdd(s.counters + kBrickTicks, bricks_done);
+    atomicAdd(s.counters + kCellTicks, cells_done);
+    if (last_tick) {
+      atomicAdd(s.counters + kLastBricks, bricks_done);
+      atomicAdd(s.counters + kLastCells, cells_done);
+    }
+  }
+}
+
+/// Sets awake for brick `index` and its up to 26 neighbours.
+__device__ inline void wake_neighbourhood(const SparseParams& s, std::uint32_t index) {
+  const Int3 b = brick_coords(s.bricks, index);
+  for (int z = b.z > 0 ? b.z - 1 : 0; z <= (b.z + 1 < s.bricks.z ? b.z + 1 : b.z); ++z)
+    for (int y = b.y > 0 ? b.y - 1 : 0; y <= (b.y + 1 < s.bricks.y ? b.y + 1 : b.y); ++y)
+      for (int x = b.x > 0 ? b.x - 1 : 0; x <= (b.x + 1 < s.bricks.x ? b.x + 1 : b.x); ++x)
+        s.awake[brick_index(s.bricks, x, y, z)] = 1;
+}
+
+/// End of a cycle, part 1: awake = 0 everywhere (part 2 grows the dirty set into it).
+static __global__ void clear_awake_kernel(SparseParams s) {
+  for (std::uint32_t b = blockIdx.x * blockDim.x + threadIdx.x; b < s.total; b += gridDim.x * blockDim.x)
+    s.awake[b] = 0;
+}
+
+/// End of a cycle, part 2 (and tool wakes): every dirty brick wakes its neighbourhood. With
+/// `wake_list` (tools) only the `wake_count` listed bricks, which also become dirty.
+static __global__ void wake_dirty_kernel(SparseParams s, const std::uint32_t* wake_list, unsigned wake_count) {
+  const unsigned n = wake_list != nullptr ? wake_count : s.total;
+  for (unsigned i = blockIdx.x * blockDim.x + threadIdx.x; i < n; i += gridDim.x * blockDim.x) {
+    if (wake_list != nullptr) {
+      s.dirty[wake_list[i]] = 1;
+      wake_neighbourhood(s, wake_list[i]);
+    } else if (s.dirty[i]) {
+      wake_neighbourhood(s, i);
+    }
+  }
+}
+
+/// Rebuilds the list of awake bricks (s.count must be 0 before).
+static __global__ void build_list_kernel(SparseParams s) {
+  for (std::uint32_t b = blockIdx.x * blockDim.x + threadIdx.x; b < s.total; b += gridDim.x * blockDim.x)
+    if (s.awake[b]) s.list[atomicAdd(s.count, 1u)] = b;
+}
+
+/// The inert-key bit table of a result table (inert_keys.hpp), one 64-key word per thread.
+static __global__ void inert_table_kernel(const BlockKey* result, bool random_symmetry, std::uint64_t* table) {
+  for (std::uint32_t w = blockIdx.x * blockDim.x + threadIdx.x; w < kInertTableWords; w += gridDim.x * blockDim.x) {
+    std::uint64_t bits = 0;
+    for (std::uint32_t b = 0; b < 64; ++b)
+      if (key_is_inert(BlockKey(w * 64 + b), random_symmetry, result)) bits |= std::uint64_t(1) << b;
+    table[w] = bits;
+  }
+}
+
+/// CUDA blocks for a bookkeeping kernel over `n` items.
+inline unsigned activity_blocks(std::uint64_t n) {
+  const std::uint64_t blocks = (n + kActivityThreads - 1) / kActivityThreads;
+  return unsigned(blocks < 4096 ? (blocks > 0 ? blocks : 1) : 4096);
+}
+
+/// Enqueues one sparse tick (p.tick) with `grid` CUDA blocks walking the list.
+static inline void launch_sparse_step(const StepParams& p, const SparseParams& s, bool random_symmetry, bool last_tick,
+                                      unsigned grid, cudaStream_t stream) {
+  if (random_symmetry)
+    sparse_step_kernel<true><<<grid, kBrickThreads, 0, stream>>>(p, s, last_tick);
+  else
+    sparse_step_kernel<false><<<grid, kBrickThreads, 0, stream>>>(p, s, last_tick);
+  check_launch("sparse step kernel launch");
+}
+
+/// Enqueues the end of a cycle: awake = dirty grown by one brick, the list rebuilt, dirty cleared.
+static inline void launch_end_cycle(const SparseParams& s, cudaStream_t stream) {
+  const unsigned blocks = activity_blocks(s.total);
+  clear_awake_kernel<<<blocks, kActivityThreads, 0, stream>>>(s);
+  check_launch("clear awake kernel launch");
+  wake_dirty_kernel<<<blocks, kActivityThreads, 0, stream>>>(s, nullptr, 0);
+  check_launch("wake dirty kernel launch");
+  check(cudaMemsetAsync(s.count, 0, sizeof(unsigned), stream), "cudaMemsetAsync (brick list count)");
+  build_list_kernel<<<blocks, kActivityThreads, 0, stream>>>(s);
+  check_launch("build brick list kernel launch");
+  check(cudaMemsetAsync(s.dirty, 0, s.total, stream), "cudaMemsetAsync (dirty bricks)");
+}
+
+/// Enqueues a tool wake of the `count` bricks at device address `bricks`: dirty, their
+/// neighbourhoods awake, the list rebuilt.
+static inline void launch_wake(const SparseParams& s, const std::uint32_t* bricks, unsigned count, cudaStream_t stream) {
+  wake_dirty_kernel<<<activity_blocks(count), kActivityThreads, 0, stream>>>(s, bricks, count);
+  check_launch("wake bricks kernel launch");
+  check(cudaMemsetAsync(s.count, 0, sizeof(unsigned), stream), "cudaMemsetAsync (brick list count)");
+  build_list_kernel<<<activity_blocks(s.total), kActivityThreads, 0, stream>>>(s);
+  check_launch("build brick list kernel launch");
+}
+
+}  // namespace granular::cuda

@@ -1,0 +1,58 @@
+#pragma once
+/// @file brick_activity.hpp
+/// The sleep/wake state of sparse stepping, kept on the host (the CPU backend; the CUDA backend
+/// keeps the same state on the device). See docs/ARCHITECTURE.md, "Activity tracking".
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "cpu_sparse_step.hpp"
+#include "granular/geometry.hpp"
+
+namespace granular {
+
+/// Per brick: awake (stepped this cycle), dirty (owned a block with a non-inert key this cycle, or
+/// touched by a tool) and changed (a cell changed since the last take_changed). At the end of every
+/// 8-tick cycle the awake set becomes the dirty set grown by one brick in all 26 directions.
+class BrickActivity {
+ public:
+  /// The state of a new world of `grid_size` cells: every brick dirty and awake.
+  explicit BrickActivity(Int3 grid_size);
+
+  /// Bricks per axis.
+  Int3 bricks() const { return bricks_; }
+  /// A run of awake bricks consecutive along x: first, first + 1, ..., first + length - 1.
+  struct Run {
+    std::uint32_t first;  ///< brick index of the run's first brick
+    int length;           ///< bricks in the run (1..kMaxBrickRun)
+  };
+  /// The awake bricks, ascending.
+  const std::vector<std::uint32_t>& active() const { return active_; }
+  /// The awake bricks as runs along x (for step_brick_run), ascending.
+  const std::vector<Run>& runs() const { return runs_; }
+  /// Cells inside the awake bricks.
+  std::uint64_t active_cells() const { return active_cells_; }
+  /// Where the kernel records dirty and changed bricks (`inert`: the inert-key table or null).
+  BrickRecord record(const std::uint64_t* inert);
+  /// Ends an 8-tick cycle: awake = dirty grown by one brick, then nothing is dirty.
+  void end_cycle();
+  /// Cells of `bricks` were overwritten from outside (tools, load): they are dirty for this cycle and
+  /// they and their neighbours are awake from the next tick on.
+  void wake(std::span<const std::uint32_t> bricks);
+  /// Sets flags[i] = 1 for every brick whose cells changed since the last call; clears the record.
+  void take_changed(std::span<std::uint8_t> flags);
+
+ private:
+  void set_neighbours_awake(std::uint32_t brick);
+  void rebuild_active();
+
+  Int3 size_;
+  Int3 bricks_;
+  std::vector<std::uint8_t> awake_, dirty_, changed_;
+  std::vector<std::uint32_t> active_;
+  std::vector<Run> runs_;
+  std::uint64_t active_cells_ = 0;
+};
+
+}  // namespace granular

@@ -1,0 +1,24 @@
+#include "inert_keys.hpp"
+
+#include "thread_pool.hpp"
+
+namespace granular {
+
+std::vector<std::uint64_t> derive_inert_table(std::span<const BlockKey> result, bool random_symmetry, int threads) {
+  std::vector<std::uint64_t> table(kInertTableWords, 0);
+  ThreadPool pool(threads);
+  constexpr int kChunks = 64;
+  pool.run(kChunks, [&](int chunk) {
+    const std::uint32_t first = kInertTableWords / kChunks * std::uint32_t(chunk);
+    const std::uint32_t last = first + kInertTableWords / kChunks;
+    for (std::uint32_t w = first; w < last; ++w) {
+      std::uint64_t bits = 0;
+      for (std::uint32_t b = 0; b < 64; ++b)
+        if (key_is_inert(BlockKey(w * 64 + b), random_symmetry, result.data())) bits |= std::uint64_t(1) << b;
+      table[w] = bits;
+    }
+  });
+  return table;
+}
+
+}  // namespace granular
