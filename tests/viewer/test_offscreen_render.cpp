@@ -85,20 +85,25 @@ TEST_CASE("offscreen: every renderer draws the scene; cubes and ray march agree 
 }
 
 TEST_CASE("offscreen: per-brick updates give the same image as uploading and rebuilding everything") {
-  for (RendererKind kind : {RendererKind::Cubes, RendererKind::Marching}) {
+  for (RendererKind kind : {RendererKind::Cubes, RendererKind::Marching, RendererKind::Raymarch}) {
     const std::string name = to_string(kind);
     CAPTURE(name);
     auto world = bowl_world(96);
     const OrbitCamera camera = test_camera(world->size());
     OffscreenRenderer incremental(context(), *world, {kWidth, kHeight}, kind);
-    for (int frame = 0; frame < 3; ++frame) {
+    // With sparse stepping only the awake bricks change: a partial upload and rebuild each frame.
+    for (int frame = 0; frame < 10; ++frame) {
       world->step(7);
       incremental.render(camera);
     }
     // Frames with only a tool call: only the bricks the tool touched are uploaded and rebuilt.
     const std::uint64_t total_bricks = world->activity().total_bricks;
-    const FrameWork dig = (world->dig({{48, 48, 80}, 6.0}), incremental.render(camera));
-    const FrameWork pour = (world->pour({10, 10, 8}, 3.0, granular::Material::Granular, 60), incremental.render(camera));
+    const auto surface = granular::raycast(*world, {30.5, 30.5, 500.0}, {0, 0, -1});
+    REQUIRE(surface);
+    const granular::Vec3 top = surface->point;
+    const FrameWork dig = (world->dig({top, 6.0}), incremental.render(camera));
+    const FrameWork pour = (world->pour({top.x, top.y, top.z + 4.0}, 3.0, granular::Material::Granular, 60),
+                            incremental.render(camera));
     const FrameWork place = (world->paint(granular::Sphere{{60, 40, 60}, 4.0}, granular::Material::Solid), incremental.render(camera));
     for (const FrameWork& work : {dig, pour, place}) {
       CHECK(work.bricks_uploaded > 0);
