@@ -49,6 +49,7 @@ int main(int argc, char** argv) {
   viewer::WorldChoice choice;
   choice.size = 256;
   int width = 1920, height = 1080, ticks = 4, frames = 120, warmup = 10;
+  std::uint64_t skip_ticks = 0;
   std::string renderers = "cubes,marching,raymarch", csv, camera_text;
   bool validation = false, no_interop = false;
   app.add_option("--scene", choice.scene, "scene");
@@ -60,6 +61,7 @@ int main(int argc, char** argv) {
   app.add_option("--ticks-per-frame", ticks, "world ticks per frame (0: render only, nothing changes)");
   app.add_option("--frames", frames, "measured frames per renderer");
   app.add_option("--warmup", warmup, "frames before measuring (the first one builds everything)");
+  app.add_option("--skip-ticks", skip_ticks, "ticks simulated before the first frame (e.g. to measure a settled scene)");
   app.add_option("--renderers", renderers, "comma-separated: cubes, marching, raymarch");
   app.add_option("--camera", camera_text, "yaw,pitch,distance[,tx,ty,tz]");
   app.add_option("--csv", csv, "append CSV rows to this file");
@@ -91,6 +93,7 @@ int main(int argc, char** argv) {
       // The simulation alone (no rendering): on the CUDA backend step() is asynchronous, so the
       // host timers of the rendered runs do not show its device time; this row does.
       viewer::SandboxWorld sandbox = viewer::load_world(choice);
+      if (skip_ticks) sandbox.world->step(int(skip_ticks));
       for (int frame = 0; frame < warmup; ++frame) sandbox.world->step(ticks);
       (void)sandbox.world->hash();  // waits for the device
       const auto start = Clock::now();
@@ -111,6 +114,7 @@ int main(int argc, char** argv) {
       std::unique_ptr<viewer::SharedCells> shared;  // declared before the world: destroyed after it
       viewer::SandboxWorld sandbox = viewer::load_world(choice);
       granular::World& world = *sandbox.world;
+      if (skip_ticks) world.step(int(skip_ticks));
       backend = world.backend_description();
       if (context.external_memory() && world.backend() == granular::BackendKind::Cuda) {
         shared = std::make_unique<viewer::SharedCells>(context, world);
@@ -156,9 +160,9 @@ int main(int argc, char** argv) {
       row.bricks_rebuilt = rebuilt / frames;
       rows.push_back(row);
     }
-    std::printf("device %s, backend %s, cells %s, scene %s N=%d, %dx%d, %d ticks/frame, %d frames\n",
+    std::printf("device %s, backend %s, cells %s, scene %s N=%d, %dx%d, %d ticks/frame, %d frames after tick %llu\n",
                 context.device_name().c_str(), backend.c_str(), cells_path.c_str(), choice.scene.c_str(), choice.size, width,
-                height, ticks, frames);
+                height, ticks, frames, static_cast<unsigned long long>(skip_ticks));
     std::printf("%-9s %8s %9s %8s %9s %10s %9s %8s %9s\n", "renderer", "fps", "frame_ms", "sim_ms", "record_ms", "upload_ms",
                 "build_ms", "draw_ms", "rebuilt");
     for (const Row& r : rows)
@@ -169,11 +173,11 @@ int main(int argc, char** argv) {
       std::ofstream out(csv, std::ios::app);
       if (!out) throw std::runtime_error("cannot write " + csv);
       if (fresh)
-        out << "device,backend,cells,scene,n,width,height,ticks_per_frame,frames,renderer,fps,frame_ms,sim_ms,record_ms,gpu_upload_ms,"
+        out << "device,backend,cells,scene,n,width,height,ticks_per_frame,skip_ticks,frames,renderer,fps,frame_ms,sim_ms,record_ms,gpu_upload_ms,"
                "gpu_build_ms,gpu_draw_ms,bricks_rebuilt_per_frame\n";
       for (const Row& r : rows)
         out << '"' << context.device_name() << "\",\"" << backend << "\"," << cells_path << ',' << choice.scene << ',' << choice.size << ',' << width
-            << ',' << height << ',' << ticks << ',' << frames << ',' << r.renderer << ',' << r.fps << ',' << r.frame_ms << ','
+            << ',' << height << ',' << ticks << ',' << skip_ticks << ',' << frames << ',' << r.renderer << ',' << r.fps << ',' << r.frame_ms << ','
             << r.sim_ms << ',' << r.record_ms << ',' << r.upload_ms << ',' << r.build_ms << ',' << r.draw_ms << ','
             << r.bricks_rebuilt << '\n';
     }
