@@ -133,15 +133,21 @@ int run(const Options& o) {
         << a.total_bricks << '\n';
     quiet_windows = a.brick_ticks == 0 ? quiet_windows + 1 : 0;
   }
-  csv.close();
   const std::uint64_t series_ticks = sparse.tick();
   if (quiet_windows < 2 && int(sparse.tick()) < o.max_ticks) {
+    // The sparse world alone to rest; its rows have no dense time (nan), so the plot still shows
+    // how a sparse tick's cost falls with the active cells.
     while (int(sparse.tick()) < o.max_ticks && quiet_windows < 2) {
-      sparse.step(o.window);
-      quiet_windows = sparse.activity().brick_ticks == 0 ? quiet_windows + 1 : 0;
+      const double s = timed_step(sparse, o.window);
+      const ActivityStats a = sparse.activity();
+      csv << o.backend << ',' << o.n << ',' << sparse.tick() << ",piling,nan," << s * 1000.0 / o.window << ','
+          << double(a.cell_ticks) / double(a.ticks) << ',' << double(a.brick_ticks) / double(a.ticks) << ','
+          << a.total_bricks << '\n';
+      quiet_windows = a.brick_ticks == 0 ? quiet_windows + 1 : 0;
     }
     dense.load(sparse.snapshot());
   }
+  csv.close();
   const ActivityStats end = sparse.activity();
   const std::uint64_t rest_ticks = sparse.tick();
 

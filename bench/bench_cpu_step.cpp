@@ -37,6 +37,7 @@ const Grid& bowl_at(int start_tick) {
   if (it != cache.end()) return it->second;
   const SceneInstance inst = instantiate(load_scene(find_scene("bowl")), bench_n());
   WorldDef def;
+  def.rules = "paper";  // the plain loop runs the paper's table
   def.backend = BackendKind::Cpu;
   World w(def, inst.grid);
   w.step(start_tick);
@@ -53,6 +54,7 @@ void BM_Backend(benchmark::State& state) {
   const int start = int(state.range(0)), threads = int(state.range(1));
   const Grid& g = bowl_at(start);
   WorldDef def;
+  def.rules = "paper";  // the plain loop runs the paper's table
   def.backend = BackendKind::Cpu;
   def.threads = threads;
   def.sparse = false;

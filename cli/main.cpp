@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 
+#include "accuracy_command.hpp"
 #include "export_command.hpp"
 #include "granular/errors.hpp"
 #include "lut_command.hpp"
@@ -17,6 +18,7 @@ int main(int argc, char** argv) {
   granular::cli::add_run_command(app);
   granular::cli::add_export_command(app);
   granular::cli::add_lut_command(app);
+  granular::cli::add_accuracy_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -18,7 +18,7 @@ namespace granular::cli {
 struct WorldOptions {
   std::string scene = "bowl";  ///< scene name, scene .json path, or a .raw/.vox grid file
   int size = 0;                ///< scene size parameter N (0 = the scene's default)
-  std::string rules = "paper"; ///< rule-set preset
+  std::string rules = WorldDef{}.rules; ///< rule-set preset
   std::string backend = "auto";///< auto, cpu or cuda
   int threads = 0;             ///< CPU threads (0 = all)
   std::uint64_t seed = 0;      ///< seed of random choices

@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <complex>
+#include <limits>
 #include <numbers>
 #include <vector>
 
@@ -32,6 +33,8 @@ ConeMetrics measure_cone(const Grid& grid, Vec3 apex_xy_center, int floor_z) {
       height = std::max(height, count);
     }
   ConeMetrics m;
+  m.bin_angle_deg.fill(std::numeric_limits<double>::quiet_NaN());
+  m.bin_r_half.fill(std::numeric_limits<double>::quiet_NaN());
   if (height == 0) return m;
   m.height_cells = height;
 
@@ -64,7 +67,8 @@ ConeMetrics measure_cone(const Grid& grid, Vec3 apex_xy_center, int floor_z) {
 
   std::vector<double> angles;
   double r_sum = 0;
-  std::complex<double> r_four{0, 0};
+  std::complex<double> r_one{0, 0}, r_two{0, 0}, r_four{0, 0};
+
   m.r_half_min = 0;
   m.r_half_max = 0;
   bool any_half = false;
@@ -75,12 +79,16 @@ ConeMetrics measure_cone(const Grid& grid, Vec3 apex_xy_center, int floor_z) {
       if (var > 1e-12) {
         const double slope = (b.srh - b.sr * b.sh / b.n) / var;
         angles.push_back(std::atan(-slope) * 180 / std::numbers::pi);
+        m.bin_angle_deg[std::size_t(k)] = angles.back();
       }
     }
     if (b.half_n > 0) {
       const double r = b.half_r / b.half_n;
       const double phi = (k + 0.5) * bin_width;
       r_sum += r;
+      m.bin_r_half[std::size_t(k)] = r;
+      r_one += r * std::polar(1.0, phi);
+      r_two += r * std::polar(1.0, 2 * phi);
       r_four += r * std::polar(1.0, 4 * phi);
       m.r_half_min = any_half ? std::min(m.r_half_min, r) : r;
       m.r_half_max = any_half ? std::max(m.r_half_max, r) : r;
@@ -98,7 +106,11 @@ ConeMetrics measure_cone(const Grid& grid, Vec3 apex_xy_center, int floor_z) {
     m.angle_spread_deg = std::sqrt(var / double(angles.size()));
   }
   if (any_half && m.r_half_min > 0) m.r_half_ratio = m.r_half_max / m.r_half_min;
-  if (r_sum > 0) m.fourfold_amplitude = std::abs(r_four) / r_sum;
+  if (r_sum > 0) {
+    m.onefold_amplitude = std::abs(r_one) / r_sum;
+    m.twofold_amplitude = std::abs(r_two) / r_sum;
+    m.fourfold_amplitude = std::abs(r_four) / r_sum;
+  }
   return m;
 }
 

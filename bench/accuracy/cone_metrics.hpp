@@ -3,6 +3,8 @@
 /// Shape measurements of a sand pile read from the grid: the angle of repose per azimuth and the
 /// isotropy of the footprint. The first measurements of the accuracy suite.
 
+#include <array>
+
 #include "granular/geometry.hpp"
 #include "granular/grid.hpp"
 
@@ -20,6 +22,10 @@ struct ConeMetrics {
   double r_half_max = 0;        ///< largest per-bin radius at half height
   double r_half_ratio = 0;      ///< r_half_max / r_half_min (1 for a round footprint, ~1.41 for a square)
   double fourfold_amplitude = 0;  ///< |sum_k r_k e^{4 i phi_k}| / sum_k r_k over bins with a half-height radius
+  double onefold_amplitude = 0;   ///< the same with e^{i phi_k}: the footprint's centre is off the axis
+  double twofold_amplitude = 0;   ///< the same with e^{2 i phi_k}: an elliptic footprint (e.g. x/y asymmetry)
+  std::array<double, kConeAzimuthBins> bin_angle_deg{};  ///< per-bin angle (NaN where the bin was skipped)
+  std::array<double, kConeAzimuthBins> bin_r_half{};     ///< per-bin radius at half height (NaN where skipped)
   int bins = 0;                 ///< bins that produced an angle (at most kConeAzimuthBins)
 };
 
@@ -38,7 +44,9 @@ struct ConeMetrics {
 /// * radius at half height per bin: r_k = mean r over the bin's columns with |h - H/2| <= 1
 ///   (bins with no such column are skipped); r_half_min/max = min/max_k r_k, r_half_ratio =
 ///   max/min; fourfold_amplitude = |sum_k r_k e^{4 i phi_k}| / sum_k r_k (0 for a circle; a square
-///   pyramid measures about 0.07 whatever its orientation, as the modulus removes the phase).
+///   pyramid measures about 0.07 whatever its orientation, as the modulus removes the phase);
+///   onefold_amplitude and twofold_amplitude use e^{i phi_k} and e^{2 i phi_k} likewise (an
+///   ellipse of axes a > b measures about (a - b) / (a + b) in the 2-fold amplitude).
 /// Returns all zeros when the grid holds no grain above floor_z.
 ConeMetrics measure_cone(const Grid& grid, Vec3 apex_xy_center, int floor_z);
 

@@ -9,11 +9,14 @@
 namespace granular::accuracy {
 
 PourResult pour_cone(const WorldDef& base, int floor_size, int height, std::int64_t grains_per_tick,
-                     std::uint64_t ticks, std::uint64_t settle_ticks) {
+                     std::uint64_t ticks, std::uint64_t settle_ticks, double spout_radius) {
   if (floor_size < 8) throw InvalidArgument("pour_cone: floor_size = " + std::to_string(floor_size) + " must be >= 8");
   if (height < 8) throw InvalidArgument("pour_cone: height = " + std::to_string(height) + " must be >= 8");
   if (grains_per_tick < 0)
     throw InvalidArgument("pour_cone: grains_per_tick = " + std::to_string(grains_per_tick) + " must be >= 0");
+  if (!(spout_radius >= 1 && spout_radius <= height / 4.0))
+    throw InvalidArgument("pour_cone: spout_radius = " + std::to_string(spout_radius) + " must lie in [1, height / 4 = " +
+                          std::to_string(height / 4.0) + "]");
   WorldDef def = base;
   def.size = {floor_size, floor_size, height};
   World world(def);
@@ -21,10 +24,10 @@ PourResult pour_cone(const WorldDef& base, int floor_size, int height, std::int6
 
   PourResult result;
   result.before = world.count();
-  const Vec3 spout{floor_size / 2.0, floor_size / 2.0, height - 4.0};
+  const Vec3 spout{floor_size / 2.0, floor_size / 2.0, height - 2.0 - spout_radius};
   const auto start = std::chrono::steady_clock::now();
   for (std::uint64_t t = 0; t < ticks; ++t) {
-    const ChangeReport report = world.pour(spout, 2.0, Material::Granular, grains_per_tick);
+    const ChangeReport report = world.pour(spout, spout_radius, Material::Granular, grains_per_tick);
     result.poured += report.added[to_cell(Material::Granular)];
     world.step(1);
   }

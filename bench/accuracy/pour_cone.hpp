@@ -30,8 +30,10 @@ struct PourResult {
 /// (floor_size / 2, floor_size / 2, height - 4)) followed by one step; then up to `settle_ticks`
 /// more ticks in 8-tick cycles, stopping after the first cycle whose end hash equals its start hash.
 /// The pile is measured with measure_cone(grid, spout centre, 1).
-/// Throws InvalidArgument for floor_size < 8, height < 8, grains_per_tick < 0 (and whatever World throws).
+/// `spout_radius` (default 2) sets the sphere's radius: a wider spout pours more grains per tick.
+/// Throws InvalidArgument for floor_size < 8, height < 8, grains_per_tick < 0, spout_radius outside
+/// [1, height / 4] (and whatever World throws).
 PourResult pour_cone(const WorldDef& base, int floor_size, int height, std::int64_t grains_per_tick,
-                     std::uint64_t ticks, std::uint64_t settle_ticks);
+                     std::uint64_t ticks, std::uint64_t settle_ticks, double spout_radius = 2.0);
 
 }  // namespace granular::accuracy

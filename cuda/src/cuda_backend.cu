@@ -42,11 +42,13 @@ cuda::DeviceInfo prepare_device(Int3 size) {
 class CudaBackend final : public Backend {
  public:
   /// Uploads `initial` and derives the result table from `lut` on the device.
-  CudaBackend(const Grid& initial, const Lut& lut, bool random_symmetry, std::uint64_t seed, bool sparse)
+  CudaBackend(const Grid& initial, const Lut& lut, bool random_symmetry, bool random_axis_order, std::uint64_t seed,
+              bool sparse)
       : device_(prepare_device(initial.size())),
         size_(initial.size()),
         cell_count_(std::uint64_t(initial.cell_count())),
         random_symmetry_(random_symmetry),
+        random_axis_order_(random_axis_order),
         seed_(seed),
         shape_(cuda::step_shape(initial.size())),
         owned_cells_(cuda::cell_buffer_bytes(cell_count_), "the grid's cells"),
@@ -111,6 +113,7 @@ class CudaBackend final : public Backend {
     p.size = size_;
     p.result = result_.data();
     p.seed = seed_;
+    p.random_axis_order = random_axis_order_;
     cudaStream_t s = stream_.get();
     std::uint64_t tick = first_tick;
     int left = ticks;
@@ -301,6 +304,7 @@ class CudaBackend final : public Backend {
     p.size = size_;
     p.result = result_.data();
     p.seed = seed_;
+    p.random_axis_order = random_axis_order_;
     const cuda::SparseParams sp = sparse_params();
     cuda::check(cudaMemsetAsync(counters_.data(), 0, counters_.bytes(), s), "cudaMemsetAsync (activity counters)");
     for (int i = 0; i < ticks; ++i) {
@@ -396,6 +400,7 @@ class CudaBackend final : public Backend {
   Int3 size_;
   std::uint64_t cell_count_;
   bool random_symmetry_;
+  bool random_axis_order_;
   std::uint64_t seed_;
   cuda::StepShape shape_;
   cuda::Stream stream_;
@@ -430,7 +435,7 @@ std::unique_ptr<Backend> make_cuda_backend(const Grid& initial, std::shared_ptr<
   if (initial.cell_count() == 0) throw InvalidArgument("cuda backend: the initial grid is empty (0 cells)");
   if (!lut || lut->entries().size() != kBlockKeyCount)
     throw InvalidArgument("cuda backend: a full transition table (16,777,216 entries) is required");
-  return std::make_unique<CudaBackend>(initial, *lut, rules.random_symmetry, seed, sparse);
+  return std::make_unique<CudaBackend>(initial, *lut, rules.random_symmetry, rules.random_axis_order, seed, sparse);
 }
 
 }  // namespace granular

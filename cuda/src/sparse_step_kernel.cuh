@@ -158,7 +158,7 @@ __device__ inline void sparse_inside_group(const StepParams& p, const SparsePara
 template <bool kRandom>
 static __global__ void __launch_bounds__(kBrickThreads) sparse_step_kernel(StepParams p, SparseParams s, bool last_tick) {
   __shared__ int any_non_inert, any_changed;
-  const BlockOffset o = block_offset(p.tick);
+  const BlockOffset o = block_offset(p.tick, p.seed, p.random_axis_order);
   const int t = int(threadIdx.x);
   const int group = t % kBrickGroups, row = (t / kBrickGroups) % kBrickBlocks, layer = t / (kBrickGroups * kBrickBlocks);
   const unsigned count = *s.count;

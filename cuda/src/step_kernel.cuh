@@ -48,6 +48,7 @@ struct StepParams {
   const BlockKey* result = nullptr;  ///< device result table: per key, the key after its transition
   std::uint64_t seed = 0;            ///< world seed (random symmetry)
   std::uint64_t tick = 0;            ///< the tick computed (selects the offset)
+  bool random_axis_order = false;    ///< draw the offset order per 8-tick cycle (block_offset)
 };
 
 /// Linear index offset of block cell i from the block's lowest corner.
@@ -155,7 +156,7 @@ __device__ inline void step_inside_group(const StepParams& p, int x0, int y0, in
 /// warp reads 32 consecutive 8-byte segments of each of 4 rows.
 template <bool kRandom>
 static __global__ void __launch_bounds__(kStepThreads) step_kernel(StepParams p) {
-  const BlockOffset o = block_offset(p.tick);
+  const BlockOffset o = block_offset(p.tick, p.seed, p.random_axis_order);
   const int first = int(blockIdx.x * blockDim.x + threadIdx.x) * kGroupBlocks;
   const int by = int(blockIdx.y * blockDim.y + threadIdx.y);
   const int bz = int(blockIdx.z);

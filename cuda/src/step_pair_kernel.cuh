@@ -205,7 +205,7 @@ struct PairColumn {
 template <bool kRandom>
 static __global__ void __launch_bounds__(kStepThreads, kRandom ? 1 : kPairMinBlocks)
     step_pair_kernel(StepParams p, const std::uint8_t* halo, int chunk, int chunks) {
-  const BlockOffset o = block_offset(p.tick);
+  const BlockOffset o = block_offset(p.tick, p.seed, p.random_axis_order);
   const unsigned groups = unsigned(block_count(p.size.x, o.x) + kGroupBlocks - 1) / kGroupBlocks;
   const unsigned entry = blockIdx.x * blockDim.x + threadIdx.x;
   const int first = int(entry % groups) * kGroupBlocks;

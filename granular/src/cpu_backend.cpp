@@ -40,12 +40,13 @@ std::shared_ptr<const std::vector<std::uint64_t>> shared_inert_table(const Lut& 
 
 }  // namespace
 
-CpuBackend::CpuBackend(const Grid& initial, std::shared_ptr<const Lut> lut, bool random_symmetry, std::uint64_t seed,
-                       int threads, bool sparse)
+CpuBackend::CpuBackend(const Grid& initial, std::shared_ptr<const Lut> lut, bool random_symmetry, bool random_axis_order,
+                       std::uint64_t seed, int threads, bool sparse)
     : grid_(initial),
       lut_(std::move(lut)),
       result_(shared_result_table(*lut_, threads)),
       random_symmetry_(random_symmetry),
+      random_axis_order_(random_axis_order),
       seed_(seed),
       sparse_(sparse),
       inert_(sparse && random_symmetry ? shared_inert_table(*lut_, *result_, random_symmetry, threads) : nullptr),
@@ -85,6 +86,7 @@ StepContext CpuBackend::context(std::uint64_t tick) {
   c.seed = seed_;
   c.tick = tick;
   c.random_symmetry = random_symmetry_;
+  c.random_axis_order = random_axis_order_;
   return c;
 }
 

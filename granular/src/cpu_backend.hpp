@@ -16,9 +16,10 @@ namespace granular {
 /// are shared out among threads freely: the result never depends on the thread count.
 class CpuBackend final : public Backend {
  public:
-  /// Takes a copy of `initial`; `threads` >= 1. `sparse` steps only the awake bricks.
-  CpuBackend(const Grid& initial, std::shared_ptr<const Lut> lut, bool random_symmetry, std::uint64_t seed, int threads,
-             bool sparse);
+  /// Takes a copy of `initial`; `threads` >= 1. The random flags are the rule set's (RuleSet);
+  /// `sparse` steps only the awake bricks.
+  CpuBackend(const Grid& initial, std::shared_ptr<const Lut> lut, bool random_symmetry, bool random_axis_order,
+             std::uint64_t seed, int threads, bool sparse);
 
   BackendKind kind() const override { return BackendKind::Cpu; }
   std::string description() const override;
@@ -40,6 +41,7 @@ class CpuBackend final : public Backend {
   std::shared_ptr<const Lut> lut_;
   std::shared_ptr<const std::vector<BlockKey>> result_;
   bool random_symmetry_;
+  bool random_axis_order_;
   std::uint64_t seed_;
   bool sparse_;
   std::shared_ptr<const std::vector<std::uint64_t>> inert_;  ///< inert-key bits (sparse, random symmetry)

@@ -171,7 +171,7 @@ class BrickStepper {
 
 template <bool kRandom>
 void step_run_blocks(const StepContext& c, const BrickRecord& record, std::uint32_t first_index, int length) {
-  const BlockOffset o = block_offset(c.tick);
+  const BlockOffset o = block_offset(c.tick, c.seed, c.random_axis_order);
   const Int3 first = brick_coords(record.bricks, first_index);
   const BlockSpan bx_first = owned_blocks(first.x, record.bricks.x, c.size.x, o.x);
   const BlockSpan bx_last = owned_blocks(first.x + length - 1, record.bricks.x, c.size.x, o.x);

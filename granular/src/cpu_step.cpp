@@ -49,7 +49,7 @@ inline void interior_block(const StepContext& c, std::uint8_t* const* r, int x0,
 
 template <bool kRandom>
 void step_layer(const StepContext& c, int layer) {
-  const BlockOffset o = block_offset(c.tick);
+  const BlockOffset o = block_offset(c.tick, c.seed, c.random_axis_order);
   const int nx = c.size.x, ny = c.size.y, nz = c.size.z;
   const int z0 = 2 * layer - o.z;
   const int blocks_x = block_count(nx, o.x), blocks_y = block_count(ny, o.y);

@@ -19,6 +19,7 @@ struct StepContext {
   std::uint64_t seed = 0;             ///< world seed (random rules)
   std::uint64_t tick = 0;             ///< the tick being computed (selects the offset)
   bool random_symmetry = false;       ///< draw a horizontal symmetry per block
+  bool random_axis_order = false;     ///< draw the offset order per 8-tick cycle (block_offset)
 };
 
 /// The CPU's form of a transition table: for each key, the key of the block after its transition

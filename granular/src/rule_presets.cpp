@@ -10,12 +10,14 @@ namespace granular {
 
 namespace {
 
-RuleSet make_preset(std::string name, std::string description, bool random_symmetry) {
+RuleSet make_preset(std::string name, std::string description, std::uint32_t version, bool random_symmetry,
+                    bool random_axis_order) {
   RuleSet r;
   r.name = std::move(name);
   r.description = std::move(description);
-  r.version = 1;
+  r.version = version;
   r.random_symmetry = random_symmetry;
+  r.random_axis_order = random_axis_order;
   r.transition = &paper_transition;
   r.device_rule = "paper";
   return r;
@@ -28,15 +30,20 @@ Transition paper_transition(const BlockCells& cells) { return rules::paper_rule(
 std::shared_ptr<const RuleSet> make_rule_set(std::string_view name) {
   if (name == "paper")
     return std::make_shared<const RuleSet>(
-        make_preset("paper", "gravity then flow, fixed preference order (the paper's rules)", false));
+        make_preset("paper", "gravity then flow, fixed preference order (the paper's rules)", 1, false, false));
   if (name == "isotropic")
-    return std::make_shared<const RuleSet>(
-        make_preset("isotropic", "the paper's rules under a random horizontal symmetry per block and tick", true));
+    return std::make_shared<const RuleSet>(make_preset(
+        "isotropic", "the paper's rules under a random horizontal symmetry per block and tick and a random offset order per cycle",
+        2, true, true));
+  if (name == "d4")
+    return std::make_shared<const RuleSet>(make_preset(
+        "d4", "the paper's rules under a random horizontal symmetry per block and tick, the paper's offset cycle", 1, true,
+        false));
   std::string valid;
   for (const auto& n : rule_preset_names()) valid += (valid.empty() ? "" : ", ") + n;
   throw InvalidArgument("unknown rule set '" + std::string(name) + "'; valid rule sets: " + valid);
 }
 
-std::vector<std::string> rule_preset_names() { return {"paper", "isotropic"}; }
+std::vector<std::string> rule_preset_names() { return {"paper", "isotropic", "d4"}; }
 
 }  // namespace granular

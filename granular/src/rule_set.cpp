@@ -9,6 +9,7 @@ std::uint64_t rule_fingerprint(const RuleSet& rules) {
   for (char c : rules.name) h = mix64(h ^ std::uint8_t(c));
   h = mix64(h ^ rules.version);
   h = mix64(h ^ (rules.random_symmetry ? 1u : 0u));
+  if (rules.random_axis_order) h = mix64(h ^ 0x617865736F726465ull);
   if (!rules.transition) return h;
   // Every block over the three simulated states.
   for (std::uint32_t n = 0; n < 6561; ++n) {

@@ -170,7 +170,8 @@ void World::init(const Grid& initial) {
     return;
   }
 #endif
-  backend_ = std::make_unique<CpuBackend>(initial, lut_, rules_->random_symmetry, def_.seed, threads, def_.sparse);
+  backend_ = std::make_unique<CpuBackend>(initial, lut_, rules_->random_symmetry, rules_->random_axis_order,
+                                          def_.seed, threads, def_.sparse);
 }
 
 BackendKind World::choose_backend(BackendKind wanted) {

@@ -112,4 +112,29 @@ constexpr std::uint64_t block_random(std::uint64_t seed, std::uint64_t tick, int
   return mix(mix(seed ^ 0x5EEDB10C5EEDB10Cull) + mix(tick * 0x9E3779B97F4A7C15ull + pos));
 }
 
+/// Salt of the per-cycle draw of the offset order (keeps it independent of the per-block draws).
+inline constexpr std::uint64_t kAxisOrderSalt = 0xA815C7C1E0FF5E75ull;
+
+/// True when the 8-tick cycle holding `tick` walks its offsets with x and y exchanged (x flips
+/// every 4 ticks, y every 2), drawn from block_random(seed ^ kAxisOrderSalt, tick / 8, -1, -1, -1):
+/// a pure function of (seed, tick / 8), the same for every block of the cycle.
+constexpr bool cycle_swaps_axes(std::uint64_t seed, std::uint64_t tick) {
+  return (block_random(seed ^ kAxisOrderSalt, tick >> 3, -1, -1, -1) & 1u) != 0;
+}
+
+/// The offset of `tick` in its cycle, with x and y exchanged on the cycles cycle_swaps_axes draws
+/// when `random_axis_order` is set (otherwise the paper's cycle, block_offset(tick)). Either way
+/// all 8 offsets occur in every cycle, z flips every tick, and ticks 2k and 2k + 1 share x and y.
+/// The paper's fixed order makes x flip twice as often as y, which leaves x/y-asymmetric piles
+/// even under random block symmetry; drawing the order per cycle removes that bias.
+constexpr BlockOffset block_offset(std::uint64_t tick, std::uint64_t seed, bool random_axis_order) {
+  BlockOffset o = block_offset(tick);
+  if (random_axis_order && cycle_swaps_axes(seed, tick)) {
+    const int x = o.x;
+    o.x = o.y;
+    o.y = x;
+  }
+  return o;
+}
+
 }  // namespace granular

@@ -16,8 +16,10 @@ namespace granular {
 /// of preference (+/-x neighbour, then y, then diagonal). Deterministic; piles at 45 degrees.
 Transition paper_transition(const BlockCells& cells);
 
-/// Looks up a preset by name: "paper" (the paper's deterministic rules) or "isotropic" (the same
-/// rules under a random horizontal symmetry per block and tick, so heaps come out round).
+/// Looks up a preset by name: "paper" (the paper's deterministic rules and offset cycle),
+/// "isotropic" (the same table under a random horizontal symmetry per block and tick, and a random
+/// offset order per 8-tick cycle, so heaps come out round) or "d4" (the random symmetry alone, on
+/// the paper's cycle: isotropic before the offset order was drawn, kept for comparison).
 /// Throws InvalidArgument naming the valid presets for an unknown name.
 std::shared_ptr<const RuleSet> make_rule_set(std::string_view name);
 

@@ -1,0 +1,22 @@
+#pragma once
+/// @file suite.hpp
+/// Running the accuracy suite: the tests by name, in dependency order.
+
+#include <string>
+#include <vector>
+
+#include "accuracy/report.hpp"
+#include "accuracy/suite_options.hpp"
+
+namespace granular::accuracy {
+
+/// Every test name, in the order the suite runs them: cone, hysteresis, silo, collapse, fall,
+/// conservation (fall uses collapse's stop times; conservation checks every earlier test).
+std::vector<std::string> suite_test_names();
+
+/// Runs the named tests (a subset of suite_test_names(), any order; run in the suite's order)
+/// for one configuration. Throws InvalidArgument naming the valid tests for an unknown name or an
+/// empty list.
+SuiteReport run_suite(const SuiteOptions& options, const std::vector<std::string>& tests);
+
+}  // namespace granular::accuracy

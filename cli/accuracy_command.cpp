@@ -1,0 +1,153 @@
+#include "accuracy_command.hpp"
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "accuracy/report_io.hpp"
+#include "accuracy/suite.hpp"
+#include "granular/errors.hpp"
+#include "granular/rule_presets.hpp"
+
+namespace granular::cli {
+
+namespace {
+
+struct AccuracyOptions {
+  std::vector<std::string> rules{"paper", "d4", "isotropic"};
+  std::vector<std::string> tests = accuracy::suite_test_names();
+  std::string backend = "cpu";
+  int threads = 0;
+  std::uint64_t seed = 1;
+  std::string material = "sand";
+  bool quick = false;
+  bool dense = false;
+  bool json = false;
+  std::string csv;
+  std::string out;
+  std::string cache_dir;
+};
+
+BackendKind parse_backend(const std::string& name) {
+  if (name == "cpu") return BackendKind::Cpu;
+  if (name == "cuda") return BackendKind::Cuda;
+  if (name == "auto") return BackendKind::Auto;
+  throw InvalidArgument("--backend '" + name + "' is not a backend; use auto, cpu or cuda");
+}
+
+/// The command that reproduces this run (every option spelled out).
+std::string command_line(const AccuracyOptions& o) {
+  auto join = [](const std::vector<std::string>& v) {
+    std::string s;
+    for (const auto& x : v) s += (s.empty() ? "" : ",") + x;
+    return s;
+  };
+  std::string c = "granular accuracy";
+  if (o.quick) c += " --quick";
+  if (o.dense) c += " --dense";
+  c += " --rules " + join(o.rules) + " --tests " + join(o.tests) + " --backend " + o.backend +
+       " --threads " + std::to_string(o.threads) + " --seed " + std::to_string(o.seed) + " --material " + o.material;
+  return c;
+}
+
+/// The first of $GRANULAR_PYTHON, python3 and /usr/bin/python3 that can import matplotlib ("" if none).
+std::string plotting_python() {
+  std::vector<std::string> candidates;
+  if (const char* env = std::getenv("GRANULAR_PYTHON"); env && *env) candidates.emplace_back(env);
+  candidates.emplace_back("python3");
+  candidates.emplace_back("/usr/bin/python3");
+  for (const auto& c : candidates)
+    if (std::system(("'" + c + "' -c 'import matplotlib' > /dev/null 2>&1").c_str()) == 0) return "'" + c + "'";
+  return {};
+}
+
+void write_file(const std::filesystem::path& path, const std::string& text) {
+  std::ofstream f(path, std::ios::binary);
+  if (!f) throw FileError("cannot write '" + path.string() + "'");
+  f << text;
+  if (!f) throw FileError("writing '" + path.string() + "' failed");
+}
+
+void run(const AccuracyOptions& o) {
+  if (o.threads < 0) throw InvalidArgument("--threads " + std::to_string(o.threads) + " must be >= 0 (0 = all)");
+  if (o.rules.empty()) throw InvalidArgument("--rules needs at least one rule set");
+  for (const auto& r : o.rules) make_rule_set(r);  // throws naming the valid presets
+  accuracy::SuiteOptions base;
+  base.backend = parse_backend(o.backend);
+  base.threads = o.threads;
+  base.seed = o.seed;
+  base.quick = o.quick;
+  base.sparse = !o.dense;
+  base.material = accuracy::target_material(o.material);
+  base.lut_cache_dir = o.cache_dir;
+  base.log = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
+
+  if (!o.json) std::printf("calibration    %s\n", base.calibration.describe().c_str());
+  std::vector<accuracy::SuiteReport> reports;
+  for (const auto& rules : o.rules) {
+    accuracy::SuiteOptions options = base;
+    options.rules = rules;
+    std::fprintf(stderr, "-- rules %s\n", rules.c_str());
+    reports.push_back(accuracy::run_suite(options, o.tests));
+    if (!o.json) std::printf("\n%s", accuracy::report_text(reports.back()).c_str());
+  }
+  const std::string json = accuracy::report_json(reports, base.calibration, accuracy::current_run_info(command_line(o)));
+  if (o.json) std::cout << json;
+  if (!o.csv.empty()) write_file(o.csv, accuracy::report_csv(reports));
+  if (!o.out.empty()) {
+    std::filesystem::create_directories(o.out);
+    const auto json_path = std::filesystem::path(o.out) / "accuracy.json";
+    write_file(json_path, json);
+    const std::string python = plotting_python();
+    if (python.empty()) {
+      std::fprintf(stderr, "notice: no python3 with matplotlib found (set $GRANULAR_PYTHON); %s is written, no plots\n",
+                   json_path.c_str());
+    } else {
+      const std::string command = python + " '" + std::string(GRANULAR_ACCURACY_PLOT_SCRIPT) + "' --out '" + o.out + "' '" +
+                                  json_path.string() + "'";
+      std::fprintf(stderr, "plots: %s\n", command.c_str());
+      if (std::system(command.c_str()) != 0)
+        std::fprintf(stderr, "notice: the plot script failed; %s is written\n", json_path.c_str());
+    }
+  }
+  // Conservation and determinism are absolutes, not physics targets: a failure is an error.
+  for (const auto& r : reports) {
+    if (!r.conserved()) throw Error("grains were not conserved under rules '" + r.config.rules + "' (see the report)");
+    for (const auto& t : r.tests)
+      if (t.test == "conservation")
+        for (const auto& m : t.metrics)
+          if (!m.met())
+            throw Error("conservation test failed under rules '" + r.config.rules + "': " + m.name + " = " +
+                        std::to_string(m.measured) + " (see the report)");
+  }
+}
+
+}  // namespace
+
+void add_accuracy_command(CLI::App& app) {
+  auto o = std::make_shared<AccuracyOptions>();
+  CLI::App* cmd = app.add_subcommand("accuracy", "measure the simulation against physical references (issue 5)");
+  cmd->add_option("--rules", o->rules, "rule sets to compare, comma-separated")->delimiter(',')->capture_default_str();
+  cmd->add_option("--tests", o->tests, "tests to run, comma-separated: cone, hysteresis, silo, collapse, fall, conservation")
+      ->delimiter(',')
+      ->capture_default_str();
+  cmd->add_option("--backend", o->backend, "compute backend: cpu, cuda or auto")->capture_default_str();
+  cmd->add_option("-j,--threads", o->threads, "CPU threads (0 = all)")->capture_default_str();
+  cmd->add_option("--seed", o->seed, "world seed")->capture_default_str();
+  cmd->add_option("--material", o->material, "target material for the repose angle: sand (33 deg) or glass (24 deg)")
+      ->capture_default_str();
+  cmd->add_flag("--quick", o->quick, "reduced sizes (CI; under 2 minutes on 2 cores); default: full size, for a GPU");
+  cmd->add_flag("--dense", o->dense, "step every block every tick (default: sparse, the same results)");
+  cmd->add_flag("--json", o->json, "print the report as JSON instead of text");
+  cmd->add_option("--csv", o->csv, "also write one CSV row per metric to this file");
+  cmd->add_option("--out", o->out, "write accuracy.json and one PNG per test (python3 + matplotlib) into this folder");
+  cmd->add_option("--cache-dir", o->cache_dir, "table cache folder (default: $GRANULAR_CACHE_DIR or ~/.cache/granular)");
+  cmd->callback([o] { run(*o); });
+}
+
+}  // namespace granular::cli

@@ -1,0 +1,99 @@
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "accuracy/fit.hpp"
+#include "accuracy/report.hpp"
+#include "accuracy/suite.hpp"
+#include "granular/errors.hpp"
+#include "test_support.hpp"
+
+using namespace granular;
+using namespace granular::accuracy;
+
+namespace {
+
+const Metric& metric(const TestReport& t, const std::string& name) {
+  for (const Metric& m : t.metrics)
+    if (m.name == name) return m;
+  FAIL("no metric " << name << " in test " << t.test);
+  return t.metrics.front();
+}
+
+SuiteOptions quick_options(const std::string& rules) {
+  SuiteOptions o;
+  o.rules = rules;
+  o.quick = true;
+  o.threads = 2;
+  return o;
+}
+
+}  // namespace
+
+TEST_CASE("fits recover the laws they fit") {
+  const std::vector<double> x{1, 2, 4, 8}, line_y{3, 5, 9, 17};
+  const LineFit l = fit_line(x, line_y);
+  CHECK(l.ok);
+  CHECK(l.slope == doctest::Approx(2));
+  CHECK(l.intercept == doctest::Approx(1));
+  std::vector<double> power_y;
+  for (double v : x) power_y.push_back(0.5 * std::pow(v, 1.5));
+  const PowerFit p = fit_power(x, power_y);
+  CHECK(p.exponent == doctest::Approx(1.5));
+  CHECK(p.prefactor == doctest::Approx(0.5));
+  const std::vector<double> d{4, 6, 8, 12, 16, 24};
+  std::vector<double> w;
+  for (double v : d) w.push_back(2.0 * std::pow(v - 1.5, 2.5));
+  const BeverlooFit b = fit_beverloo(d, w);
+  CHECK(b.ok);
+  CHECK(b.k == doctest::Approx(1.5).epsilon(0.01));
+  CHECK(b.exponent == doctest::Approx(2.5).epsilon(0.01));
+  CHECK_FALSE(fit_line(std::vector<double>{1}, std::vector<double>{1}).ok);
+}
+
+TEST_CASE("a metric meets its target within the tolerance, and a NaN never does") {
+  Metric m{"x", "", 1.04, 1.0, 0.05, "ideal"};
+  CHECK(m.met());
+  CHECK(m.normalized_error() == doctest::Approx(0.8));
+  m.measured = 0.9;
+  CHECK_FALSE(m.met());
+  m.measured = std::nan("");
+  CHECK_FALSE(m.met());
+}
+
+TEST_CASE("run_suite and target_material reject bad names with the valid ones") {
+  const SuiteOptions o = quick_options("paper");
+  test::check_has(test::error_of<InvalidArgument>([&] { run_suite(o, {"cone", "nope"}); }), {"nope", "cone", "conservation"});
+  test::check_has(test::error_of<InvalidArgument>([&] { run_suite(o, {}); }), {"no test", "valid tests"});
+  test::check_has(test::error_of<InvalidArgument>([] { target_material("mud"); }), {"mud", "sand", "glass"});
+}
+
+// The quick cone and conservation tests on the default rule set (isotropic), asserting what the
+// model reaches today; docs/ACCURACY.md shows the gap to the targets (33 +- 2 deg,
+// r_max/r_min <= 1.05). The paper's rules fail the footprint checks (ratio 1.3, 2-fold 0.033).
+TEST_CASE("accuracy suite, quick, default rules: grains conserved, hashes agree, cone angle and footprint as measured") {
+  const std::string rules = WorldDef{}.rules;
+  REQUIRE(rules == "isotropic");
+  const SuiteReport r = run_suite(quick_options(rules), {"cone", "conservation"});
+  REQUIRE(r.tests.size() == 2);
+  const TestReport& cone = r.tests[0];
+  const TestReport& conservation = r.tests[1];
+  for (const Metric& m : cone.metrics) MESSAGE(rules << " cone " << m.name << " = " << m.measured);
+  CHECK(r.conserved());
+  CHECK(metric(conservation, "count_changes_random_scenes").measured == 0);
+  CHECK(metric(conservation, "hash_mismatches").measured == 0);
+  CHECK(metric(conservation, "tests_not_conserving").measured == 0);
+  // The staircase of a 45-degree rule measures 35 (diagonals) to 45 (axes) per bin: about 39 on average.
+  const double angle = metric(cone, "angle_of_repose").measured;
+  CHECK(angle > 36);
+  CHECK(angle < 41);
+  // Measured 1.10 (target 1.05); the random offset order removed the x/y ellipse (2-fold 0.002).
+  const double ratio = metric(cone, "r_max_over_r_min").measured;
+  CHECK(ratio >= 1.0);
+  CHECK(ratio < 1.15);
+  CHECK(metric(cone, "twofold_amplitude").measured < 0.01);
+  CHECK(metric(cone, "onefold_amplitude").measured < 0.01);
+  CHECK(metric(cone, "fourfold_amplitude").measured < 0.03);
+}
