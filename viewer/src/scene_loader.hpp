@@ -16,7 +16,7 @@ struct WorldChoice {
   std::string scene = "bowl";    ///< scene name, scene .json path, or .raw/.vox grid file
   int size = 0;                  ///< scene size parameter N (0: the scene's default)
   std::string backend = "auto";  ///< auto, cpu or cuda
-  std::string rules = "paper";   ///< rule-set preset
+  std::string rules = granular::WorldDef{}.rules;  ///< rule-set preset (the library's default)
   int threads = 0;               ///< CPU threads (0: all)
 };
 
