@@ -27,11 +27,16 @@ CellBuffer::CellBuffer(const VulkanContext& context, granular::Int3 size)
              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
              MemoryKind::DeviceLocal),
       staging_(context, VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT),
-      brick_lists_(context, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT) {
+      brick_lists_(context, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT),
+      gather_lists_(context, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT) {
   scatter_sets_ = std::make_unique<DescriptorSets>(
       context.device(), std::vector<VkDescriptorType>(3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER));
   scatter_sets_->write_buffer(0, cells_.buffer());
   scatter_ = std::make_unique<Pipeline>(context.device(), scatter_sets_->layout(), "cell_scatter.comp");
+  gather_sets_ = std::make_unique<DescriptorSets>(
+      context.device(), std::vector<VkDescriptorType>(3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER));
+  gather_sets_->write_buffer(0, cells_.buffer());
+  gather_ = std::make_unique<Pipeline>(context.device(), gather_sets_->layout(), "cell_gather.comp");
   context.run_once([&](VkCommandBuffer commands) { vkCmdFillBuffer(commands, cells_.buffer(), 0, VK_WHOLE_SIZE, 0); });
 }
 
@@ -91,6 +96,38 @@ std::uint64_t CellBuffer::record_upload(VkCommandBuffer commands, int slot, cons
                  VK_ACCESS_2_TRANSFER_WRITE_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
                  VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
   return uploaded;
+}
+
+std::uint64_t CellBuffer::record_copy_from(VkCommandBuffer commands, int slot, VkBuffer source,
+                                          std::span<const std::uint32_t> bricks) {
+  if (bricks.empty()) return 0;
+  const granular::Int3 counts = granular::brick_counts(size_);
+  const std::size_t total = std::size_t(counts.x) * counts.y * counts.z;
+  memory_barrier(commands, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT,
+                 VK_PIPELINE_STAGE_2_COPY_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                 VK_ACCESS_2_TRANSFER_WRITE_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+  std::uint64_t copied = 0;
+  if (bricks.size() * 2 >= total) {
+    const VkBufferCopy region{0, 0, cells_.size()};
+    vkCmdCopyBuffer(commands, source, cells_.buffer(), 1, &region);
+    copied = cells_.size();
+  } else {
+    gather_lists_.reserve(slot, bricks.size() * 4);
+    std::memcpy(gather_lists_.at(slot).mapped(), bricks.data(), bricks.size() * 4);
+    gather_sets_->write_buffer(slot, 1, gather_lists_.at(slot).buffer());
+    gather_sets_->write_buffer(slot, 2, source);
+    ViewConstants constants;
+    constants.grid = {size_.x, size_.y, size_.z, int(bricks.size())};
+    constants.bricks = {counts.x, counts.y, counts.z, 0};
+    gather_->bind(commands, VK_PIPELINE_BIND_POINT_COMPUTE, gather_sets_->set(slot));
+    vkCmdPushConstants(commands, gather_->layout(), VK_SHADER_STAGE_ALL, 0, sizeof(constants), &constants);
+    vkCmdDispatch(commands, std::uint32_t(bricks.size()), 1, 1);
+    copied = bricks.size() * kBrickCells;
+  }
+  memory_barrier(commands, VK_PIPELINE_STAGE_2_COPY_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                 VK_ACCESS_2_TRANSFER_WRITE_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+                 VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+  return copied;
 }
 
 }  // namespace viewer

@@ -44,6 +44,12 @@ class CellBuffer {
   /// Returns the bytes uploaded.
   std::uint64_t record_upload(VkCommandBuffer commands, int slot, const granular::World& world,
                               std::span<const std::uint32_t> bricks);
+  /// Records a device-side copy of the cells of `bricks` from `source` (a grid of the same size and
+  /// layout, e.g. the cells shared with CUDA, already readable by transfers and shaders): the
+  /// whole buffer when most bricks changed, else a gather pass over the listed bricks; barriers
+  /// order it after earlier readers and before later shader reads. Returns the bytes copied.
+  std::uint64_t record_copy_from(VkCommandBuffer commands, int slot, VkBuffer source,
+                                 std::span<const std::uint32_t> bricks);
 
  private:
   const VulkanContext& context_;
@@ -53,6 +59,9 @@ class CellBuffer {
   HostBufferSlots brick_lists_;
   std::unique_ptr<DescriptorSets> scatter_sets_;
   std::unique_ptr<Pipeline> scatter_;
+  HostBufferSlots gather_lists_;
+  std::unique_ptr<DescriptorSets> gather_sets_;
+  std::unique_ptr<Pipeline> gather_;
 };
 
 }  // namespace viewer

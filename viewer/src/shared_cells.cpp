@@ -163,7 +163,7 @@ VkSemaphore SharedCells::create_timeline(int& fd) {
   return semaphore;
 }
 
-void SharedCells::submit_snapshot(int slot, VkBuffer destination, VkDeviceSize bytes) {
+void SharedCells::submit_snapshot(int slot, const std::function<void(VkCommandBuffer, VkBuffer)>& record_copy) {
   const VkDevice device = context_.device();
   const granular::CellsHandoff handoff = world_.hand_off_cells();
   vk_check(vkWaitForFences(device, 1, &fences_[slot], VK_TRUE, UINT64_MAX), "vkWaitForFences (interop)");
@@ -173,42 +173,34 @@ void SharedCells::submit_snapshot(int slot, VkBuffer destination, VkDeviceSize b
   VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
   begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
   vk_check(vkBeginCommandBuffer(commands, &begin), "vkBeginCommandBuffer (interop)");
-  // Acquire the shared buffer from CUDA (queue family "external"); earlier readers of the
-  // destination (the previous frame's build and draw) finish before it is overwritten.
-  std::array<VkBufferMemoryBarrier2, 2> before{};
-  before[0] = whole_buffer_barrier(buffer_, VK_PIPELINE_STAGE_2_NONE, VK_ACCESS_2_NONE, VK_PIPELINE_STAGE_2_COPY_BIT,
-                                   VK_ACCESS_2_TRANSFER_READ_BIT);
-  before[0].srcQueueFamilyIndex = VK_QUEUE_FAMILY_EXTERNAL;
-  before[0].dstQueueFamilyIndex = context_.queue_family();
-  before[1] = whole_buffer_barrier(destination, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT,
-                                   VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
+  constexpr VkPipelineStageFlags2 kCopyStages = VK_PIPELINE_STAGE_2_COPY_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
+  // Acquire the shared buffer from CUDA (queue family "external") for transfers and shaders.
+  VkBufferMemoryBarrier2 acquire = whole_buffer_barrier(buffer_, VK_PIPELINE_STAGE_2_NONE, VK_ACCESS_2_NONE, kCopyStages,
+                                                        VK_ACCESS_2_TRANSFER_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+  acquire.srcQueueFamilyIndex = VK_QUEUE_FAMILY_EXTERNAL;
+  acquire.dstQueueFamilyIndex = context_.queue_family();
   VkDependencyInfo dependency{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-  dependency.bufferMemoryBarrierCount = std::uint32_t(before.size());
-  dependency.pBufferMemoryBarriers = before.data();
+  dependency.bufferMemoryBarrierCount = 1;
+  dependency.pBufferMemoryBarriers = &acquire;
   vkCmdPipelineBarrier2(commands, &dependency);
-  const VkBufferCopy region{0, 0, bytes};
-  vkCmdCopyBuffer(commands, buffer_, destination, 1, &region);
-  // Release the shared buffer back to CUDA; make the copy visible to every later shader read.
-  std::array<VkBufferMemoryBarrier2, 2> after{};
-  after[0] = whole_buffer_barrier(buffer_, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_NONE, VK_PIPELINE_STAGE_2_NONE,
-                                  VK_ACCESS_2_NONE);
-  after[0].srcQueueFamilyIndex = context_.queue_family();
-  after[0].dstQueueFamilyIndex = VK_QUEUE_FAMILY_EXTERNAL;
-  after[1] = whole_buffer_barrier(destination, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
-                                  VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
-  dependency.bufferMemoryBarrierCount = std::uint32_t(after.size());
-  dependency.pBufferMemoryBarriers = after.data();
+  record_copy(commands, buffer_);
+  // Release it back to CUDA (nothing was written: no access to make available).
+  VkBufferMemoryBarrier2 release =
+      whole_buffer_barrier(buffer_, kCopyStages, VK_ACCESS_2_NONE, VK_PIPELINE_STAGE_2_NONE, VK_ACCESS_2_NONE);
+  release.srcQueueFamilyIndex = context_.queue_family();
+  release.dstQueueFamilyIndex = VK_QUEUE_FAMILY_EXTERNAL;
+  dependency.pBufferMemoryBarriers = &release;
   vkCmdPipelineBarrier2(commands, &dependency);
   vk_check(vkEndCommandBuffer(commands), "vkEndCommandBuffer (interop)");
 
   VkSemaphoreSubmitInfo wait{VK_STRUCTURE_TYPE_SEMAPHORE_SUBMIT_INFO};
   wait.semaphore = cells_ready_;
   wait.value = handoff.wait_ready;
-  wait.stageMask = VK_PIPELINE_STAGE_2_COPY_BIT;
+  wait.stageMask = kCopyStages;
   VkSemaphoreSubmitInfo signal{VK_STRUCTURE_TYPE_SEMAPHORE_SUBMIT_INFO};
   signal.semaphore = cells_released_;
   signal.value = handoff.signal_released;
-  signal.stageMask = VK_PIPELINE_STAGE_2_COPY_BIT;
+  signal.stageMask = kCopyStages;
   VkCommandBufferSubmitInfo command_info{VK_STRUCTURE_TYPE_COMMAND_BUFFER_SUBMIT_INFO};
   command_info.commandBuffer = commands;
   VkSubmitInfo2 submit{VK_STRUCTURE_TYPE_SUBMIT_INFO_2};

@@ -3,14 +3,15 @@
 /// CUDA interop, Vulkan side: the World's cells live in Vulkan memory exported as an opaque fd
 /// (dedicated allocation where the driver asks for it), CUDA steps them in place, and two exported
 /// timeline semaphores order the simulation's writes with the renderer's reads. Each frame a small
-/// submission waits for the world's last write (cells_ready), snapshots the cells into the
-/// renderers' cell buffer with a device-to-device copy, and releases them (cells_released), so the
-/// next simulation step overlaps the frame's build and draw. No host copy of the grid.
+/// submission waits for the world's last write (cells_ready), copies the changed bricks into the
+/// renderers' cell buffer on the device, and releases the cells (cells_released), so the next
+/// simulation step overlaps the frame's build and draw. No host copy of the grid.
 
 #include <vulkan/vulkan.h>
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <optional>
 
 #include "frames_in_flight.hpp"
@@ -45,10 +46,11 @@ class SharedCells {
   /// True when the memory was allocated as a dedicated allocation.
   bool dedicated() const { return dedicated_; }
 
-  /// Submits, on the context's queue, a copy of the first `bytes` of the shared cells into
-  /// `destination` that waits for every write so far and then releases the cells to the world.
-  /// Later submissions on the queue see the copy after a transfer-to-shader barrier (recorded here).
-  void submit_snapshot(int slot, VkBuffer destination, VkDeviceSize bytes);
+  /// Submits, on the context's queue, a command buffer that waits for every write of the world so
+  /// far, acquires the shared buffer, lets `record_copy(commands, shared_buffer)` record the copy of
+  /// what the frame needs (transfers or compute reading the buffer), releases it and signals the
+  /// world that the cells are free again. `record_copy` records its own barriers for its destination.
+  void submit_snapshot(int slot, const std::function<void(VkCommandBuffer, VkBuffer)>& record_copy);
 
  private:
   void release() noexcept;

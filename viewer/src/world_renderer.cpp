@@ -63,7 +63,9 @@ FrameWork WorldRenderer::record(VkCommandBuffer commands, int slot, const Render
   FrameWork work;
   work.bricks_uploaded = changed.size();
   if (shared_) {
-    shared_->submit_snapshot(slot, cells_->buffer(), cells_->bytes());
+    shared_->submit_snapshot(slot, [&](VkCommandBuffer copy_commands, VkBuffer shared_cells) {
+      work.bytes_uploaded = cells_->record_copy_from(copy_commands, slot, shared_cells, changed);
+    });
   } else {
     work.bytes_uploaded = cells_->record_upload(commands, slot, world_, changed);
   }
