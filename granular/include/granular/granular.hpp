@@ -10,6 +10,7 @@
 #include "granular/grid_io.hpp"
 #include "granular/hex.hpp"
 #include "granular/material.hpp"
+#include "granular/raycast.hpp"
 #include "granular/scene.hpp"
 #include "granular/tools.hpp"
 #include "granular/vox_io.hpp"

@@ -1,0 +1,94 @@
+#include "cube_renderer.hpp"
+
+#include <cstring>
+#include <vector>
+
+#include "brick_set.hpp"
+#include "cell_buffer.hpp"
+#include "granular/activity.hpp"
+#include "vulkan_check.hpp"
+#include "vulkan_context.hpp"
+
+namespace viewer {
+namespace {
+
+constexpr VkDeviceSize kInstancesPerBrick = 4096;
+
+std::uint32_t total_of(granular::Int3 counts) { return std::uint32_t(counts.x) * counts.y * counts.z; }
+
+/// Throws a VulkanError suggesting the ray march when `bricks` instance slots or draw commands
+/// exceed what this device allows.
+std::uint32_t checked_bricks(const VulkanContext& context, std::uint32_t bricks) {
+  VkPhysicalDeviceMaintenance3Properties maintenance3{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_3_PROPERTIES};
+  VkPhysicalDeviceProperties2 properties{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+  properties.pNext = &maintenance3;
+  vkGetPhysicalDeviceProperties2(context.physical_device(), &properties);
+  const VkPhysicalDeviceLimits& limits = properties.properties.limits;
+  const VkDeviceSize instance_bytes = VkDeviceSize(bricks) * kInstancesPerBrick * 4;
+  if (instance_bytes > limits.maxStorageBufferRange || instance_bytes > maintenance3.maxMemoryAllocationSize ||
+      bricks > limits.maxDrawIndirectCount)
+    throw VulkanError("the grid is too large for the instanced-cube renderer on " + context.device_name() +
+                      " (instance buffer or draw count over the device's limits); use --renderer raymarch");
+  return bricks;
+}
+
+}  // namespace
+
+CubeRenderer::CubeRenderer(const VulkanContext& context, const CellBuffer& cells, VkRenderPass target_pass)
+    : context_(context),
+      cells_(cells),
+      brick_counts_(granular::brick_counts(cells.size())),
+      brick_total_(checked_bricks(context, total_of(brick_counts_))),
+      instances_(context, brick_total_ * kInstancesPerBrick * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryKind::DeviceLocal),
+      draws_(context, VkDeviceSize(brick_total_) * sizeof(VkDrawIndirectCommand),
+             VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+             MemoryKind::DeviceLocal),
+      brick_lists_(context, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT),
+      sets_(context.device(), std::vector<VkDescriptorType>(4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER)),
+      build_(context.device(), sets_.layout(), "cube_build.comp"),
+      draw_pipeline_(context.device(), sets_.layout(), target_pass, "cube.vert", "cube.frag") {
+  sets_.write_buffer(0, cells.buffer());
+  sets_.write_buffer(2, instances_.buffer());
+  sets_.write_buffer(3, draws_.buffer());
+  for (int slot = 0; slot < kFramesInFlight; ++slot) {
+    brick_lists_.reserve(slot, 4096);
+    sets_.write_buffer(slot, 1, brick_lists_.at(slot).buffer());
+  }
+}
+
+CubeRenderer::~CubeRenderer() = default;
+
+std::uint64_t CubeRenderer::prepare(VkCommandBuffer commands, const FrameView& view,
+                                    std::span<const std::uint32_t> changed_bricks) {
+  std::vector<std::uint32_t> every;
+  if (rebuild_all_) {
+    every = all_bricks(brick_counts_);
+    changed_bricks = every;
+    rebuild_all_ = false;
+  }
+  if (changed_bricks.empty()) return 0;
+  if (brick_lists_.reserve(view.slot, changed_bricks.size() * 4))
+    sets_.write_buffer(view.slot, 1, brick_lists_.at(view.slot).buffer());
+  std::memcpy(brick_lists_.at(view.slot).mapped(), changed_bricks.data(), changed_bricks.size() * 4);
+  // The previous frame's draw reads the instances and commands being rewritten.
+  memory_barrier(commands, VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT,
+                 VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT,
+                 VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+  ViewConstants constants = view.raster;
+  constants.grid.w = int(changed_bricks.size());
+  build_.bind(commands, VK_PIPELINE_BIND_POINT_COMPUTE, sets_.set(view.slot));
+  vkCmdPushConstants(commands, build_.layout(), VK_SHADER_STAGE_ALL, 0, sizeof(constants), &constants);
+  vkCmdDispatch(commands, std::uint32_t(changed_bricks.size()), 1, 1);
+  memory_barrier(commands, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                 VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT,
+                 VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+  return changed_bricks.size();
+}
+
+void CubeRenderer::draw(VkCommandBuffer commands, const FrameView& view) {
+  draw_pipeline_.bind(commands, VK_PIPELINE_BIND_POINT_GRAPHICS, sets_.set(view.slot));
+  vkCmdPushConstants(commands, draw_pipeline_.layout(), VK_SHADER_STAGE_ALL, 0, sizeof(ViewConstants), &view.raster);
+  vkCmdDrawIndirect(commands, draws_.buffer(), 0, brick_total_, sizeof(VkDrawIndirectCommand));
+}
+
+}  // namespace viewer

@@ -1,0 +1,70 @@
+#include "headless_session.hpp"
+
+#include <cstdio>
+#include <memory>
+#include <optional>
+
+#include "camera.hpp"
+#include "engine/clock.hpp"
+#include "engine/engine_loop.hpp"
+#include "engine/granular_subsystem.hpp"
+#include "offscreen_renderer.hpp"
+#include "png_writer.hpp"
+#include "render_subsystem.hpp"
+#include "renderer_factory.hpp"
+#include "sandbox_tools.hpp"
+#include "shared_cells.hpp"
+#include "vulkan_context.hpp"
+
+namespace viewer {
+
+int run_headless(const SandboxOptions& options) {
+  SandboxWorld sandbox = load_world(options.world);
+  granular::World& world = *sandbox.world;
+  ContextOptions context_options;
+  context_options.validation = options.validation;
+  const std::optional<ContextOptions> interop = options.no_interop ? std::nullopt : interop_context(world, context_options);
+  VulkanContext context(interop.value_or(context_options));
+  std::unique_ptr<SharedCells> shared;
+  if (interop) shared = std::make_unique<SharedCells>(context, world);
+  const OrbitCamera camera =
+      options.camera.empty() ? OrbitCamera::framing(world.size()) : OrbitCamera::parse(options.camera, world.size());
+  OffscreenRenderer offscreen(context, world,
+                              {std::uint32_t(options.width), std::uint32_t(options.height)},
+                              *parse_renderer_kind(options.renderer), shared.get());
+
+  // One fixed update per frame: the manual clock advances exactly one tick length per frame.
+  engine::ManualClock clock;
+  engine::EngineLoop loop(clock);
+  ToolSubsystem tools(world, sandbox.emitters);
+  engine::GranularSubsystem simulation(world, options.ticks_per_frame);
+  RenderSubsystem render([&] { offscreen.render(camera); });
+  loop.add(tools);
+  loop.add(simulation);
+  loop.add(render);
+  for (int frame = 0; frame < options.frames; ++frame) {
+    loop.run_frame();
+    clock.advance(loop.timestep().tick_seconds());
+  }
+  const GpuTimings gpu = offscreen.last_timings();
+  if (!options.screenshot.empty()) {
+    write_png(options.screenshot, offscreen.extent().width, offscreen.extent().height, offscreen.pixels());
+  }
+  offscreen.wait_idle();
+  const double ms_per_tick = world.tick() ? simulation.total_step_seconds() * 1e3 / double(world.tick()) : 0.0;
+  std::printf("device         %s\n", context.device_name().c_str());
+  std::printf("scene          %s (N=%d), backend %s\n", sandbox.scene_name.c_str(), sandbox.n, world.backend_description().c_str());
+  std::printf("renderer       %s, %dx%d\n", options.renderer.c_str(), options.width, options.height);
+  std::printf("cells          %s\n", shared ? (shared->dedicated() ? "shared with CUDA (dedicated allocation)" : "shared with CUDA")
+                                             : "uploaded through staging (changed bricks)");
+  std::printf("frames         %d, ticks %llu (%.3f ms/tick)\n", options.frames, static_cast<unsigned long long>(world.tick()), ms_per_tick);
+  std::printf("last frame gpu upload %.3f ms, build %.3f ms, draw %.3f ms\n", gpu.upload_ms, gpu.build_ms, gpu.draw_ms);
+  if (!options.screenshot.empty()) std::printf("screenshot     %s\n", options.screenshot.c_str());
+  std::printf("validation     %s, %llu messages\n", options.validation ? "on" : "off",
+              static_cast<unsigned long long>(context.validation_messages()));
+  const std::uint64_t messages = context.validation_messages();
+  sandbox.world.reset();  // the world stops using the shared memory before it is freed
+  return messages == 0 ? 0 : 1;
+}
+
+}  // namespace viewer

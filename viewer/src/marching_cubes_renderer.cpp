@@ -1,0 +1,117 @@
+#include "marching_cubes_renderer.hpp"
+
+#include <algorithm>
+#include <cstring>
+#include <vector>
+
+#include "brick_set.hpp"
+#include "cell_buffer.hpp"
+#include "granular/activity.hpp"
+#include "marching_cubes_tables.hpp"
+#include "vulkan_check.hpp"
+#include "vulkan_context.hpp"
+
+namespace viewer {
+namespace {
+
+constexpr VkDeviceSize kMaxTrianglesPerBrick = 3072;
+constexpr VkDeviceSize kVertexBytes = 8;
+
+/// Triangles per brick slot: 3072 (a rough surface through a brick needs ~1000), fewer when the
+/// vertex buffer would exceed what one storage buffer or allocation may hold on this device.
+std::uint32_t triangles_per_brick(const VulkanContext& context, std::uint32_t bricks) {
+  VkPhysicalDeviceMaintenance3Properties maintenance3{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_3_PROPERTIES};
+  VkPhysicalDeviceProperties2 properties{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+  properties.pNext = &maintenance3;
+  vkGetPhysicalDeviceProperties2(context.physical_device(), &properties);
+  const VkDeviceSize limit =
+      std::min<VkDeviceSize>(properties.properties.limits.maxStorageBufferRange, maintenance3.maxMemoryAllocationSize);
+  const VkDeviceSize fitting = limit / (VkDeviceSize(bricks) * 3 * kVertexBytes);
+  if (fitting < 256)
+    throw VulkanError("the grid is too large for the marching-cubes renderer on " + context.device_name() +
+                      " (vertex buffer over the device's storage-buffer limit); use --renderer raymarch");
+  return std::uint32_t(std::min(kMaxTrianglesPerBrick, fitting));
+}
+
+std::uint32_t total_of(granular::Int3 counts) { return std::uint32_t(counts.x) * counts.y * counts.z; }
+
+/// The case table as the shader reads it: 256 x (edge count, 15 edges).
+std::vector<std::uint32_t> gpu_case_table() {
+  std::vector<std::uint32_t> table(256 * 16, 0);
+  for (int mask = 0; mask < 256; ++mask) {
+    const MarchingCase& c = marching_cases()[mask];
+    table[mask * 16] = c.edge_count;
+    for (std::uint32_t k = 0; k < c.edge_count; ++k) table[mask * 16 + 1 + k] = c.edges[k];
+  }
+  return table;
+}
+
+}  // namespace
+
+MarchingCubesRenderer::MarchingCubesRenderer(const VulkanContext& context, const CellBuffer& cells, VkRenderPass target_pass)
+    : brick_counts_(granular::brick_counts(cells.size())),
+      brick_total_(total_of(brick_counts_)),
+      triangles_per_brick_(triangles_per_brick(context, brick_total_)),
+      vertices_(context, VkDeviceSize(brick_total_) * triangles_per_brick_ * 3 * kVertexBytes,
+                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryKind::DeviceLocal),
+      draws_(context, VkDeviceSize(brick_total_) * sizeof(VkDrawIndirectCommand),
+             VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, MemoryKind::DeviceLocal),
+      cases_(context, 256 * 16 * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+             MemoryKind::DeviceLocal),
+      brick_lists_(context, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT),
+      sets_(context.device(), std::vector<VkDescriptorType>(5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER)),
+      build_(context.device(), sets_.layout(), "mc_build.comp"),
+      draw_pipeline_(context.device(), sets_.layout(), target_pass, "mc.vert", "mc.frag") {
+  const std::vector<std::uint32_t> table = gpu_case_table();
+  GpuBuffer staging(context, table.size() * 4, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryKind::HostVisible);
+  std::memcpy(staging.mapped(), table.data(), table.size() * 4);
+  context.run_once([&](VkCommandBuffer commands) {
+    const VkBufferCopy region{0, 0, table.size() * 4};
+    vkCmdCopyBuffer(commands, staging.buffer(), cases_.buffer(), 1, &region);
+  });
+  sets_.write_buffer(0, cells.buffer());
+  sets_.write_buffer(2, vertices_.buffer());
+  sets_.write_buffer(3, draws_.buffer());
+  sets_.write_buffer(4, cases_.buffer());
+  for (int slot = 0; slot < kFramesInFlight; ++slot) {
+    brick_lists_.reserve(slot, 4096);
+    sets_.write_buffer(slot, 1, brick_lists_.at(slot).buffer());
+  }
+}
+
+MarchingCubesRenderer::~MarchingCubesRenderer() = default;
+
+std::uint64_t MarchingCubesRenderer::prepare(VkCommandBuffer commands, const FrameView& view,
+                                             std::span<const std::uint32_t> changed_bricks) {
+  std::vector<std::uint32_t> every;
+  if (rebuild_all_) {
+    every = all_bricks(brick_counts_);
+    changed_bricks = every;
+    rebuild_all_ = false;
+  }
+  if (changed_bricks.empty()) return 0;
+  if (brick_lists_.reserve(view.slot, changed_bricks.size() * 4))
+    sets_.write_buffer(view.slot, 1, brick_lists_.at(view.slot).buffer());
+  std::memcpy(brick_lists_.at(view.slot).mapped(), changed_bricks.data(), changed_bricks.size() * 4);
+  memory_barrier(commands, VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT,
+                 VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT,
+                 VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+  ViewConstants constants = view.raster;
+  constants.grid.w = int(changed_bricks.size());
+  constants.bricks.w = int(triangles_per_brick_);
+  build_.bind(commands, VK_PIPELINE_BIND_POINT_COMPUTE, sets_.set(view.slot));
+  vkCmdPushConstants(commands, build_.layout(), VK_SHADER_STAGE_ALL, 0, sizeof(constants), &constants);
+  vkCmdDispatch(commands, std::uint32_t(changed_bricks.size()), 1, 1);
+  memory_barrier(commands, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                 VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT,
+                 VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+  return changed_bricks.size();
+}
+
+void MarchingCubesRenderer::draw(VkCommandBuffer commands, const FrameView& view) {
+  draw_pipeline_.bind(commands, VK_PIPELINE_BIND_POINT_GRAPHICS, sets_.set(view.slot));
+  vkCmdPushConstants(commands, draw_pipeline_.layout(), VK_SHADER_STAGE_ALL, 0, sizeof(ViewConstants), &view.raster);
+  vkCmdDrawIndirect(commands, draws_.buffer(), 0, brick_total_, sizeof(VkDrawIndirectCommand));
+}
+
+}  // namespace viewer

@@ -1,0 +1,52 @@
+#pragma once
+/// @file marching_cubes_renderer.hpp
+/// Marching cubes: a compute pass meshes, per brick, the iso-surface of the non-void density into
+/// the brick's fixed slot of the vertex buffer (3072 triangles a brick, fewer where the device's
+/// buffer limits require; a brick's excess triangles are dropped) and writes the
+/// brick's indirect draw command; one multi-draw-indirect draws every brick. Only the bricks that
+/// changed (and their neighbours) are re-meshed.
+
+#include "gpu_buffer.hpp"
+#include "granular/geometry.hpp"
+#include "host_buffer_slots.hpp"
+#include "pipeline_builder.hpp"
+#include "renderer.hpp"
+
+namespace viewer {
+
+class VulkanContext;
+class CellBuffer;
+
+/// The marching-cubes renderer.
+class MarchingCubesRenderer final : public Renderer {
+ public:
+  /// Reads `cells` (which must outlive it) and draws into passes compatible with `target_pass`.
+  MarchingCubesRenderer(const VulkanContext& context, const CellBuffer& cells, VkRenderPass target_pass);
+  /// Destroys its Vulkan objects (after the GPU is done with them).
+  ~MarchingCubesRenderer() override;
+
+  /// See Renderer (renderer.hpp).
+  RendererKind kind() const override { return RendererKind::Marching; }
+  /// See Renderer (renderer.hpp).
+  void invalidate() override { rebuild_all_ = true; }
+  /// See Renderer (renderer.hpp).
+  std::uint64_t prepare(VkCommandBuffer commands, const FrameView& view,
+                        std::span<const std::uint32_t> changed_bricks) override;
+  /// See Renderer (renderer.hpp).
+  void draw(VkCommandBuffer commands, const FrameView& view) override;
+
+ private:
+  granular::Int3 brick_counts_;
+  std::uint32_t brick_total_;
+  std::uint32_t triangles_per_brick_;
+  GpuBuffer vertices_;
+  GpuBuffer draws_;
+  GpuBuffer cases_;
+  HostBufferSlots brick_lists_;
+  DescriptorSets sets_;
+  Pipeline build_;
+  Pipeline draw_pipeline_;
+  bool rebuild_all_ = true;
+};
+
+}  // namespace viewer

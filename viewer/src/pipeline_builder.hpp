@@ -1,0 +1,77 @@
+#pragma once
+/// @file pipeline_builder.hpp
+/// Descriptor sets (one per frame slot) and compute / graphics pipelines over them, all using the
+/// ViewConstants push constants.
+
+#include <vulkan/vulkan.h>
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "frames_in_flight.hpp"
+
+namespace viewer {
+
+/// One descriptor set layout with a set per frame slot.
+class DescriptorSets {
+ public:
+  /// Bindings 0..types.size()-1 of the given types, visible to every shader stage.
+  DescriptorSets(VkDevice device, const std::vector<VkDescriptorType>& types);
+  /// Destroys its Vulkan objects (after the GPU is done with them).
+  ~DescriptorSets();
+  DescriptorSets(const DescriptorSets&) = delete;
+  DescriptorSets& operator=(const DescriptorSets&) = delete;
+
+  /// The layout.
+  VkDescriptorSetLayout layout() const { return layout_; }
+  /// The set of frame slot `slot`.
+  VkDescriptorSet set(int slot) const { return sets_[slot]; }
+  /// Points `binding` of every slot's set at the whole of `buffer` (a storage buffer).
+  void write_buffer(int binding, VkBuffer buffer);
+  /// Points `binding` of slot `slot`'s set at the whole of `buffer` (a storage buffer).
+  void write_buffer(int slot, int binding, VkBuffer buffer);
+  /// Points `binding` of every slot's set at `view`, a storage image in GENERAL layout.
+  void write_storage_image(int binding, VkImageView view);
+
+ private:
+  VkDevice device_;
+  VkDescriptorSetLayout layout_ = VK_NULL_HANDLE;
+  VkDescriptorPool pool_ = VK_NULL_HANDLE;
+  std::array<VkDescriptorSet, kFramesInFlight> sets_{};
+};
+
+/// How a graphics pipeline rasterises.
+struct GraphicsOptions {
+  VkCullModeFlags cull = VK_CULL_MODE_BACK_BIT;  ///< faces culled
+};
+
+/// A pipeline and its layout (one descriptor set, ViewConstants push constants).
+class Pipeline {
+ public:
+  /// A compute pipeline from shader `compute` ("cube_build.comp").
+  Pipeline(VkDevice device, VkDescriptorSetLayout set_layout, const std::string& compute);
+  /// A graphics pipeline (triangle lists, no vertex input, depth test) for `render_pass`.
+  Pipeline(VkDevice device, VkDescriptorSetLayout set_layout, VkRenderPass render_pass, const std::string& vertex,
+           const std::string& fragment, const GraphicsOptions& options = {});
+  /// Destroys its Vulkan objects (after the GPU is done with them).
+  ~Pipeline();
+  Pipeline(const Pipeline&) = delete;
+  Pipeline& operator=(const Pipeline&) = delete;
+
+  /// The pipeline.
+  VkPipeline pipeline() const { return pipeline_; }
+  /// Its layout.
+  VkPipelineLayout layout() const { return layout_; }
+  /// Binds the pipeline and `set` at `bind_point`.
+  void bind(VkCommandBuffer commands, VkPipelineBindPoint bind_point, VkDescriptorSet set) const;
+
+ private:
+  void create_layout(VkDescriptorSetLayout set_layout);
+
+  VkDevice device_;
+  VkPipelineLayout layout_ = VK_NULL_HANDLE;
+  VkPipeline pipeline_ = VK_NULL_HANDLE;
+};
+
+}  // namespace viewer

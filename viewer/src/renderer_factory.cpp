@@ -1,0 +1,34 @@
+#include "renderer_factory.hpp"
+
+#include "cube_renderer.hpp"
+#include "marching_cubes_renderer.hpp"
+#include "raymarch_renderer.hpp"
+
+namespace viewer {
+
+const char* to_string(RendererKind kind) {
+  switch (kind) {
+    case RendererKind::Cubes: return "cubes";
+    case RendererKind::Marching: return "marching";
+    case RendererKind::Raymarch: return "raymarch";
+  }
+  return "?";
+}
+
+std::unique_ptr<Renderer> make_renderer(RendererKind kind, const VulkanContext& context, const CellBuffer& cells,
+                                        VkRenderPass target_pass) {
+  switch (kind) {
+    case RendererKind::Cubes: return std::make_unique<CubeRenderer>(context, cells, target_pass);
+    case RendererKind::Marching: return std::make_unique<MarchingCubesRenderer>(context, cells, target_pass);
+    case RendererKind::Raymarch: return std::make_unique<RaymarchRenderer>(context, cells);
+  }
+  return nullptr;
+}
+
+std::optional<RendererKind> parse_renderer_kind(std::string_view name) {
+  for (RendererKind kind : {RendererKind::Cubes, RendererKind::Marching, RendererKind::Raymarch})
+    if (name == to_string(kind)) return kind;
+  return std::nullopt;
+}
+
+}  // namespace viewer

@@ -1,0 +1,23 @@
+#pragma once
+/// @file renderer_factory.hpp
+/// Creates a renderer by kind and names the kinds; the one place a new renderer is registered.
+
+#include <memory>
+#include <optional>
+#include <string_view>
+
+#include "renderer.hpp"
+
+namespace viewer {
+
+class VulkanContext;
+class CellBuffer;
+
+/// A renderer of `kind` reading `cells`, drawing into passes compatible with `target_pass`.
+std::unique_ptr<Renderer> make_renderer(RendererKind kind, const VulkanContext& context, const CellBuffer& cells,
+                                        VkRenderPass target_pass);
+
+/// The kind named `name` ("cubes", "marching", "raymarch"), or nothing.
+std::optional<RendererKind> parse_renderer_kind(std::string_view name);
+
+}  // namespace viewer

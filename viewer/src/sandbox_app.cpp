@@ -1,0 +1,349 @@
+#include "sandbox_app.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <vector>
+
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+#include <imgui.h>
+
+#include "camera.hpp"
+#include "controls.hpp"
+#include "engine/clock.hpp"
+#include "engine/engine_loop.hpp"
+#include "engine/granular_subsystem.hpp"
+#include "glfw_window.hpp"
+#include "granular/raycast.hpp"
+#include "granular/scene.hpp"
+#include "hud.hpp"
+#include "input_tracker.hpp"
+#include "pausable_subsystem.hpp"
+#include "png_writer.hpp"
+#include "renderer_factory.hpp"
+#include "sandbox_tools.hpp"
+#include "shared_cells.hpp"
+#include "granular/external_memory.hpp"
+#include "swapchain.hpp"
+#include "vulkan_context.hpp"
+#include "world_renderer.hpp"
+
+namespace viewer {
+namespace {
+
+/// What a scene reset rebuilds: the world and the subsystems that borrow it.
+struct Session {
+  std::unique_ptr<SharedCells> shared;  ///< CUDA interop; declared first so the world goes first
+  SandboxWorld sandbox;
+  std::unique_ptr<ToolSubsystem> tools;
+  std::unique_ptr<engine::GranularSubsystem> simulation;
+  std::unique_ptr<PausableSubsystem> pausable;
+};
+
+enum class Brush { Sand, Solid };
+
+/// The windowed sandbox: an engine subsystem (input and camera in update(), drawing in render())
+/// next to the tools and the simulation.
+class SandboxApp final : public engine::Subsystem {
+ public:
+  explicit SandboxApp(const SandboxOptions& options)
+      : engine::Subsystem("sandbox"),
+        options_(options),
+        window_(options.width, options.height, "granular sandbox"),
+        context_(context_options(options, window_)),
+        swapchain_(context_, window_.framebuffer_extent()),
+        input_(window_.handle()),
+        hud_(context_, window_, swapchain_.target().compatible_pass(), swapchain_.min_image_count(), swapchain_.image_count()),
+        kind_(*parse_renderer_kind(options.renderer)),
+        requested_extent_(window_.framebuffer_extent()) {
+    load(options.world);
+    camera_ = options.camera.empty() ? OrbitCamera::framing(world().size()) : OrbitCamera::parse(options.camera, world().size());
+  }
+
+  int run() {
+    std::uint64_t frames = 0;
+    while (!window_.should_close()) {
+      glfwPollEvents();
+      loop_->run_frame();
+      ++frames;
+      if (options_.frames > 0 && frames >= std::uint64_t(options_.frames)) break;
+      if (pending_load_) {
+        pending_load_ = false;
+        const bool same_size = choice_.scene == session_->sandbox.scene_name && choice_.size == session_->sandbox.n;
+        load(choice_);
+        if (!same_size) camera_ = OrbitCamera::framing(world().size());
+      }
+    }
+    vkDeviceWaitIdle(context_.device());
+    if (!options_.screenshot.empty()) {
+      const RenderTarget& target = swapchain_.target();
+      write_png(options_.screenshot, target.extent().width, target.extent().height,
+                target.read_pixels(context_, swapchain_.last_presented(), VK_IMAGE_LAYOUT_PRESENT_SRC_KHR));
+      std::printf("screenshot     %s\n", options_.screenshot.c_str());
+    }
+    std::printf("frames         %llu\n", static_cast<unsigned long long>(frames));
+    std::printf("validation     %s, %llu messages\n", options_.validation ? "on" : "off",
+                static_cast<unsigned long long>(context_.validation_messages()));
+    return context_.validation_messages() == 0 ? 0 : 1;
+  }
+
+  void update(double frame_seconds) override {
+    input_.sample();
+    frame_seconds_ = frame_seconds;
+    if (frame_seconds > 0) fps_ = fps_ * 0.95 + 0.05 / frame_seconds;
+    handle_keys(frame_seconds);
+    handle_mouse();
+    pick();
+  }
+
+  void render(double) override {
+    const VkExtent2D extent = window_.framebuffer_extent();
+    if (extent.width == 0 || extent.height == 0) return;  // minimised
+    // Recreate when the window's size changed since the swapchain was made for it (compared with
+    // the size asked for: the surface may round it).
+    if (extent.width != requested_extent_.width || extent.height != requested_extent_.height) recreate_swapchain(extent);
+    const std::optional<AcquiredFrame> frame = swapchain_.begin_frame();
+    if (!frame) {
+      recreate_swapchain(extent);
+      return;
+    }
+    gpu_ = renderer_->timings(frame->slot);
+    hud_.begin();
+    draw_panel();
+    BrushView brush;
+    brush.visible = session_->tools->state().target.has_value();
+    if (brush.visible) {
+      const granular::Vec3 t = *session_->tools->state().target;
+      brush.center = glm::vec3(t.x, t.y, t.z);
+      brush.radius = float(session_->tools->state().radius);
+    }
+    renderer_->record(frame->commands, frame->slot, swapchain_.target(), frame->image_index, VK_IMAGE_LAYOUT_UNDEFINED,
+                      camera_, brush, [&](VkCommandBuffer commands) { hud_.record(commands); });
+    if (!swapchain_.end_frame(*frame)) recreate_swapchain(window_.framebuffer_extent());
+  }
+
+ private:
+  static ContextOptions context_options(const SandboxOptions& options, const GlfwWindow& window) {
+    ContextOptions result;
+    result.validation = options.validation;
+    // CUDA interop when the world will run on the CUDA backend: same GPU, exportable memory.
+    if (!options.no_interop && options.world.backend != "cpu") {
+      if (const auto uuid = granular::cuda_device_uuid()) {
+        result.external_memory = true;
+        result.device_uuid = *uuid;
+      }
+    }
+    result.instance_extensions = window.required_instance_extensions();
+    result.make_surface = [&window](VkInstance instance) { return window.create_surface(instance); };
+    return result;
+  }
+
+  granular::World& world() { return *session_->sandbox.world; }
+
+  void load(const WorldChoice& choice) {
+    vkDeviceWaitIdle(context_.device());
+    loop_.reset();
+    renderer_.reset();
+    const int ticks = session_ ? session_->simulation->ticks_per_fixed_update() : options_.ticks_per_frame;
+    const bool paused = session_ && session_->pausable->paused();
+    const ToolState tool_state = session_ ? session_->tools->state() : ToolState{};
+    session_.reset();
+    auto session = std::make_unique<Session>();
+    session->sandbox = load_world(choice);
+    if (context_.external_memory() && session->sandbox.world->backend() == granular::BackendKind::Cuda)
+      session->shared = std::make_unique<SharedCells>(context_, *session->sandbox.world);
+    session->tools = std::make_unique<ToolSubsystem>(*session->sandbox.world, session->sandbox.emitters);
+    session->tools->state() = tool_state;
+    session->tools->state().held = false;
+    session->simulation = std::make_unique<engine::GranularSubsystem>(*session->sandbox.world, ticks);
+    session->pausable = std::make_unique<PausableSubsystem>(*session->simulation);
+    session->pausable->set_paused(paused);
+    session_ = std::move(session);
+    choice_ = choice;
+    choice_.scene = session_->sandbox.scene_name;
+    choice_.size = session_->sandbox.n;
+    renderer_ = std::make_unique<WorldRenderer>(context_, world(), swapchain_.target().compatible_pass(), kind_,
+                                                session_->shared.get());
+    engine::FixedTimestepConfig timestep;
+    timestep.tick_rate_hz = 60.0;
+    timestep.max_ticks_per_frame = 4;
+    loop_ = std::make_unique<engine::EngineLoop>(clock_, timestep);
+    loop_->add(*session_->tools);
+    loop_->add(*session_->pausable);
+    loop_->add(*this);
+    counts_age_ = 1e9;
+  }
+
+  void recreate_swapchain(VkExtent2D extent) {
+    if (extent.width == 0 || extent.height == 0) return;
+    requested_extent_ = extent;
+    swapchain_.recreate(extent);
+    renderer_->set_target_pass(swapchain_.target().compatible_pass());
+    hud_.set_min_image_count(swapchain_.min_image_count());
+  }
+
+  void set_renderer(RendererKind kind) {
+    kind_ = kind;
+    renderer_->set_kind(kind);
+  }
+
+  void handle_keys(double seconds) {
+    if (hud_.wants_keyboard()) return;
+    ToolState& tool = session_->tools->state();
+    const float speed = camera_.distance * float(seconds);
+    const float forward = float(input_.held(GLFW_KEY_W) - input_.held(GLFW_KEY_S));
+    const float right = float(input_.held(GLFW_KEY_D) - input_.held(GLFW_KEY_A));
+    const float up = float(input_.held(GLFW_KEY_E) - input_.held(GLFW_KEY_Q));
+    if (forward != 0 || right != 0 || up != 0) camera_.fly(forward * speed, right * speed, up * speed);
+    if (input_.held(GLFW_KEY_Z)) camera_.zoom(float(std::pow(0.4, seconds)));
+    if (input_.held(GLFW_KEY_X)) camera_.zoom(float(std::pow(2.5, seconds)));
+    if (input_.pressed(GLFW_KEY_F)) camera_ = OrbitCamera::framing(world().size());
+    if (input_.pressed(GLFW_KEY_TAB)) brush_ = brush_ == Brush::Sand ? Brush::Solid : Brush::Sand;
+    if (input_.pressed(GLFW_KEY_1)) tool.pour_material = granular::Material::Granular;
+    if (input_.pressed(GLFW_KEY_2)) tool.pour_material = granular::Material::Liquid;
+    if (input_.pressed(GLFW_KEY_3)) tool.pour_material = granular::Material::Gas;
+    if (input_.pressed(GLFW_KEY_SPACE)) session_->pausable->set_paused(!session_->pausable->paused());
+    if (input_.pressed(GLFW_KEY_N)) session_->pausable->step();
+    if (input_.pressed(GLFW_KEY_LEFT_BRACKET)) change_ticks(-1);
+    if (input_.pressed(GLFW_KEY_RIGHT_BRACKET)) change_ticks(+1);
+    if (input_.pressed(GLFW_KEY_C)) set_renderer(RendererKind((int(kind_) + 1) % 3));
+    if (input_.pressed(GLFW_KEY_R)) pending_load_ = true;
+    if (input_.pressed(GLFW_KEY_ESCAPE)) glfwSetWindowShouldClose(window_.handle(), GLFW_TRUE);
+  }
+
+  void change_ticks(int delta) {
+    const int ticks = std::clamp(session_->simulation->ticks_per_fixed_update() + delta, 1, 64);
+    session_->simulation->set_ticks_per_fixed_update(ticks);
+  }
+
+  void handle_mouse() {
+    ToolState& tool = session_->tools->state();
+    tool.held = false;
+    if (hud_.wants_mouse()) return;
+    const bool alt = input_.held(GLFW_KEY_LEFT_ALT) || input_.held(GLFW_KEY_RIGHT_ALT);
+    const bool shift = input_.held(GLFW_KEY_LEFT_SHIFT) || input_.held(GLFW_KEY_RIGHT_SHIFT);
+    const bool ctrl = input_.held(GLFW_KEY_LEFT_CONTROL) || input_.held(GLFW_KEY_RIGHT_CONTROL);
+    const float dx = float(input_.dx()), dy = float(input_.dy());
+    const bool middle = input_.button(GLFW_MOUSE_BUTTON_MIDDLE);
+    const bool left = input_.button(GLFW_MOUSE_BUTTON_LEFT);
+    const bool right = input_.button(GLFW_MOUSE_BUTTON_RIGHT);
+    if (middle && shift) camera_.pan(dx, dy);
+    else if (middle || (left && alt)) camera_.orbit(dx, dy);
+    if (input_.scroll() != 0) {
+      if (ctrl) camera_.zoom(float(std::pow(0.9, input_.scroll())));
+      else tool.radius = std::clamp(tool.radius + input_.scroll(), 1.0, 64.0);
+    }
+    if (left && !alt) {
+      tool.tool = brush_ == Brush::Sand ? Tool::Dig : Tool::Erase;
+      tool.held = true;
+    } else if (right) {
+      tool.tool = brush_ == Brush::Sand ? Tool::Pour : Tool::Place;
+      tool.held = true;
+    }
+  }
+
+  void pick() {
+    ToolState& tool = session_->tools->state();
+    tool.target.reset();
+    tool.target_in_front.reset();
+    if (hud_.wants_mouse()) return;
+    const VkExtent2D extent = swapchain_.target().extent();
+    const Ray ray = ray_through_pixel(camera_, float(input_.x()), float(input_.y()), float(extent.width), float(extent.height));
+    const auto hit = granular::raycast(world(), {ray.origin.x, ray.origin.y, ray.origin.z},
+                                       {ray.direction.x, ray.direction.y, ray.direction.z});
+    if (!hit) return;
+    tool.target = hit->point;
+    const granular::Int3 front = hit->in_front();
+    tool.target_in_front = granular::Vec3{front.x + 0.5, front.y + 0.5, front.z + 0.5};
+  }
+
+  void draw_panel() {
+    counts_age_ += frame_seconds_;
+    if (counts_age_ > 0.5) {
+      counts_ = world().count();
+      counts_age_ = 0;
+    }
+    const ToolState& tool = session_->tools->state();
+    ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(440, 0), ImGuiCond_FirstUseEver);
+    ImGui::Begin("granular sandbox");
+    ImGui::Text("%.1f FPS, frame %.2f ms", fps_, frame_seconds_ * 1e3);
+    const int ticks = session_->simulation->ticks_per_fixed_update();
+    ImGui::Text("simulation %.3f ms/tick (%d ticks per fixed update)", session_->simulation->last_step_seconds() * 1e3 / ticks, ticks);
+    ImGui::Text("gpu: upload %.2f  build %.2f  draw %.2f ms", gpu_.upload_ms, gpu_.build_ms, gpu_.draw_ms);
+    ImGui::Text("backend %s, cells %s", world().backend_description().c_str(),
+                session_->shared ? "shared with CUDA" : "uploaded (changed bricks)");
+    const granular::ActivityStats activity = world().activity();
+    ImGui::Text("active bricks %llu / %llu, tick %llu", static_cast<unsigned long long>(activity.active_bricks),
+                static_cast<unsigned long long>(activity.total_bricks), static_cast<unsigned long long>(world().tick()));
+    for (int m = 1; m < granular::kMaterialCount; ++m)
+      if (counts_[m]) ImGui::Text("  %-9s %llu", std::string(granular::material_name(granular::Material(m))).c_str(),
+                                  static_cast<unsigned long long>(counts_[m]));
+    ImGui::Separator();
+    ImGui::Text("brush: %s (left %s, right %s), radius %.0f", brush_ == Brush::Sand ? "sand" : "solid",
+                brush_ == Brush::Sand ? "dig" : "erase", brush_ == Brush::Sand ? "pour" : "place", tool.radius);
+    ImGui::Text("active tool: %s", tool.held ? to_string(tool.tool) : "none");
+    ImGui::Text("pour material: %s", std::string(granular::material_name(tool.pour_material)).c_str());
+    int kind = int(kind_);
+    ImGui::Text("renderer");
+    for (RendererKind k : {RendererKind::Cubes, RendererKind::Marching, RendererKind::Raymarch}) {
+      ImGui::SameLine();
+      if (ImGui::RadioButton(to_string(k), kind == int(k))) set_renderer(k);
+    }
+    bool paused = session_->pausable->paused();
+    if (ImGui::Checkbox("paused", &paused)) session_->pausable->set_paused(paused);
+    ImGui::SameLine();
+    if (ImGui::Button("step")) session_->pausable->step();
+    int ticks_value = ticks;
+    if (ImGui::SliderInt("ticks/update", &ticks_value, 1, 64)) session_->simulation->set_ticks_per_fixed_update(ticks_value);
+    const std::vector<std::string> scenes = granular::list_scenes();
+    if (ImGui::BeginCombo("scene", session_->sandbox.scene_name.c_str())) {
+      for (const std::string& name : scenes)
+        if (ImGui::Selectable(name.c_str(), name == session_->sandbox.scene_name)) {
+          choice_.scene = name;
+          choice_.size = options_.world.size;
+          pending_load_ = true;
+        }
+      ImGui::EndCombo();
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("reset")) pending_load_ = true;
+    if (ImGui::CollapsingHeader("controls"))
+      for (const Control& control : kControls) ImGui::BulletText("%s: %s", control.input, control.action);
+    ImGui::End();
+  }
+
+  SandboxOptions options_;
+  GlfwWindow window_;
+  VulkanContext context_;
+  Swapchain swapchain_;
+  InputTracker input_;
+  Hud hud_;
+  RendererKind kind_;
+  VkExtent2D requested_extent_;
+  engine::SteadyClock clock_;
+  std::unique_ptr<Session> session_;
+  std::unique_ptr<WorldRenderer> renderer_;
+  std::unique_ptr<engine::EngineLoop> loop_;
+  OrbitCamera camera_;
+  WorldChoice choice_;
+  bool pending_load_ = false;
+  Brush brush_ = Brush::Sand;
+  double frame_seconds_ = 0;
+  double fps_ = 0;
+  double counts_age_ = 1e9;
+  granular::MaterialCounts counts_{};
+  GpuTimings gpu_;
+};
+
+}  // namespace
+
+int run_windowed(const SandboxOptions& options) {
+  SandboxApp app(options);
+  return app.run();
+}
+
+}  // namespace viewer

@@ -1,0 +1,42 @@
+#include "sandbox_options.hpp"
+
+#include <CLI/CLI.hpp>
+#include <stdexcept>
+
+#include "renderer_factory.hpp"
+
+namespace viewer {
+
+void add_sandbox_options(CLI::App& app, SandboxOptions& o) {
+#ifndef NDEBUG
+  o.validation = true;
+#endif
+  app.add_option("--scene", o.world.scene, "scene name from assets/scenes, a scene .json, or a .raw/.vox grid");
+  app.add_option("--size", o.world.size, "scene size parameter N (0: the scene's default)");
+  app.add_option("--backend", o.world.backend, "auto, cpu or cuda");
+  app.add_option("--rules", o.world.rules, "rule-set preset (paper, isotropic)");
+  app.add_option("--threads", o.world.threads, "CPU backend threads (0: all)");
+  app.add_flag("--headless", o.headless, "render offscreen, no window, no display needed");
+  app.add_option("--frames", o.frames, "frames to run (headless; windowed: 0 = until the window closes)");
+  app.add_option("--screenshot", o.screenshot, "write the last frame to this PNG (headless, or windowed with --frames)");
+  app.add_option("--camera", o.camera, "yaw,pitch,distance[,tx,ty,tz]: degrees, distance and target as fractions of the grid");
+  app.add_option("--renderer", o.renderer, "cubes, marching or raymarch");
+  app.add_option("--ticks-per-frame", o.ticks_per_frame, "world ticks per fixed update");
+  app.add_option("--width", o.width, "image width in pixels");
+  app.add_option("--height", o.height, "image height in pixels");
+  app.add_flag("--validation,!--no-validation", o.validation, "Vulkan validation layers (default on in debug builds)");
+  app.add_flag("--no-interop", o.no_interop, "with --backend cuda: copy the cells through the host instead of sharing them");
+}
+
+void validate(const SandboxOptions& o) {
+  if (o.frames < 0) throw std::invalid_argument("--frames must be >= 0, got " + std::to_string(o.frames));
+  if (o.headless && o.frames < 1) throw std::invalid_argument("--frames must be >= 1 with --headless");
+  if (o.ticks_per_frame < 1) throw std::invalid_argument("--ticks-per-frame must be >= 1, got " + std::to_string(o.ticks_per_frame));
+  if (o.width < 16 || o.height < 16 || o.width > 16384 || o.height > 16384)
+    throw std::invalid_argument("--width/--height must be in 16..16384, got " + std::to_string(o.width) + "x" + std::to_string(o.height));
+  if (!parse_renderer_kind(o.renderer)) throw std::invalid_argument("--renderer '" + o.renderer + "': expected cubes, marching or raymarch");
+  if (!o.screenshot.empty() && !o.headless && o.frames < 1)
+    throw std::invalid_argument("--screenshot in a window needs --frames N (the frame to capture)");
+}
+
+}  // namespace viewer

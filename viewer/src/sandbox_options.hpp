@@ -1,0 +1,36 @@
+#pragma once
+/// @file sandbox_options.hpp
+/// The command line of granular-sandbox.
+
+#include <string>
+
+#include "scene_loader.hpp"
+
+namespace CLI {
+class App;
+}
+
+namespace viewer {
+
+/// Everything the command line sets.
+struct SandboxOptions {
+  WorldChoice world;              ///< scene, size, backend, rules, threads
+  bool headless = false;          ///< render offscreen with no window (no GLFW at all)
+  int frames = 60;                ///< headless: frames to render (0 in windowed mode: until closed)
+  std::string screenshot;         ///< PNG of the last frame (headless, or windowed with --frames)
+  std::string camera;             ///< "yaw,pitch,distance[,tx,ty,tz]" (empty: framing the grid)
+  std::string renderer = "cubes"; ///< cubes, marching or raymarch
+  int ticks_per_frame = 1;        ///< world ticks per engine fixed update (one fixed update per frame headless)
+  int width = 1280;               ///< image width
+  int height = 720;               ///< image height
+  bool validation = false;        ///< Vulkan validation layers and a count of their messages
+  bool no_interop = false;        ///< CUDA backend: upload through staging instead of sharing the cells
+};
+
+/// Registers the options on `app`; validation defaults on in debug builds.
+void add_sandbox_options(CLI::App& app, SandboxOptions& options);
+
+/// Throws std::invalid_argument naming the option when a value is out of range.
+void validate(const SandboxOptions& options);
+
+}  // namespace viewer

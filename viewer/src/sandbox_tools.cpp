@@ -1,0 +1,50 @@
+#include "sandbox_tools.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "granular/errors.hpp"
+
+namespace viewer {
+
+const char* to_string(Tool tool) {
+  switch (tool) {
+    case Tool::Dig: return "dig";
+    case Tool::Pour: return "pour";
+    case Tool::Place: return "place solid";
+    case Tool::Erase: return "erase";
+  }
+  return "?";
+}
+
+std::int64_t apply_tool(granular::World& world, const ToolState& state) {
+  if (!state.held || !state.target) return 0;
+  const granular::Vec3 hit = *state.target;
+  const double r = state.radius;
+  try {
+    switch (state.tool) {
+      case Tool::Dig: return world.dig({hit, r}).cells_changed;
+      case Tool::Pour: {
+        const std::int64_t amount =
+            state.pour_per_tick > 0 ? state.pour_per_tick : std::max<std::int64_t>(1, std::int64_t(r * r * r));
+        const granular::Vec3 above{hit.x, hit.y, hit.z + r + 2.0};
+        return world.pour(above, r, state.pour_material, amount).cells_changed;
+      }
+      case Tool::Place: return world.paint(granular::Sphere{state.target_in_front.value_or(hit), r}, granular::Material::Solid).cells_changed;
+      case Tool::Erase: return world.paint(granular::Sphere{hit, r}, granular::Material::Void).cells_changed;
+    }
+  } catch (const granular::InvalidArgument&) {
+    // The brush lies wholly outside the grid (e.g. pouring above the top): nothing to do.
+  }
+  return 0;
+}
+
+ToolSubsystem::ToolSubsystem(granular::World& world, std::vector<granular::Emitter> emitters)
+    : engine::Subsystem("tools"), world_(world), emitters_(std::move(emitters)) {}
+
+void ToolSubsystem::fixed_update(double) {
+  cells_changed_ += apply_tool(world_, state_);
+  if (!emitters_.empty()) granular::run_emitters(world_, emitters_);
+}
+
+}  // namespace viewer

@@ -1,0 +1,64 @@
+#pragma once
+/// @file sandbox_tools.hpp
+/// The player's tools as an engine subsystem: on every fixed update it applies the held tool at the
+/// picked point (so pouring runs at a steady rate whatever the frame rate) and runs the scene's
+/// emitters. Every tool is one granular::World call.
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "engine/subsystem.hpp"
+#include "granular/geometry.hpp"
+#include "granular/material.hpp"
+#include "granular/scene.hpp"
+#include "granular/world.hpp"
+
+namespace viewer {
+
+/// What the brush does.
+enum class Tool {
+  Dig,    ///< World::dig: removes grains in the sphere
+  Pour,   ///< World::pour: emits grains of the chosen material above the point
+  Place,  ///< World::paint(sphere, Solid): places solid
+  Erase,  ///< World::paint(sphere, Void): erases everything, solid included
+};
+
+/// "dig", "pour", "place solid", "erase".
+const char* to_string(Tool tool);
+
+/// The brush and what it is doing this frame.
+struct ToolState {
+  Tool tool = Tool::Dig;                                  ///< active tool
+  double radius = 4.0;                                    ///< brush radius (cells)
+  granular::Material pour_material = granular::Material::Granular;  ///< what Pour emits
+  std::int64_t pour_per_tick = 0;                         ///< cells poured per fixed update (0: brush volume / 4)
+  bool held = false;                                      ///< the button is down
+  std::optional<granular::Vec3> target;                   ///< the picked surface point, if the cursor hits
+  std::optional<granular::Vec3> target_in_front;          ///< centre of the void cell in front of the hit face
+};
+
+/// Applies the tools and the scene's emitters once per fixed update. Borrows the world.
+class ToolSubsystem final : public engine::Subsystem {
+ public:
+  /// Acts on `world` with the scene's `emitters`.
+  ToolSubsystem(granular::World& world, std::vector<granular::Emitter> emitters);
+  /// Applies the held tool, then the emitters.
+  void fixed_update(double dt) override;
+  /// The brush (the input code writes it every frame).
+  ToolState& state() { return state_; }
+  /// Cells changed by tools since construction.
+  std::int64_t cells_changed() const { return cells_changed_; }
+
+ private:
+  granular::World& world_;
+  std::vector<granular::Emitter> emitters_;
+  ToolState state_;
+  std::int64_t cells_changed_ = 0;
+};
+
+/// Applies `state`'s tool once to `world` at its target; returns the cells changed (0 when there is
+/// no target or the button is up).
+std::int64_t apply_tool(granular::World& world, const ToolState& state);
+
+}  // namespace viewer
