@@ -5,6 +5,7 @@
 /// one multi-draw-indirect then draws 36 vertices per instance. Only the bricks that changed (and
 /// their neighbours) are rebuilt; the others keep their instances and commands.
 
+#include <cstdint>
 #include <memory>
 
 #include "gpu_buffer.hpp"

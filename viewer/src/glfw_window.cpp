@@ -1,5 +1,7 @@
 #include "glfw_window.hpp"
 
+#include <cstdint>
+
 #define GLFW_INCLUDE_NONE
 #define GLFW_INCLUDE_VULKAN
 #include <GLFW/glfw3.h>

@@ -6,6 +6,8 @@
 /// brick's indirect draw command; one multi-draw-indirect draws every brick. Only the bricks that
 /// changed (and their neighbours) are re-meshed.
 
+#include <cstdint>
+
 #include "gpu_buffer.hpp"
 #include "granular/geometry.hpp"
 #include "host_buffer_slots.hpp"

@@ -6,6 +6,8 @@
 /// Its only per-brick state is one occupancy flag per brick (rebuilt for changed bricks), which
 /// lets rays cross empty bricks in one step.
 
+#include <cstdint>
+
 #include "gpu_buffer.hpp"
 #include "granular/geometry.hpp"
 #include "host_buffer_slots.hpp"

@@ -4,6 +4,7 @@
 /// frames in flight: a fence and an image-available semaphore per slot, a render-finished
 /// semaphore per image. Recreated on resize.
 
+#include <cstdint>
 #include <vulkan/vulkan.h>
 
 #include <array>
