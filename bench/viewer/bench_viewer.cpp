@@ -9,6 +9,7 @@
 ///
 ///   bench_viewer --size 512 --ticks-per-frame 4 --frames 200 --csv bench/viewer_results.csv
 
+#include <cstdint>
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>

@@ -1,5 +1,6 @@
 #include "viewer_test_support.hpp"
 
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 

@@ -1,5 +1,6 @@
 #include "brick_set.hpp"
 
+#include <cstdint>
 #include <algorithm>
 #include <numeric>
 

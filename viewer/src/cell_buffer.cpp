@@ -1,5 +1,6 @@
 #include "cell_buffer.hpp"
 
+#include <cstdint>
 #include <cstring>
 #include <vector>
 

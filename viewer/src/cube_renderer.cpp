@@ -1,5 +1,6 @@
 #include "cube_renderer.hpp"
 
+#include <cstdint>
 #include <cstring>
 #include <vector>
 

@@ -1,5 +1,6 @@
 #include "headless_session.hpp"
 
+#include <cstdint>
 #include <cstdio>
 #include <memory>
 #include <optional>

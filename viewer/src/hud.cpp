@@ -1,5 +1,6 @@
 #include "hud.hpp"
 
+#include <cstdint>
 #include <array>
 #include <imgui.h>
 #include <backends/imgui_impl_glfw.h>

@@ -1,5 +1,6 @@
 #include "marching_cubes_renderer.hpp"
 
+#include <cstdint>
 #include <algorithm>
 #include <cstring>
 #include <vector>

@@ -1,5 +1,6 @@
 #include "marching_cubes_tables.hpp"
 
+#include <cstdint>
 #include <algorithm>
 #include <stdexcept>
 #include <vector>

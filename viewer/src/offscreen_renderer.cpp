@@ -1,5 +1,6 @@
 #include "offscreen_renderer.hpp"
 
+#include <cstdint>
 #include <utility>
 
 #include "vulkan_check.hpp"

@@ -1,5 +1,7 @@
 #include "pipeline_builder.hpp"
 
+#include <cstdint>
+
 #include "shader_loader.hpp"
 #include "view_constants.hpp"
 #include "vulkan_check.hpp"

@@ -1,5 +1,6 @@
 #include "png_writer.hpp"
 
+#include <cstdint>
 #include <stdexcept>
 
 // The one translation unit holding stb_image_write's code; static, so it cannot clash with a

@@ -1,5 +1,6 @@
 #include "raymarch_renderer.hpp"
 
+#include <cstdint>
 #include <cstring>
 #include <vector>
 

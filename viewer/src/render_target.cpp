@@ -1,5 +1,6 @@
 #include "render_target.hpp"
 
+#include <cstdint>
 #include <array>
 #include <cstring>
 #include <utility>

@@ -1,5 +1,6 @@
 #include "sandbox_app.hpp"
 
+#include <cstdint>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>

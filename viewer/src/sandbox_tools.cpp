@@ -1,5 +1,6 @@
 #include "sandbox_tools.hpp"
 
+#include <cstdint>
 #include <algorithm>
 #include <cmath>
 

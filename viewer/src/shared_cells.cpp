@@ -1,5 +1,6 @@
 #include "shared_cells.hpp"
 
+#include <cstdint>
 #include <unistd.h>
 
 #include <algorithm>

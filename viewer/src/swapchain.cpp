@@ -1,5 +1,6 @@
 #include "swapchain.hpp"
 
+#include <cstdint>
 #include <algorithm>
 
 #include "vulkan_check.hpp"

@@ -1,5 +1,6 @@
 #include "vulkan_context.hpp"
 
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 

@@ -1,5 +1,6 @@
 #include "world_renderer.hpp"
 
+#include <cstdint>
 #include <vector>
 
 #include "brick_set.hpp"
