@@ -22,8 +22,6 @@
 
 namespace granular::cuda {
 
-static_assert(kBrickBlocks % 4 == 0, "a dense thread's group of 4 blocks has a single owner brick");
-
 /// The per-brick flags the recording kernels set (the sparse state's dirty and changed bytes).
 struct ActivityRecord {
   Int3 bricks{};                         ///< bricks per axis

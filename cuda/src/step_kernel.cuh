@@ -37,6 +37,7 @@ inline constexpr int kStepThreads = 256;
 
 /// Consecutive blocks along x stepped by one thread (8 bytes of each of the group's 4 rows).
 inline constexpr int kGroupBlocks = 4;
+static_assert(kBrickBlocks % kGroupBlocks == 0, "a thread's group of blocks has a single owner brick");
 
 /// The state of a cell outside the grid (Material::Solid).
 inline constexpr std::uint32_t kOutsideCell = 1;
