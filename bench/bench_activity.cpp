@@ -13,7 +13,9 @@
 ///    against the same pour into a 64^3 world alone (both sparse); ms per tick of the steps.
 ///
 ///   bench_activity [--backend cpu|cuda] [--n N] [--max-ticks T] [--window W] [--threads J]
-///                  [--series-seconds S] [--pour-ticks P] [--out DIR]
+///                  [--series-seconds S] [--pour-ticks P] [--dense-fraction F] [--out DIR]
+/// --dense-fraction sets the sparse worlds' WorldDef::dense_fraction (CUDA: above this awake
+/// fraction a step uses dense-recording ticks; 1 = sparse ticks only, as before that existed).
 /// Prints a short table last.
 
 #include <chrono>
@@ -42,6 +44,7 @@ struct Options {
   int pour_ticks = 512;         ///< ticks of the pour measurement (0 = none)
   int cup = 64;                 ///< edge of the pour's cup and of the world alone
   double series_seconds = 1e9;  ///< stepping time after which the side-by-side series stops
+  double dense_fraction = WorldDef{}.dense_fraction;  ///< the sparse worlds' WorldDef::dense_fraction
   std::string out = ".";        ///< folder of the CSV
 };
 
@@ -57,6 +60,7 @@ Options parse(int argc, char** argv) {
     else if (key == "--threads") o.threads = std::atoi(value.c_str());
     else if (key == "--pour-ticks") o.pour_ticks = std::atoi(value.c_str());
     else if (key == "--series-seconds") o.series_seconds = std::atof(value.c_str());
+    else if (key == "--dense-fraction") o.dense_fraction = std::atof(value.c_str());
     else if (key == "--out") o.out = value;
     else throw InvalidArgument("bench_activity: unknown option " + key + " (see the file comment for the options)");
   }
@@ -71,6 +75,7 @@ WorldDef def_for(const Options& o, bool sparse) {
   def.backend = o.backend == "cuda" ? BackendKind::Cuda : BackendKind::Cpu;
   def.threads = o.threads;
   def.sparse = sparse;
+  def.dense_fraction = o.dense_fraction;
   return def;
 }
 
@@ -113,8 +118,8 @@ int run(const Options& o) {
   std::ofstream csv(csv_path);
   csv << "backend,n,tick_end,phase,dense_ms_per_tick,sparse_ms_per_tick,mean_active_cells,mean_active_bricks,"
          "total_bricks\n";
-  std::printf("bench_activity: %s, bowl N=%d (%.3g cells), windows of %d ticks, up to %d ticks\n",
-              dense.backend_description().c_str(), o.n, cells, o.window, o.max_ticks);
+  std::printf("bench_activity: %s, bowl N=%d (%.3g cells), windows of %d ticks, up to %d ticks, dense_fraction %g\n",
+              dense.backend_description().c_str(), o.n, cells, o.window, o.max_ticks, o.dense_fraction);
   int quiet_windows = 0;
   double series_wall = 0;
   while (int(sparse.tick()) < o.max_ticks && quiet_windows < 2 && series_wall < o.series_seconds) {

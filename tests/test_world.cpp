@@ -226,6 +226,13 @@ TEST_CASE("world: bad definitions are clear errors") {
   def.threads = -2;
   CHECK_THROWS_WITH_AS(World{def}, doctest::Contains("threads = -2"), InvalidArgument);
   def.threads = 1;
+  def.dense_fraction = 1.5;
+  CHECK_THROWS_WITH_AS(World{def}, doctest::Contains("dense_fraction"), InvalidArgument);
+  def.dense_fraction = std::numeric_limits<double>::quiet_NaN();
+  CHECK_THROWS_WITH_AS(World{def}, doctest::Contains("dense_fraction"), InvalidArgument);
+  def.dense_fraction = -0.25;
+  CHECK_THROWS_WITH_AS(World{def}, doctest::Contains("dense_fraction"), InvalidArgument);
+  def.dense_fraction = WorldDef{}.dense_fraction;
   def.rules = "wet-sand";
   CHECK_THROWS_WITH_AS(World{def}, doctest::Contains("unknown rule set 'wet-sand'"), InvalidArgument);
   def.rules = "paper";

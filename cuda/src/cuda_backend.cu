@@ -39,11 +39,19 @@ cuda::DeviceInfo prepare_device(Int3 size) {
 /// Steps a byte-per-cell grid on a CUDA device: the same cells, result table and block arithmetic
 /// as the CPU backend, so both produce the same grid after any number of ticks. Every call runs
 /// on the backend's own stream and returns once the device has finished.
+///
+/// Sparse stepping runs each step() call in one of two ways with the same result and the same
+/// sparse state (docs/ARCHITECTURE.md, "Activity tracking"): sparse ticks (one launch per tick over
+/// the awake bricks), or, when more than `dense_fraction` of the bricks were awake at the last tick
+/// the host knows of, dense-recording ticks (the dense kernels, fused pairs included, recording
+/// the sparse flags).
 class CudaBackend final : public Backend {
  public:
-  /// Uploads `initial` and derives the result table from `lut` on the device.
+  /// Uploads `initial` and derives the result table from `lut` on the device. `dense_fraction`
+  /// (0..1) is the awake fraction above which sparse stepping uses dense-recording ticks (0: always,
+  /// 1: never).
   CudaBackend(const Grid& initial, const Lut& lut, bool random_symmetry, bool random_axis_order, std::uint64_t seed,
-              bool sparse)
+              bool sparse, double dense_fraction)
       : device_(prepare_device(initial.size())),
         size_(initial.size()),
         cell_count_(std::uint64_t(initial.cell_count())),
@@ -56,8 +64,10 @@ class CudaBackend final : public Backend {
         result_(kBlockKeyCount, "the result table"),
         scratch_(kMaterialCount, "reduction counters"),
         sparse_(sparse),
+        dense_fraction_(dense_fraction),
         bricks_(brick_counts(initial.size())),
-        total_bricks_(std::uint32_t(std::uint64_t(bricks_.x) * std::uint64_t(bricks_.y) * std::uint64_t(bricks_.z))) {
+        total_bricks_(std::uint32_t(std::uint64_t(bricks_.x) * std::uint64_t(bricks_.y) * std::uint64_t(bricks_.z))),
+        known_awake_(total_bricks_) {
     cudaStream_t s = stream_.get();
     last_.total_bricks = total_bricks_;
     if (owned_cells_.bytes() > cell_count_)  // the tail of the last word, read (masked) by the reductions
@@ -102,44 +112,16 @@ class CudaBackend final : public Backend {
       return;
     }
     if (sparse_) {
-      enqueue_sparse(first_tick, ticks);
+      if (dense_recording())
+        enqueue_dense(first_tick, ticks, true);
+      else
+        enqueue_sparse(first_tick, ticks);
       after_write();
       // With a renderer attached the host goes on at once; last_activity() waits for the counters.
       if (!ready_) collect_sparse_counters();
       return;
     }
-    cuda::StepParams p;
-    p.cells = cells_;
-    p.size = size_;
-    p.result = result_.data();
-    p.seed = seed_;
-    p.random_axis_order = random_axis_order_;
-    cudaStream_t s = stream_.get();
-    std::uint64_t tick = first_tick;
-    int left = ticks;
-    // An odd first tick alone, then even-odd pairs in one pass each, then a last odd one out.
-    auto single = [&] {
-      p.tick = tick++;
-      --left;
-      cuda::launch_step(p, random_symmetry_, shape_, s);
-    };
-    if (left > 0 && (tick & 1u) != 0) single();
-    if (left >= 2) {
-      const cuda::PairShape pair = cuda::pair_shape(size_);
-      const std::size_t halo_bytes = cuda::pair_halo_bytes(size_, pair);
-      void* halo = nullptr;
-      // Without room for the halo buffer the ticks run one by one (the same result).
-      if (halo_bytes == 0 || cudaMallocAsync(&halo, halo_bytes, s) == cudaSuccess) {
-        for (; left >= 2; tick += 2, left -= 2) {
-          p.tick = tick;
-          cuda::launch_step_pair(p, random_symmetry_, pair, static_cast<std::uint8_t*>(halo), s);
-        }
-        if (halo != nullptr) cuda::check(cudaFreeAsync(halo, s), "cudaFreeAsync (pair halo)");
-      } else {
-        (void)cudaGetLastError();
-      }
-    }
-    while (left > 0) single();
+    enqueue_dense(first_tick, ticks, false);
     after_write();
     // With a renderer attached the host goes on at once; the timelines order the device's work.
     if (!ready_) stream_.synchronize("step");
@@ -155,6 +137,9 @@ class CudaBackend final : public Backend {
   void wake(std::span<const std::uint32_t> bricks) override {
     if (!sparse_ || bricks.empty()) return;
     asleep_ = false;
+    // At most this many more are awake now (each wakes its neighbourhood, most of which a large
+    // wake, e.g. load(), wakes anyway): a large wake switches the next step to dense-recording ticks.
+    known_awake_ = std::min<std::uint64_t>(total_bricks_, known_awake_ + bricks.size());
     activate();
     cudaStream_t s = stream_.get();
     cuda::check(cudaMemcpyAsync(wake_list_.data(), bricks.data(), bricks.size_bytes(), cudaMemcpyHostToDevice, s),
@@ -295,6 +280,86 @@ class CudaBackend final : public Backend {
     return sp;
   }
 
+  /// True when the next step() should use dense-recording ticks: more than dense_fraction_ of the
+  /// bricks were awake at the last tick the host knows of (no synchronisation to find out).
+  bool dense_recording() const {
+    return dense_fraction_ <= 0.0 || double(known_awake_) > dense_fraction_ * double(total_bricks_);
+  }
+
+  /// Enqueues the ticks with the dense kernels: an odd first tick alone, then even-odd pairs in one
+  /// fused pass each, then a last odd one out. With `record` (dense-recording ticks of sparse mode)
+  /// the kernels record the sparse flags of every tick as the sparse kernel would, and the cycle
+  /// updates and activity counters (the awake list counted per run of ticks between two list
+  /// changes) are enqueued as enqueue_sparse does; stepping an asleep brick changes nothing and
+  /// records nothing (its blocks are inert), so the cells and the sparse state are those of sparse
+  /// ticks.
+  void enqueue_dense(std::uint64_t first_tick, int ticks, bool record) {
+    cuda::StepParams p;
+    p.cells = cells_;
+    p.size = size_;
+    p.result = result_.data();
+    p.seed = seed_;
+    p.random_axis_order = random_axis_order_;
+    cudaStream_t s = stream_.get();
+    cuda::SparseParams sp;
+    cuda::ActivityRecord rec;
+    const cuda::ActivityRecord* recording = nullptr;
+    if (record) {
+      sp = sparse_params();
+      rec.bricks = bricks_;
+      rec.dirty = dirty_.data();
+      rec.changed = changed_.data();
+      rec.inert = inert_.data();
+      recording = &rec;
+      cuda::check(cudaMemsetAsync(counters_.data(), 0, counters_.bytes(), s), "cudaMemsetAsync (activity counters)");
+    }
+    std::uint64_t tick = first_tick;
+    int left = ticks;
+    unsigned uncounted = 0;  // ticks stepped over the current awake list, not yet counted
+    // After `done` ticks up to tick - 1: when recording, counts them and runs a cycle's end.
+    auto finish = [&](unsigned done) {
+      if (!record) return;
+      uncounted += done;
+      if (((tick - 1) & 7u) == 7u) {
+        cuda::launch_count_awake(sp, size_, uncounted, left == 0, s);
+        uncounted = 0;
+        cuda::launch_end_cycle(sp, s);
+      }
+    };
+    auto single = [&] {
+      p.tick = tick++;
+      --left;
+      cuda::launch_step(p, random_symmetry_, shape_, s, recording);
+      finish(1);
+    };
+    if (left > 0 && (tick & 1u) != 0) single();
+    if (left >= 2) {
+      const cuda::PairShape pair = cuda::pair_shape(size_);
+      const std::size_t halo_bytes = cuda::pair_halo_bytes(size_, pair);
+      void* halo = nullptr;
+      // Without room for the halo buffer the ticks run one by one (the same result).
+      if (halo_bytes == 0 || cudaMallocAsync(&halo, halo_bytes, s) == cudaSuccess) {
+        while (left >= 2) {
+          p.tick = tick;
+          tick += 2;
+          left -= 2;
+          cuda::launch_step_pair(p, random_symmetry_, pair, static_cast<std::uint8_t*>(halo), s, recording);
+          finish(2);
+        }
+        if (halo != nullptr) cuda::check(cudaFreeAsync(halo, s), "cudaFreeAsync (pair halo)");
+      } else {
+        (void)cudaGetLastError();
+      }
+    }
+    while (left > 0) single();
+    if (!record) return;
+    if (uncounted > 0) cuda::launch_count_awake(sp, size_, uncounted, true, s);
+    cuda::check(cudaMemcpyAsync(counters_host_.get(), counters_.data(), counters_.bytes(), cudaMemcpyDeviceToHost, s),
+                "cudaMemcpyAsync (activity counters)");
+    last_.ticks = std::uint64_t(ticks);
+    counters_pending_ = true;
+  }
+
   /// Enqueues the ticks over the awake bricks, one launch per tick plus the sleep/wake update at
   /// the end of every 8-tick cycle, and the copy of the activity counters to pinned host memory.
   void enqueue_sparse(std::uint64_t first_tick, int ticks) {
@@ -327,6 +392,7 @@ class CudaBackend final : public Backend {
     last_.cell_ticks = counters[cuda::kCellTicks];
     last_.active_bricks = counters[cuda::kLastBricks];
     last_.active_cells = counters[cuda::kLastCells];
+    known_awake_ = last_.active_bricks;
     // The last tick stepped no brick: the awake list was empty since the last cycle's end (only a
     // cycle's end or a tool rebuilds it), so no brick was dirty either and it stays empty.
     asleep_ = last_.active_bricks == 0;
@@ -414,8 +480,11 @@ class CudaBackend final : public Backend {
   cuda::DeviceBuffer<BlockKey> result_;
   cuda::DeviceBuffer<unsigned long long> scratch_;
   bool sparse_;
+  double dense_fraction_;  ///< awake fraction above which step() uses dense-recording ticks
   Int3 bricks_;
   std::uint32_t total_bricks_;
+  mutable std::uint64_t known_awake_;  ///< bricks awake at the last tick the host knows of (an upper
+                                       ///< bound after a tool's wake); all at creation
   unsigned sparse_grid_ = 1;
   cuda::DeviceBuffer<std::uint8_t> awake_, dirty_, changed_;
   cuda::DeviceBuffer<std::uint32_t> list_, wake_list_;
@@ -431,11 +500,14 @@ class CudaBackend final : public Backend {
 }  // namespace
 
 std::unique_ptr<Backend> make_cuda_backend(const Grid& initial, std::shared_ptr<const Lut> lut, const RuleSet& rules,
-                                           std::uint64_t seed, bool sparse) {
+                                           std::uint64_t seed, bool sparse, double dense_fraction) {
   if (initial.cell_count() == 0) throw InvalidArgument("cuda backend: the initial grid is empty (0 cells)");
   if (!lut || lut->entries().size() != kBlockKeyCount)
     throw InvalidArgument("cuda backend: a full transition table (16,777,216 entries) is required");
-  return std::make_unique<CudaBackend>(initial, *lut, rules.random_symmetry, rules.random_axis_order, seed, sparse);
+  if (!(dense_fraction >= 0.0 && dense_fraction <= 1.0))
+    throw InvalidArgument("cuda backend: dense_fraction = " + std::to_string(dense_fraction) + " must lie in 0..1");
+  return std::make_unique<CudaBackend>(initial, *lut, rules.random_symmetry, rules.random_axis_order, seed, sparse,
+                                       dense_fraction);
 }
 
 }  // namespace granular

@@ -246,6 +246,39 @@ static __global__ void build_list_kernel(SparseParams s) {
     if (s.awake[b]) s.list[atomicAdd(s.count, 1u)] = b;
 }
 
+/// Adds the bricks of the awake list and their cells (clipped to a grid of `size`) to the activity
+/// counters: `ticks` times to kBrickTicks / kCellTicks, and with `last_tick` once to kLastBricks /
+/// kLastCells. Dense-recording ticks count with this what the sparse step kernel counts while
+/// stepping: the awake bricks, not all of them (the list changes only at a cycle's end or a tool).
+static __global__ void count_awake_kernel(SparseParams s, Int3 size, unsigned ticks, bool last_tick) {
+  __shared__ unsigned long long block_bricks, block_cells;
+  if (threadIdx.x == 0) {
+    block_bricks = 0;
+    block_cells = 0;
+  }
+  __syncthreads();
+  const unsigned count = *s.count;
+  unsigned long long bricks = 0, cells = 0;
+  for (unsigned i = blockIdx.x * blockDim.x + threadIdx.x; i < count; i += gridDim.x * blockDim.x) {
+    const Int3 b = brick_coords(s.bricks, s.list[i]);
+    ++bricks;
+    cells += brick_cells(size, b.x, b.y, b.z);
+  }
+  if (bricks > 0) {
+    atomicAdd(&block_bricks, bricks);
+    atomicAdd(&block_cells, cells);
+  }
+  __syncthreads();
+  if (threadIdx.x == 0 && block_bricks > 0) {
+    atomicAdd(s.counters + kBrickTicks, block_bricks * ticks);
+    atomicAdd(s.counters + kCellTicks, block_cells * ticks);
+    if (last_tick) {
+      atomicAdd(s.counters + kLastBricks, block_bricks);
+      atomicAdd(s.counters + kLastCells, block_cells);
+    }
+  }
+}
+
 /// The inert-key bit table of a result table (inert_keys.hpp), one 64-key word per thread.
 static __global__ void inert_table_kernel(const BlockKey* result, bool random_symmetry, std::uint64_t* table) {
   for (std::uint32_t w = blockIdx.x * blockDim.x + threadIdx.x; w < kInertTableWords; w += gridDim.x * blockDim.x) {
@@ -283,6 +316,14 @@ static inline void launch_end_cycle(const SparseParams& s, cudaStream_t stream) 
   build_list_kernel<<<blocks, kActivityThreads, 0, stream>>>(s);
   check_launch("build brick list kernel launch");
   check(cudaMemsetAsync(s.dirty, 0, s.total, stream), "cudaMemsetAsync (dirty bricks)");
+}
+
+/// Enqueues count_awake_kernel: the awake list counted for `ticks` ticks (`last_tick`: the last of
+/// them is the step() call's last) on a grid of `size`.
+static inline void launch_count_awake(const SparseParams& s, Int3 size, unsigned ticks, bool last_tick,
+                                      cudaStream_t stream) {
+  count_awake_kernel<<<activity_blocks(s.total), kActivityThreads, 0, stream>>>(s, size, ticks, last_tick);
+  check_launch("count awake bricks kernel launch");
 }
 
 /// Enqueues a tool wake of the `count` bricks at device address `bricks`: dirty, their

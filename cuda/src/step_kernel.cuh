@@ -16,12 +16,16 @@
 /// random symmetry the block is viewed in the drawn frame (cell i moves to map[i]), looked up, and
 /// moved back (the cell at map[i] returns to i), which is what the CPU's forward and inverse key
 /// tables do. A block of 8 equal cells is left alone: any permutation of it is itself.
+/// The recording form (step_record_kernel, for dense-recording ticks of sparse mode) also records,
+/// for the blocks it steps, the flags the sparse step kernel sets (activity_record.cuh), through
+/// the kRecord forms of the block helpers; their plain forms compile to the plain stepping code.
 /// Kernels and launchers here are static: every translation unit including this gets its own copy.
 
 #include <cuda_runtime.h>
 
 #include <cstdint>
 
+#include "activity_record.cuh"
 #include "cuda_check.cuh"
 #include "granular/block.hpp"
 #include "granular/geometry.hpp"
@@ -33,6 +37,7 @@ inline constexpr int kStepThreads = 256;
 
 /// Consecutive blocks along x stepped by one thread (8 bytes of each of the group's 4 rows).
 inline constexpr int kGroupBlocks = 4;
+static_assert(kBrickBlocks % kGroupBlocks == 0, "a thread's group of blocks has a single owner brick");
 
 /// The state of a cell outside the grid (Material::Solid).
 inline constexpr std::uint32_t kOutsideCell = 1;
@@ -80,9 +85,11 @@ __device__ inline BlockKey next_key(const StepParams& p, BlockKey key, int x0, i
   return next_key_at<kRandom>(p, p.tick, key, x0, y0, z0);
 }
 
-/// One block, any position: cells outside the grid read as solid and are never written.
-template <bool kRandom>
-__device__ inline void step_edge_block(const StepParams& p, int x0, int y0, int z0) {
+/// One block, any position: cells outside the grid read as solid and are never written. With
+/// kRecord, notes its key and changed cells in `*f` / `*rec`.
+template <bool kRandom, bool kRecord = false>
+__device__ inline void step_edge_block(const StepParams& p, int x0, int y0, int z0, const ActivityRecord* rec = nullptr,
+                                       OwnerFlags* f = nullptr) {
   const std::int64_t sy = p.size.x, sz = sy * p.size.y;
   const std::int64_t origin = std::int64_t(x0) + sy * y0 + sz * z0;
   std::uint32_t cell[8];
@@ -97,11 +104,15 @@ __device__ inline void step_edge_block(const StepParams& p, int x0, int y0, int 
   }
   if (key == cell[0] * kUniformKeyUnit) return;
   const BlockKey next = next_key<kRandom>(p, key, x0, y0, z0);
+  if constexpr (kRecord) record_key<kRandom>(*rec, *f, key, next);
   if (next == key) return;
 #pragma unroll
   for (int i = 0; i < 8; ++i) {
     const std::uint32_t value = (next >> (3 * i)) & 7u;
-    if (inside[i] && value != cell[i]) p.cells[origin + block_cell_offset(i, sy, sz)] = std::uint8_t(value);
+    if (inside[i] && value != cell[i]) {
+      p.cells[origin + block_cell_offset(i, sy, sz)] = std::uint8_t(value);
+      if constexpr (kRecord) record_changed_cell(*rec, *f, x0 + (i & 1), y0 + ((i >> 1) & 1), z0 + (i >> 2));
+    }
   }
 }
 
@@ -121,9 +132,11 @@ __device__ inline BlockKey pack_block_bytes(std::uint64_t v) {
   return BlockKey((t | (t >> 20)) & 0xFFFFFFu);
 }
 
-/// kGroupBlocks blocks starting at (x0, y0, z0), all of whose cells lie inside the grid.
-template <bool kRandom>
-__device__ inline void step_inside_group(const StepParams& p, int x0, int y0, int z0) {
+/// kGroupBlocks blocks starting at (x0, y0, z0), all of whose cells lie inside the grid. With
+/// kRecord, notes their keys and changed cells in `*f` / `*rec`.
+template <bool kRandom, bool kRecord = false>
+__device__ inline void step_inside_group(const StepParams& p, int x0, int y0, int z0,
+                                         const ActivityRecord* rec = nullptr, OwnerFlags* f = nullptr) {
   constexpr std::uint64_t kEveryByte = 0x0101010101010101ull;
   const std::int64_t sy = p.size.x, sz = sy * p.size.y;
   const std::int64_t origin = std::int64_t(x0) + sy * y0 + sz * z0;
@@ -141,12 +154,16 @@ __device__ inline void step_inside_group(const StepParams& p, int x0, int y0, in
     if (v == (v & 0xFFu) * kEveryByte) continue;
     const BlockKey key = pack_block_bytes(v);
     const BlockKey next = next_key<kRandom>(p, key, x0 + 2 * k, y0, z0);
+    if constexpr (kRecord) record_key<kRandom>(*rec, *f, key, next);
     if (next == key) continue;
 #pragma unroll
     for (int i = 0; i < 8; ++i) {
       const std::uint32_t value = (next >> (3 * i)) & 7u;
-      if (value != ((key >> (3 * i)) & 7u))
+      if (value != ((key >> (3 * i)) & 7u)) {
         p.cells[origin + 2 * k + block_cell_offset(i, sy, sz)] = std::uint8_t(value);
+        if constexpr (kRecord)
+          record_changed_cell(*rec, *f, x0 + 2 * k + (i & 1), y0 + ((i >> 1) & 1), z0 + (i >> 2));
+      }
     }
   }
 }
@@ -170,6 +187,30 @@ static __global__ void __launch_bounds__(kStepThreads) step_kernel(StepParams p)
   for (int k = 0; k < kGroupBlocks && first + k < blocks_x; ++k) step_edge_block<kRandom>(p, x0 + 2 * k, y0, z0);
 }
 
+/// step_kernel recording the sparse flags in `rec` (activity_record.cuh): the same blocks through
+/// the kRecord forms of the same helpers; the thread's 4 blocks have one owner brick, whose flags
+/// collect in registers and are stored once. (A body shared with step_kernel, inlined into both,
+/// changes step_kernel's machine code; the plain kernel keeps its own.)
+template <bool kRandom>
+static __global__ void __launch_bounds__(kStepThreads) step_record_kernel(StepParams p, ActivityRecord rec) {
+  const BlockOffset o = block_offset(p.tick, p.seed, p.random_axis_order);
+  const int first = int(blockIdx.x * blockDim.x + threadIdx.x) * kGroupBlocks;
+  const int by = int(blockIdx.y * blockDim.y + threadIdx.y);
+  const int bz = int(blockIdx.z);
+  const int blocks_x = block_count(p.size.x, o.x);
+  if (first >= blocks_x || by >= block_count(p.size.y, o.y) || bz >= block_count(p.size.z, o.z)) return;
+  const int x0 = 2 * first - o.x, y0 = 2 * by - o.y, z0 = 2 * bz - o.z;
+  OwnerFlags f;
+  f.owner = {owner_brick(first, rec.bricks.x), owner_brick(by, rec.bricks.y), owner_brick(bz, rec.bricks.z)};
+  if (x0 >= 0 && x0 + 2 * kGroupBlocks <= p.size.x && y0 >= 0 && y0 + 1 < p.size.y && z0 >= 0 && z0 + 1 < p.size.z) {
+    step_inside_group<kRandom, true>(p, x0, y0, z0, &rec, &f);
+  } else {
+    for (int k = 0; k < kGroupBlocks && first + k < blocks_x; ++k)
+      step_edge_block<kRandom, true>(p, x0 + 2 * k, y0, z0, &rec, &f);
+  }
+  flush_owner(rec, f);
+}
+
 /// Grid and block shape of the step kernel for a grid of `size`, the same for all 8 offsets (the
 /// largest block counts; threads past a tick's counts return at once).
 struct StepShape {
@@ -189,8 +230,18 @@ inline StepShape step_shape(Int3 size) {
           dim3(unsigned(bdx), unsigned(bdy), 1)};
 }
 
-/// Enqueues one tick (p.tick) on `stream`; checks the launch (BackendError), not its completion.
-static inline void launch_step(const StepParams& p, bool random_symmetry, const StepShape& shape, cudaStream_t stream) {
+/// Enqueues one tick (p.tick) on `stream`, recording the sparse flags in `*record` when given;
+/// checks the launch (BackendError), not its completion.
+static inline void launch_step(const StepParams& p, bool random_symmetry, const StepShape& shape, cudaStream_t stream,
+                               const ActivityRecord* record = nullptr) {
+  if (record != nullptr) {
+    if (random_symmetry)
+      step_record_kernel<true><<<shape.grid, shape.block, 0, stream>>>(p, *record);
+    else
+      step_record_kernel<false><<<shape.grid, shape.block, 0, stream>>>(p, *record);
+    check_launch("step record kernel launch");
+    return;
+  }
   if (random_symmetry)
     step_kernel<true><<<shape.grid, shape.block, 0, stream>>>(p);
   else

@@ -19,12 +19,22 @@
 /// never written, exactly as in the single-tick kernel (step_kernel.cuh), whose block arithmetic,
 /// result table and random draw (per block: its own origin and tick) are used unchanged; so the
 /// pair gives the same grid as two single ticks.
+///
+/// The recording form (step_pair_record_kernel, for dense-recording ticks of sparse mode) also
+/// records, per tick, the flags the sparse step kernel would set (activity_record.cuh): each
+/// stepped block's key, and the cells each tick changed (a cell changed by tick t and changed back
+/// by t + 1 still counts, as in two sparse ticks). Both blocks of one step of the walk (tick t at
+/// layers z, z + 1; tick t + 1 at z - 1, z) have block index z / 2 along z, hence the same owner
+/// brick; a thread stores its owner's flags when the walk reaches the next owner along z. The halo
+/// blocks a thread steps besides its own (the neighbouring chunk steps them too, from the same
+/// cells) are recorded by both, with the same flags.
 
 #include <cuda_runtime.h>
 
 #include <algorithm>
 #include <cstdint>
 
+#include "activity_record.cuh"
 #include "cuda_check.cuh"
 #include "granular/block.hpp"
 #include "granular/geometry.hpp"
@@ -90,10 +100,11 @@ __device__ inline std::uint64_t unpack_block_bytes(BlockKey key) {
 
 /// One tick on the kGroupBlocks blocks of two layers held in `row`: row r holds the cells at
 /// (dy, dz) = (r & 1, r >> 1) of the blocks starting at (x0 + 2k, y0, z0), 8 bytes per row; cells
-/// outside the grid hold kOutsideCell and keep it (a transition never moves a solid cell).
-template <bool kRandom>
+/// outside the grid hold kOutsideCell and keep it (a transition never moves a solid cell). With
+/// kRecord, notes the keys of the stepped blocks in `*f` (inert table of `*rec`).
+template <bool kRandom, bool kRecord = false>
 __device__ inline void step_pair_layers(const StepParams& p, std::uint64_t tick, std::uint64_t (&row)[4], int x0,
-                                        int y0, int z0) {
+                                        int y0, int z0, const ActivityRecord* rec = nullptr, OwnerFlags* f = nullptr) {
   constexpr std::uint64_t kEveryByte = 0x0101010101010101ull;
   const std::uint64_t same = (row[0] & 0xFFu) * kEveryByte;
   if (((row[0] ^ same) | (row[1] ^ same) | (row[2] ^ same) | (row[3] ^ same)) == 0) return;
@@ -105,6 +116,7 @@ __device__ inline void step_pair_layers(const StepParams& p, std::uint64_t tick,
     if (v == (v & 0xFFu) * kEveryByte) continue;
     const BlockKey key = pack_block_bytes(v);
     const BlockKey next = next_key_at<kRandom>(p, tick, key, x0 + 2 * k, y0, z0);
+    if constexpr (kRecord) record_key<kRandom>(*rec, *f, key, next);
     if (next == key) continue;
     const std::uint64_t moved = unpack_block_bytes(next);
 #pragma unroll
@@ -260,6 +272,87 @@ static __global__ void __launch_bounds__(kStepThreads, kRandom ? 1 : kPairMinBlo
   }
 }
 
+/// step_pair_kernel recording the sparse flags of both ticks in `rec` (activity_record.cuh and the
+/// file comment): the same walk through the kRecord form of step_pair_layers, plus each tick's
+/// changed rows. (A body shared with step_pair_kernel, inlined into both, changes
+/// step_pair_kernel's machine code; the plain kernel keeps its own.) Compiled without the plain
+/// kernel's register cap, under which the recording state would spill.
+template <bool kRandom>
+static __global__ void __launch_bounds__(kStepThreads, 1)
+    step_pair_record_kernel(StepParams p, const std::uint8_t* halo, int chunk, int chunks, ActivityRecord rec) {
+  const BlockOffset o = block_offset(p.tick, p.seed, p.random_axis_order);
+  const unsigned groups = unsigned(block_count(p.size.x, o.x) + kGroupBlocks - 1) / kGroupBlocks;
+  const unsigned entry = blockIdx.x * blockDim.x + threadIdx.x;
+  const int first = int(entry % groups) * kGroupBlocks;
+  const int by = int(entry / groups);
+  if (by >= block_count(p.size.y, o.y)) return;
+  PairColumn c;
+  c.cells = p.cells;
+  c.size = p.size;
+  c.halo = halo;
+  c.sy = p.size.x;
+  c.sz = c.sy * p.size.y;
+  c.x0 = 2 * first - o.x;
+  c.y0 = 2 * by - o.y;
+  c.chunk_index = int(blockIdx.z);
+  c.zs = c.chunk_index * chunk;
+  c.ze = c.chunk_index + 1 == chunks ? p.size.z : c.zs + chunk;
+  c.x_inside = c.x0 >= 0 && c.x0 + 8 <= p.size.x;
+  c.row_inside[0] = c.y0 >= 0;
+  c.row_inside[1] = c.y0 + 1 < p.size.y;
+  OwnerFlags f;
+  f.owner = {owner_brick(first, rec.bricks.x), owner_brick(by, rec.bricks.y), -1};
+
+  // Layer 2j - 1 from the previous step: after tick t, and as loaded.
+  std::uint64_t kept_after[2] = {kOutsideRow, kOutsideRow}, kept_before[2] = {kOutsideRow, kOutsideRow};
+  // The next two layers are loaded one step ahead, so their loads overlap this step's work.
+  std::uint64_t ahead[4];
+#pragma unroll
+  for (int r = 0; r < 4; ++r) ahead[r] = c.load(c.zs - 2 + (r >> 1), r & 1);
+  for (int z = c.zs - 2; z <= c.ze; z += 2) {
+    std::uint64_t before[4], row[4];
+#pragma unroll
+    for (int r = 0; r < 4; ++r) row[r] = before[r] = ahead[r];
+    if (z + 2 <= c.ze) {
+#pragma unroll
+      for (int r = 0; r < 4; ++r) ahead[r] = c.load(z + 2 + (r >> 1), r & 1);
+    }
+    // Both blocks of this step (tick t at z, tick t + 1 at z - 1) have block index z / 2 along z.
+    const int owner_z = owner_brick((z > 0 ? z : 0) / 2, rec.bricks.z);
+    if (owner_z != f.owner.z) {
+      flush_owner(rec, f);
+      f.owner.z = owner_z;
+      f.non_inert = f.owner_changed = false;
+    }
+    step_pair_layers<kRandom, true>(p, p.tick, row, c.x0, c.y0, z, &rec, &f);
+#pragma unroll
+    for (int q = 0; q < 4; ++q)
+      if (row[q] != before[q]) record_changed_row(rec, f, row[q] ^ before[q], c.x0, c.y0 + (q & 1), z + (q >> 1));
+    if (z >= c.zs) {
+      const std::uint64_t after_first[4] = {kept_after[0], kept_after[1], row[0], row[1]};
+      std::uint64_t second[4] = {kept_after[0], kept_after[1], row[0], row[1]};
+      step_pair_layers<kRandom, true>(p, p.tick + 1, second, c.x0, c.y0, z - 1, &rec, &f);
+#pragma unroll
+      for (int q = 0; q < 4; ++q)
+        if (second[q] != after_first[q])
+          record_changed_row(rec, f, second[q] ^ after_first[q], c.x0, c.y0 + (q & 1), z - 1 + (q >> 1));
+      if (z - 1 >= c.zs) {
+        c.store(z - 1, 0, kept_before[0], second[0]);
+        c.store(z - 1, 1, kept_before[1], second[1]);
+      }
+      if (z < c.ze) {
+        c.store(z, 0, before[0], second[2]);
+        c.store(z, 1, before[1], second[3]);
+      }
+    }
+    kept_after[0] = row[2];
+    kept_after[1] = row[3];
+    kept_before[0] = before[2];
+    kept_before[1] = before[3];
+  }
+  flush_owner(rec, f);
+}
+
 /// Copies layers zb - 2 .. zb + 1 around every chunk boundary zb = b * chunk (b = 1 .. boundaries)
 /// to slot b - 1 of `halo`: 8-byte words when a layer is whole words, else bytes.
 static __global__ void halo_copy_kernel(const std::uint8_t* cells, std::uint8_t* halo, std::int64_t layer, int chunk,
@@ -284,15 +377,24 @@ static __global__ void halo_copy_kernel(const std::uint8_t* cells, std::uint8_t*
 
 /// Enqueues ticks p.tick (even) and p.tick + 1 on `stream`: copies the layers around each chunk
 /// boundary of `shape` to `halo` (pair_halo_bytes(p.size, shape) bytes; may be null when that is 0),
-/// then runs the pair kernel. Checks the launches (BackendError), not their completion.
+/// then runs the pair kernel, recording the sparse flags in `*record` when given. Checks the
+/// launches (BackendError), not their completion.
 static inline void launch_step_pair(const StepParams& p, bool random_symmetry, const PairShape& shape,
-                                    std::uint8_t* halo, cudaStream_t stream) {
+                                    std::uint8_t* halo, cudaStream_t stream, const ActivityRecord* record = nullptr) {
   if (shape.chunks > 1) {
     const std::int64_t layer = std::int64_t(p.size.x) * p.size.y;
     const std::int64_t work = 4 * layer * (shape.chunks - 1) / (layer % 8 == 0 ? 8 : 1);
     const unsigned blocks = unsigned(std::min<std::int64_t>((work + kStepThreads - 1) / kStepThreads, 4096));
     halo_copy_kernel<<<blocks, kStepThreads, 0, stream>>>(p.cells, halo, layer, shape.chunk, shape.chunks - 1);
     check_launch("pair halo copy launch");
+  }
+  if (record != nullptr) {
+    if (random_symmetry)
+      step_pair_record_kernel<true><<<shape.grid, shape.block, 0, stream>>>(p, halo, shape.chunk, shape.chunks, *record);
+    else
+      step_pair_record_kernel<false><<<shape.grid, shape.block, 0, stream>>>(p, halo, shape.chunk, shape.chunks, *record);
+    check_launch("step pair record kernel launch");
+    return;
   }
   if (random_symmetry)
     step_pair_kernel<true><<<shape.grid, shape.block, 0, stream>>>(p, halo, shape.chunk, shape.chunks);

@@ -152,6 +152,9 @@ void World::init(const Grid& initial) {
   if (def_.threads < 0 || def_.threads > kMaxThreads)
     throw InvalidArgument("WorldDef::threads = " + std::to_string(def_.threads) + "; use 0 (all hardware threads) or 1.." +
                           std::to_string(kMaxThreads));
+  if (!(def_.dense_fraction >= 0.0 && def_.dense_fraction <= 1.0))
+    throw InvalidArgument("WorldDef::dense_fraction = " + std::to_string(def_.dense_fraction) +
+                          "; use a fraction of the bricks in 0..1 (0: always dense-recording, 1: never)");
   size_ = initial.size();
   def_.size = size_;
   const Int3 bricks = granular::brick_counts(size_);
@@ -166,7 +169,7 @@ void World::init(const Grid& initial) {
   if (!notice.empty()) notices_.push_back(notice);
 #ifdef GRANULAR_HAS_CUDA
   if (kind == BackendKind::Cuda) {
-    backend_ = make_cuda_backend(initial, lut_, *rules_, def_.seed, def_.sparse);
+    backend_ = make_cuda_backend(initial, lut_, *rules_, def_.seed, def_.sparse, def_.dense_fraction);
     return;
   }
 #endif

@@ -2,10 +2,14 @@
 /// Sparse stepping on the CUDA backend: the same grid as dense stepping on the CPU for any scene,
 /// size, seed, rule set, step lengths and tools between ticks; and the same bookkeeping as the
 /// CPU's sparse stepping (active bricks and cells per tick, changed bricks), which follows the same
-/// sleep/wake rules, so every figure must agree exactly.
+/// sleep/wake rules, so every figure must agree exactly. Every case runs the GPU world with
+/// several WorldDef::dense_fraction values: 0 (every step() uses dense-recording ticks: the dense
+/// kernels, fused pairs included, recording the sparse state), 1 (never: sparse ticks only), the
+/// default (the backend switches by the awake fraction, so both kinds mix within cycles) and 0.5.
 
 #include <doctest/doctest.h>
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <random>
@@ -23,38 +27,46 @@ using granular::test::random_size;
 
 namespace {
 
-/// A WorldDef for `backend` (the CPU with 2 threads), sparse or dense, with the build tree's table cache.
-WorldDef activity_def(BackendKind backend, bool sparse, const char* rules, std::uint64_t seed) {
+/// The GPU worlds' WorldDef::dense_fraction values: always dense-recording, never, the default, half.
+const std::array<double, 4> kFractions = {0.0, 1.0, WorldDef{}.dense_fraction, 0.5};
+
+/// A WorldDef for `backend` (the CPU with 2 threads), sparse or dense, with the build tree's table
+/// cache and the given dense_fraction.
+WorldDef activity_def(BackendKind backend, bool sparse, const char* rules, std::uint64_t seed,
+                      double dense_fraction = WorldDef{}.dense_fraction) {
   WorldDef def;
   def.rules = rules;
   def.seed = seed;
   def.backend = backend;
   def.threads = 2;
   def.sparse = sparse;
+  def.dense_fraction = dense_fraction;
   return def;
 }
 
-/// The reference (dense CPU), the CPU's sparse stepping and the GPU's, from one grid.
+/// The reference (dense CPU), the CPU's sparse stepping and the GPU's, one GPU world per fraction of
+/// kFractions (gpus[i] has kFractions[i]), all from one grid.
 struct Trio {
   World dense;
   World cpu;
-  World gpu;
+  std::vector<World> gpus;
   Trio(const Grid& initial, const char* rules, std::uint64_t seed)
       : dense(activity_def(BackendKind::Cpu, false, rules, seed), initial),
-        cpu(activity_def(BackendKind::Cpu, true, rules, seed), initial),
-        gpu(activity_def(BackendKind::Cuda, true, rules, seed), initial) {}
-  /// Steps all three.
+        cpu(activity_def(BackendKind::Cpu, true, rules, seed), initial) {
+    for (const double f : kFractions) gpus.emplace_back(activity_def(BackendKind::Cuda, true, rules, seed, f), initial);
+  }
+  /// Steps every world.
   void step(int ticks) {
     dense.step(ticks);
     cpu.step(ticks);
-    gpu.step(ticks);
+    for (World& g : gpus) g.step(ticks);
   }
-  /// Applies `tool` to each of the three worlds, in order.
+  /// Applies `tool` to every world, in order: dense, cpu, then the GPU worlds.
   template <class Tool>
   void each(Tool&& tool) {
     tool(dense);
     tool(cpu);
-    tool(gpu);
+    for (World& g : gpus) tool(g);
   }
 };
 
@@ -71,19 +83,25 @@ std::string first_difference(const World& a, const World& b) {
   return {};
 }
 
-/// Sparse GPU == dense CPU (cells), and the GPU's activity figures == the sparse CPU's.
+/// Every sparse GPU world == dense CPU (cells), and its activity figures == the sparse CPU's.
 void require_same(const Trio& w) {
-  const std::uint64_t reference = w.dense.hash(), gpu = w.gpu.hash();
-  if (gpu != reference) FAIL_CHECK(first_difference(w.dense, w.gpu));
-  REQUIRE(gpu == reference);
+  const std::uint64_t reference = w.dense.hash();
   REQUIRE(w.cpu.hash() == reference);
-  const ActivityStats a = w.cpu.activity(), b = w.gpu.activity();
-  CHECK(b.total_bricks == a.total_bricks);
-  CHECK(b.ticks == a.ticks);
-  CHECK(b.active_bricks == a.active_bricks);
-  CHECK(b.active_cells == a.active_cells);
-  CHECK(b.brick_ticks == a.brick_ticks);
-  CHECK(b.cell_ticks == a.cell_ticks);
+  const ActivityStats a = w.cpu.activity();
+  for (std::size_t i = 0; i < w.gpus.size(); ++i) {
+    INFO("gpu world with dense_fraction " << kFractions[i]);
+    const World& g = w.gpus[i];
+    const std::uint64_t gpu = g.hash();
+    if (gpu != reference) FAIL_CHECK(first_difference(w.dense, g));
+    REQUIRE(gpu == reference);
+    const ActivityStats b = g.activity();
+    CHECK(b.total_bricks == a.total_bricks);
+    CHECK(b.ticks == a.ticks);
+    CHECK(b.active_bricks == a.active_bricks);
+    CHECK(b.active_cells == a.active_cells);
+    CHECK(b.brick_ticks == a.brick_ticks);
+    CHECK(b.cell_ticks == a.cell_ticks);
+  }
 }
 
 /// Sizes around the brick size (the last brick's extra block at offset 1 when the extent is a
@@ -113,7 +131,7 @@ TEST_CASE("cuda sparse: same hash as dense CPU stepping on random scenes, sizes,
         for (int x = 0; x < size.x; ++x)
           if (initial.at({x, y, z}) == Material::Void) initial.set({x, y, z}, Material::Granular);
     Trio w(initial, rules, seed);
-    REQUIRE(w.gpu.backend() == BackendKind::Cuda);
+    for (const World& g : w.gpus) REQUIRE(g.backend() == BackendKind::Cuda);
     for (const int ticks : {1, 7, 8, 3, 2, 16, 5, 100, 0, 9, 1, 1, 250, 31}) {
       CAPTURE(ticks);
       w.step(ticks);
@@ -146,10 +164,11 @@ TEST_CASE("cuda sparse: a 128^3 bowl falls, piles and settles to zero active bri
       done += 500;
       CAPTURE(done);
       require_same(w);
-      if (w.gpu.activity().brick_ticks == 0) break;
+      if (w.cpu.activity().brick_ticks == 0) break;
     }
-    if (std::string(rules) == "paper") CHECK(w.gpu.activity().active_bricks == 0);
-    MESSAGE(rules << ": " << w.gpu.activity().active_bricks << " of " << w.gpu.activity().total_bricks
+    if (std::string(rules) == "paper")
+      for (const World& g : w.gpus) CHECK(g.activity().active_bricks == 0);
+    MESSAGE(rules << ": " << w.gpus[0].activity().active_bricks << " of " << w.gpus[0].activity().total_bricks
                   << " bricks active after " << done << " ticks");
   }
 }
@@ -189,8 +208,7 @@ TEST_CASE("cuda sparse: tools between ticks wake the right bricks, on any tick o
           changed.push_back(std::nullopt);
         }
       });
-      CHECK(changed[0] == changed[1]);
-      CHECK(changed[0] == changed[2]);
+      for (std::size_t i = 1; i < changed.size(); ++i) CHECK(changed[0] == changed[i]);
       const int ticks = int(rng() % 13);  // tools land on every tick of the cycle
       w.step(ticks);
       if (ticks > 0) require_same(w);
@@ -201,16 +219,26 @@ TEST_CASE("cuda sparse: tools between ticks wake the right bricks, on any tick o
 }
 
 TEST_CASE("cuda sparse: bricks_changed_since and load() agree with the CPU") {
-  const Int3 size{50, 35, 41};
-  Trio w(random_grid(size, 21, 5, 15), "isotropic", 8);
-  for (int call = 0; call < 40; ++call) {
-    const std::uint64_t vc = w.cpu.change_version(), vg = w.gpu.change_version();
-    w.step(1 + call % 5);
-    require_same(w);
-    CHECK(w.gpu.bricks_changed_since(vg) == w.cpu.bricks_changed_since(vc));
-    if (call == 20) {
-      const Grid other = random_grid(size, 5, 5, 25);
-      w.each([&](World& world) { world.load(other); });
+  for (const char* rules : {"isotropic", "paper"}) {
+    CAPTURE(rules);
+    const Int3 size{50, 35, 41};
+    Trio w(random_grid(size, 21, 5, 15), rules, 8);
+    for (int call = 0; call < 60; ++call) {
+      CAPTURE(call);
+      const std::uint64_t vc = w.cpu.change_version();
+      std::vector<std::uint64_t> vg;
+      for (const World& g : w.gpus) vg.push_back(g.change_version());
+      w.step(1 + call % 5);
+      require_same(w);
+      const std::vector<std::uint32_t> expected = w.cpu.bricks_changed_since(vc);
+      for (std::size_t i = 0; i < w.gpus.size(); ++i) {
+        INFO("gpu world with dense_fraction " << kFractions[i]);
+        CHECK(w.gpus[i].bricks_changed_since(vg[i]) == expected);
+      }
+      if (call == 20 || call == 41) {
+        const Grid other = random_grid(size, 5 + std::uint64_t(call), 5, 25);
+        w.each([&](World& world) { world.load(other); });
+      }
     }
   }
 }
@@ -221,20 +249,51 @@ TEST_CASE("cuda sparse: a pour in one corner of a settled world keeps the rest a
   for (int z = 0; z < 10; ++z)
     for (int y = 0; y < size.y; ++y)
       for (int x = 0; x < size.x; ++x) floor.set({x, y, z}, Material::Granular);
-  World gpu(activity_def(BackendKind::Cuda, true, "isotropic", 3), floor);
   World dense(activity_def(BackendKind::Cpu, false, "isotropic", 3), floor);
-  gpu.step(24);
+  std::vector<World> gpus;
+  for (const double f : kFractions) gpus.emplace_back(activity_def(BackendKind::Cuda, true, "isotropic", 3, f), floor);
   dense.step(24);
-  REQUIRE(gpu.activity().active_bricks == 0);
-  std::uint64_t most = 0;
-  for (int t = 0; t < 300; ++t) {
-    gpu.pour({20, 20, 80}, 4, Material::Granular, 8);
-    dense.pour({20, 20, 80}, 4, Material::Granular, 8);
-    gpu.step(1);
-    dense.step(1);
-    most = std::max(most, gpu.activity().active_bricks);
+  for (World& gpu : gpus) {
+    gpu.step(24);
+    REQUIRE(gpu.activity().active_bricks == 0);
   }
-  CHECK(gpu.hash() == dense.hash());
-  CHECK(most > 0);
-  CHECK(most <= 4 * 4 * 6);  // bricks x, y < 3 (heap), z < 6, and their neighbours
+  std::vector<std::uint64_t> most(gpus.size(), 0);
+  for (int t = 0; t < 300; ++t) {
+    dense.pour({20, 20, 80}, 4, Material::Granular, 8);
+    dense.step(1);
+    for (std::size_t i = 0; i < gpus.size(); ++i) {
+      gpus[i].pour({20, 20, 80}, 4, Material::Granular, 8);
+      gpus[i].step(1);
+      most[i] = std::max(most[i], gpus[i].activity().active_bricks);
+    }
+  }
+  for (std::size_t i = 0; i < gpus.size(); ++i) {
+    INFO("gpu world with dense_fraction " << kFractions[i]);
+    CHECK(gpus[i].hash() == dense.hash());
+    CHECK(most[i] > 0);
+    CHECK(most[i] <= 4 * 4 * 6);  // bricks x, y < 3 (heap), z < 6, and their neighbours
+    CHECK(most[i] == most[0]);
+  }
+}
+
+TEST_CASE("cuda sparse: long runs of random step lengths and parities, falling sand and tools, every fraction") {
+  std::mt19937_64 rng(4242);
+  for (const char* rules : {"isotropic", "paper"}) {
+    CAPTURE(rules);
+    const Int3 size{67, 52, 71};
+    const std::uint64_t scene_seed = rng(), world_seed = rng();
+    Trio w(random_grid(size, scene_seed, 6, 30), rules, world_seed);
+    int done = 0;
+    while (done < 1500) {
+      const int ticks = 1 + int(rng() % 17);
+      w.step(ticks);
+      done += ticks;
+      CAPTURE(done);
+      require_same(w);
+      if (rng() % 4 == 0) {
+        const Vec3 c{double(rng() % 67), double(rng() % 52), 40.0 + double(rng() % 30)};
+        w.each([&](World& world) { world.pour(c, 3.0, Material::Granular, 40); });
+      }
+    }
+  }
 }

@@ -15,6 +15,7 @@
 #include "granular/grid.hpp"
 #include "granular/lut.hpp"
 #include "granular/rule_set.hpp"
+#include "granular/world_def.hpp"
 
 namespace granular {
 
@@ -37,11 +38,14 @@ std::uint64_t cuda_bytes_needed(Int3 size);
 void check_cuda_fits(Int3 size);
 
 /// Creates the CUDA backend holding a copy of `initial`; `sparse` steps only awake bricks (the same
-/// result as dense stepping). Throws BackendError (no GPU, CUDA failure, with the CUDA error string)
-/// or OutOfMemory (with the grid size, bytes needed and bytes free on the device); InvalidArgument
-/// for an empty grid or a null table.
+/// result as dense stepping); with it, a step() call runs the dense kernels in their recording form
+/// when more than `dense_fraction` (0..1; 0 always, 1 never) of the bricks were awake at the last
+/// tick the host knows of (WorldDef::dense_fraction). Throws BackendError (no GPU, CUDA failure,
+/// with the CUDA error string) or OutOfMemory (with the grid size, bytes needed and bytes free on
+/// the device); InvalidArgument for an empty grid, a null table or a dense_fraction outside 0..1.
 std::unique_ptr<Backend> make_cuda_backend(const Grid& initial, std::shared_ptr<const Lut> lut, const RuleSet& rules,
-                                           std::uint64_t seed, bool sparse = true);
+                                           std::uint64_t seed, bool sparse = true,
+                                           double dense_fraction = WorldDef{}.dense_fraction);
 
 /// Builds the transition table for `rules` on the GPU (rules.device_rule must be "paper", else
 /// InvalidArgument), returns the 16,777,216 entries (copied back), and the kernel time in

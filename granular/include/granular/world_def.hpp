@@ -28,6 +28,10 @@ struct WorldDef {
   std::string lut_cache_dir;    ///< cache folder; empty = $GRANULAR_CACHE_DIR, else $XDG_CACHE_HOME/granular, else ~/.cache/granular
   bool sparse = true;           ///< step only bricks where something may move (same result as dense;
                                 ///< false steps every block every tick, for comparison)
+  double dense_fraction = 0.125;  ///< CUDA sparse stepping: when more than this fraction of the bricks
+                                  ///< was awake at the last tick the host knows of, step() runs the dense
+                                  ///< kernels, recording the sparse state (same cells and activity
+                                  ///< figures, faster when much is awake); 0 always, 1 never; 0..1
 };
 
 /// The default WorldDef (identical to a value-initialised one; provided for symmetry with Box2D).
