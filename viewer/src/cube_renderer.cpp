@@ -1,10 +1,8 @@
 #include "cube_renderer.hpp"
 
 #include <cstdint>
-#include <cstring>
 #include <vector>
 
-#include "brick_set.hpp"
 #include "cell_buffer.hpp"
 #include "granular/activity.hpp"
 #include "vulkan_check.hpp"
@@ -44,46 +42,34 @@ CubeRenderer::CubeRenderer(const VulkanContext& context, const CellBuffer& cells
       draws_(context, VkDeviceSize(brick_total_) * sizeof(VkDrawIndirectCommand),
              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
              MemoryKind::DeviceLocal),
-      brick_lists_(context, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT),
       sets_(context.device(), std::vector<VkDescriptorType>(4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER)),
+      rebuild_(context, brick_counts_, sets_, 1),
       build_(context.device(), sets_.layout(), "cube_build.comp"),
       draw_pipeline_(context.device(), sets_.layout(), target_pass, "cube.vert", "cube.frag") {
   sets_.write_buffer(0, cells.buffer());
   sets_.write_buffer(2, instances_.buffer());
   sets_.write_buffer(3, draws_.buffer());
-  for (int slot = 0; slot < kFramesInFlight; ++slot) {
-    brick_lists_.reserve(slot, 4096);
-    sets_.write_buffer(slot, 1, brick_lists_.at(slot).buffer());
-  }
 }
 
 CubeRenderer::~CubeRenderer() = default;
 
 std::uint64_t CubeRenderer::prepare(VkCommandBuffer commands, const FrameView& view,
                                     std::span<const std::uint32_t> changed_bricks) {
-  std::vector<std::uint32_t> every;
-  if (rebuild_all_) {
-    every = all_bricks(brick_counts_);
-    changed_bricks = every;
-    rebuild_all_ = false;
-  }
-  if (changed_bricks.empty()) return 0;
-  if (brick_lists_.reserve(view.slot, changed_bricks.size() * 4))
-    sets_.write_buffer(view.slot, 1, brick_lists_.at(view.slot).buffer());
-  std::memcpy(brick_lists_.at(view.slot).mapped(), changed_bricks.data(), changed_bricks.size() * 4);
+  const std::uint32_t bricks = rebuild_.upload(view.slot, changed_bricks);
+  if (bricks == 0) return 0;
   // The previous frame's draw reads the instances and commands being rewritten.
   memory_barrier(commands, VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT,
                  VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT,
                  VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
   ViewConstants constants = view.raster;
-  constants.grid.w = int(changed_bricks.size());
+  constants.grid.w = int(bricks);
   build_.bind(commands, VK_PIPELINE_BIND_POINT_COMPUTE, sets_.set(view.slot));
   vkCmdPushConstants(commands, build_.layout(), VK_SHADER_STAGE_ALL, 0, sizeof(constants), &constants);
-  vkCmdDispatch(commands, std::uint32_t(changed_bricks.size()), 1, 1);
+  vkCmdDispatch(commands, bricks, 1, 1);
   memory_barrier(commands, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                  VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT,
                  VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
-  return changed_bricks.size();
+  return bricks;
 }
 
 void CubeRenderer::draw(VkCommandBuffer commands, const FrameView& view) {

@@ -10,7 +10,7 @@
 
 #include "gpu_buffer.hpp"
 #include "granular/geometry.hpp"
-#include "host_buffer_slots.hpp"
+#include "brick_rebuild_list.hpp"
 #include "pipeline_builder.hpp"
 #include "renderer.hpp"
 
@@ -30,7 +30,7 @@ class MarchingCubesRenderer final : public Renderer {
   /// See Renderer (renderer.hpp).
   RendererKind kind() const override { return RendererKind::Marching; }
   /// See Renderer (renderer.hpp).
-  void invalidate() override { rebuild_all_ = true; }
+  void invalidate() override { rebuild_.invalidate(); }
   /// See Renderer (renderer.hpp).
   std::uint64_t prepare(VkCommandBuffer commands, const FrameView& view,
                         std::span<const std::uint32_t> changed_bricks) override;
@@ -44,11 +44,10 @@ class MarchingCubesRenderer final : public Renderer {
   GpuBuffer vertices_;
   GpuBuffer draws_;
   GpuBuffer cases_;
-  HostBufferSlots brick_lists_;
   DescriptorSets sets_;
+  BrickRebuildList rebuild_;  ///< after sets_: binds its lists there
   Pipeline build_;
   Pipeline draw_pipeline_;
-  bool rebuild_all_ = true;
 };
 
 }  // namespace viewer

@@ -1,10 +1,7 @@
 #include "raymarch_renderer.hpp"
 
 #include <cstdint>
-#include <cstring>
-#include <vector>
 
-#include "brick_set.hpp"
 #include "cell_buffer.hpp"
 #include "granular/activity.hpp"
 #include "gpu_buffer.hpp"
@@ -18,17 +15,13 @@ RaymarchRenderer::RaymarchRenderer(const VulkanContext& context, const CellBuffe
       brick_counts_(granular::brick_counts(cells.size())),
       occupancy_(context, VkDeviceSize(brick_counts_.x) * brick_counts_.y * brick_counts_.z * 4,
                  VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryKind::DeviceLocal),
-      brick_lists_(context, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT),
       sets_(context.device(), {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
                                VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER}),
+      rebuild_(context, brick_counts_, sets_, 2),
       occupancy_pass_(context.device(), sets_.layout(), "brick_occupancy.comp"),
       march_(context.device(), sets_.layout(), "raymarch.comp") {
   sets_.write_buffer(0, cells.buffer());
   sets_.write_buffer(3, occupancy_.buffer());
-  for (int slot = 0; slot < kFramesInFlight; ++slot) {
-    brick_lists_.reserve(slot, 4096);
-    sets_.write_buffer(slot, 2, brick_lists_.at(slot).buffer());
-  }
 }
 
 RaymarchRenderer::~RaymarchRenderer() { release_image(); }
@@ -78,21 +71,13 @@ void RaymarchRenderer::ensure_image(VkExtent2D extent) {
 std::uint64_t RaymarchRenderer::prepare(VkCommandBuffer commands, const FrameView& view,
                                         std::span<const std::uint32_t> changed_bricks) {
   ensure_image(view.extent);
-  std::vector<std::uint32_t> every;
-  if (rebuild_all_) {
-    every = all_bricks(brick_counts_);
-    changed_bricks = every;
-    rebuild_all_ = false;
-  }
-  if (!changed_bricks.empty()) {
-    if (brick_lists_.reserve(view.slot, changed_bricks.size() * 4))
-      sets_.write_buffer(view.slot, 2, brick_lists_.at(view.slot).buffer());
-    std::memcpy(brick_lists_.at(view.slot).mapped(), changed_bricks.data(), changed_bricks.size() * 4);
+  const std::uint32_t bricks = rebuild_.upload(view.slot, changed_bricks);
+  if (bricks > 0) {
     memory_barrier(commands, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT,
                    VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
     occupancy_pass_.bind(commands, VK_PIPELINE_BIND_POINT_COMPUTE, sets_.set(view.slot));
     vkCmdPushConstants(commands, occupancy_pass_.layout(), VK_SHADER_STAGE_ALL, 0, sizeof(ViewConstants), &view.raster);
-    vkCmdDispatch(commands, std::uint32_t(changed_bricks.size()), 1, 1);
+    vkCmdDispatch(commands, bricks, 1, 1);
     memory_barrier(commands, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                    VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
   }
@@ -109,7 +94,7 @@ std::uint64_t RaymarchRenderer::prepare(VkCommandBuffer commands, const FrameVie
   blit.dstOffsets[1] = blit.srcOffsets[1];
   vkCmdBlitImage(commands, image_, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, view.target_image,
                  VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &blit, VK_FILTER_NEAREST);
-  return changed_bricks.size();
+  return bricks;
 }
 
 }  // namespace viewer

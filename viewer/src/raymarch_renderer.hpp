@@ -10,7 +10,7 @@
 
 #include "gpu_buffer.hpp"
 #include "granular/geometry.hpp"
-#include "host_buffer_slots.hpp"
+#include "brick_rebuild_list.hpp"
 #include "pipeline_builder.hpp"
 #include "renderer.hpp"
 
@@ -30,7 +30,7 @@ class RaymarchRenderer final : public Renderer {
   /// See Renderer (renderer.hpp).
   RendererKind kind() const override { return RendererKind::Raymarch; }
   /// See Renderer (renderer.hpp).
-  void invalidate() override { rebuild_all_ = true; }
+  void invalidate() override { rebuild_.invalidate(); }
   /// See Renderer (renderer.hpp).
   std::uint64_t prepare(VkCommandBuffer commands, const FrameView& view,
                         std::span<const std::uint32_t> changed_bricks) override;
@@ -46,11 +46,10 @@ class RaymarchRenderer final : public Renderer {
   const VulkanContext& context_;
   granular::Int3 brick_counts_;
   GpuBuffer occupancy_;
-  HostBufferSlots brick_lists_;
   DescriptorSets sets_;
+  BrickRebuildList rebuild_;  ///< after sets_: binds its lists there
   Pipeline occupancy_pass_;
   Pipeline march_;
-  bool rebuild_all_ = true;
   VkExtent2D extent_{};
   VkImage image_ = VK_NULL_HANDLE;
   VkDeviceMemory memory_ = VK_NULL_HANDLE;
