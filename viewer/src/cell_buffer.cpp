@@ -19,6 +19,20 @@ VkDeviceSize cell_bytes(granular::Int3 size) {
   return (VkDeviceSize(size.x) * size.y * size.z + 3) / 4 * 4;
 }
 
+/// Earlier readers of the cells (build passes, vertex shaders, ray march) finish before a write.
+void wait_for_readers(VkCommandBuffer commands) {
+  memory_barrier(commands, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT,
+                 VK_PIPELINE_STAGE_2_COPY_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                 VK_ACCESS_2_TRANSFER_WRITE_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+}
+
+/// The written cells become visible to every later shader read.
+void release_to_readers(VkCommandBuffer commands) {
+  memory_barrier(commands, VK_PIPELINE_STAGE_2_COPY_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                 VK_ACCESS_2_TRANSFER_WRITE_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+                 VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+}
+
 }  // namespace
 
 CellBuffer::CellBuffer(const VulkanContext& context, granular::Int3 size)
@@ -46,14 +60,9 @@ CellBuffer::~CellBuffer() = default;
 std::uint64_t CellBuffer::record_upload(VkCommandBuffer commands, int slot, const granular::World& world,
                                         std::span<const std::uint32_t> bricks) {
   if (bricks.empty()) return 0;
-  const granular::Int3 counts = granular::brick_counts(size_);
-  const std::size_t total = std::size_t(counts.x) * counts.y * counts.z;
-  // Earlier readers of the cells (build passes, vertex shaders, ray march) finish first.
-  memory_barrier(commands, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT,
-                 VK_PIPELINE_STAGE_2_COPY_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                 VK_ACCESS_2_TRANSFER_WRITE_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+  wait_for_readers(commands);
   std::uint64_t uploaded = 0;
-  if (bricks.size() * 2 >= total) {
+  if (most_bricks(bricks.size())) {
     const granular::Box whole{{0, 0, 0}, size_};
     const VkDeviceSize bytes = VkDeviceSize(whole.volume());
     staging_.reserve(slot, bytes);
@@ -85,30 +94,35 @@ std::uint64_t CellBuffer::record_upload(VkCommandBuffer commands, int slot, cons
           std::memcpy(out + (z * granular::kBrickSize + y) * granular::kBrickSize, partial.data() + (std::size_t(z) * e.y + y) * e.x,
                       std::size_t(e.x));
     }
-    ViewConstants constants;
-    constants.grid = {size_.x, size_.y, size_.z, int(bricks.size())};
-    constants.bricks = {counts.x, counts.y, counts.z, 0};
-    scatter_->bind(commands, VK_PIPELINE_BIND_POINT_COMPUTE, scatter_sets_->set(slot));
-    vkCmdPushConstants(commands, scatter_->layout(), VK_SHADER_STAGE_ALL, 0, sizeof(constants), &constants);
-    vkCmdDispatch(commands, std::uint32_t(bricks.size()), 1, 1);
+    dispatch_per_brick(commands, *scatter_, *scatter_sets_, slot, bricks.size());
     uploaded = bytes;
   }
-  memory_barrier(commands, VK_PIPELINE_STAGE_2_COPY_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                 VK_ACCESS_2_TRANSFER_WRITE_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
-                 VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+  release_to_readers(commands);
   return uploaded;
+}
+
+bool CellBuffer::most_bricks(std::size_t bricks) const {
+  const granular::Int3 counts = granular::brick_counts(size_);
+  return bricks * 2 >= std::size_t(counts.x) * counts.y * counts.z;
+}
+
+void CellBuffer::dispatch_per_brick(VkCommandBuffer commands, const Pipeline& pass, const DescriptorSets& sets, int slot,
+                                    std::size_t bricks) const {
+  const granular::Int3 counts = granular::brick_counts(size_);
+  ViewConstants constants;
+  constants.grid = {size_.x, size_.y, size_.z, int(bricks)};
+  constants.bricks = {counts.x, counts.y, counts.z, 0};
+  pass.bind(commands, VK_PIPELINE_BIND_POINT_COMPUTE, sets.set(slot));
+  vkCmdPushConstants(commands, pass.layout(), VK_SHADER_STAGE_ALL, 0, sizeof(constants), &constants);
+  vkCmdDispatch(commands, std::uint32_t(bricks), 1, 1);
 }
 
 std::uint64_t CellBuffer::record_copy_from(VkCommandBuffer commands, int slot, VkBuffer source,
                                           std::span<const std::uint32_t> bricks) {
   if (bricks.empty()) return 0;
-  const granular::Int3 counts = granular::brick_counts(size_);
-  const std::size_t total = std::size_t(counts.x) * counts.y * counts.z;
-  memory_barrier(commands, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT,
-                 VK_PIPELINE_STAGE_2_COPY_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                 VK_ACCESS_2_TRANSFER_WRITE_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+  wait_for_readers(commands);
   std::uint64_t copied = 0;
-  if (bricks.size() * 2 >= total) {
+  if (most_bricks(bricks.size())) {
     const VkBufferCopy region{0, 0, cells_.size()};
     vkCmdCopyBuffer(commands, source, cells_.buffer(), 1, &region);
     copied = cells_.size();
@@ -117,17 +131,10 @@ std::uint64_t CellBuffer::record_copy_from(VkCommandBuffer commands, int slot, V
     std::memcpy(gather_lists_.at(slot).mapped(), bricks.data(), bricks.size() * 4);
     gather_sets_->write_buffer(slot, 1, gather_lists_.at(slot).buffer());
     gather_sets_->write_buffer(slot, 2, source);
-    ViewConstants constants;
-    constants.grid = {size_.x, size_.y, size_.z, int(bricks.size())};
-    constants.bricks = {counts.x, counts.y, counts.z, 0};
-    gather_->bind(commands, VK_PIPELINE_BIND_POINT_COMPUTE, gather_sets_->set(slot));
-    vkCmdPushConstants(commands, gather_->layout(), VK_SHADER_STAGE_ALL, 0, sizeof(constants), &constants);
-    vkCmdDispatch(commands, std::uint32_t(bricks.size()), 1, 1);
+    dispatch_per_brick(commands, *gather_, *gather_sets_, slot, bricks.size());
     copied = bricks.size() * kBrickCells;
   }
-  memory_barrier(commands, VK_PIPELINE_STAGE_2_COPY_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                 VK_ACCESS_2_TRANSFER_WRITE_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
-                 VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+  release_to_readers(commands);
   return copied;
 }
 

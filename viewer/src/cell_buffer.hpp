@@ -52,6 +52,12 @@ class CellBuffer {
                                  std::span<const std::uint32_t> bricks);
 
  private:
+  /// True when `bricks` changed bricks are at least half the grid's: one whole copy is cheaper.
+  bool most_bricks(std::size_t bricks) const;
+  /// Records `pass` over `bricks` listed bricks, one workgroup per brick, with the grid's constants.
+  void dispatch_per_brick(VkCommandBuffer commands, const Pipeline& pass, const DescriptorSets& sets, int slot,
+                          std::size_t bricks) const;
+
   const VulkanContext& context_;
   granular::Int3 size_;
   GpuBuffer cells_;
