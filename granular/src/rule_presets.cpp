@@ -4,28 +4,35 @@
 
 #include "granular/errors.hpp"
 #include "granular/material.hpp"
+#include "motion_block.hpp"
 #include "paper_rule.hpp"
 
 namespace granular {
 
 namespace {
 
+/// The inertial presets' roll chance (out of 256), tuned on the accuracy suite's poured cone.
+constexpr int kInertialRollChance = 128;
+
 RuleSet make_preset(std::string name, std::string description, std::uint32_t version, bool random_symmetry,
-                    bool random_axis_order) {
+                    bool random_axis_order, MotionParams motion = {}) {
   RuleSet r;
   r.name = std::move(name);
   r.description = std::move(description);
   r.version = version;
   r.random_symmetry = random_symmetry;
   r.random_axis_order = random_axis_order;
-  r.transition = &paper_transition;
-  r.device_rule = "paper";
+  r.motion = motion;
+  r.transition = motion.enabled() ? &motion_transition : &paper_transition;
+  r.device_rule = motion.enabled() ? "motion" : "paper";
   return r;
 }
 
 }  // namespace
 
 Transition paper_transition(const BlockCells& cells) { return rules::paper_rule(encode_key(cells)); }
+
+Transition motion_transition(const BlockCells& cells) { return motion::motion_rule(encode_key(cells)); }
 
 std::shared_ptr<const RuleSet> make_rule_set(std::string_view name) {
   if (name == "paper")
@@ -39,11 +46,20 @@ std::shared_ptr<const RuleSet> make_rule_set(std::string_view name) {
     return std::make_shared<const RuleSet>(make_preset(
         "d4", "the paper's rules under a random horizontal symmetry per block and tick, the paper's offset cycle", 1, true,
         false));
+  if (name == "inertial")
+    return std::make_shared<const RuleSet>(make_preset(
+        "inertial",
+        "isotropic plus inertia and rolling: 16 sub-steps per tick, grains accelerate in free fall and roll on",
+        1, true, true, MotionParams{16, kInertialRollChance}));
+  if (name == "inertial-32")
+    return std::make_shared<const RuleSet>(make_preset(
+        "inertial-32", "inertial with 32 sub-steps per tick: twice the top speed, twice the cost", 1, true, true,
+        MotionParams{32, kInertialRollChance}));
   std::string valid;
   for (const auto& n : rule_preset_names()) valid += (valid.empty() ? "" : ", ") + n;
   throw InvalidArgument("unknown rule set '" + std::string(name) + "'; valid rule sets: " + valid);
 }
 
-std::vector<std::string> rule_preset_names() { return {"paper", "isotropic", "d4"}; }
+std::vector<std::string> rule_preset_names() { return {"paper", "isotropic", "d4", "inertial", "inertial-32"}; }
 
 }  // namespace granular

@@ -10,6 +10,9 @@ std::uint64_t rule_fingerprint(const RuleSet& rules) {
   h = mix64(h ^ rules.version);
   h = mix64(h ^ (rules.random_symmetry ? 1u : 0u));
   if (rules.random_axis_order) h = mix64(h ^ 0x617865736F726465ull);
+  if (rules.motion.enabled())
+    h = mix64(h ^ 0x6D6F74696F6E0000ull ^ std::uint64_t(rules.motion.substeps) ^
+              (std::uint64_t(rules.motion.roll_chance) << 8));
   if (!rules.transition) return h;
   // Every block over the three simulated states.
   for (std::uint32_t n = 0; n < 6561; ++n) {

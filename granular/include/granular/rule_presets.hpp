@@ -16,6 +16,10 @@ namespace granular {
 /// of preference (+/-x neighbour, then y, then diagonal). Deterministic; piles at 45 degrees.
 Transition paper_transition(const BlockCells& cells);
 
+/// The motion model's rule (motion.hpp): the paper's rule on void, obstacle and grain, plus a
+/// roller state (table code 3) that also rolls sideways onto a level neighbour.
+Transition motion_transition(const BlockCells& cells);
+
 /// Looks up a preset by name: "paper" (the paper's deterministic rules and offset cycle),
 /// "isotropic" (the same table under a random horizontal symmetry per block and tick, and a random
 /// offset order per 8-tick cycle, so heaps come out round) or "d4" (the random symmetry alone, on

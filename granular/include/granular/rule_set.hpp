@@ -7,6 +7,7 @@
 #include <string>
 
 #include "granular/block.hpp"
+#include "granular/motion.hpp"
 
 namespace granular {
 
@@ -35,6 +36,7 @@ struct RuleSet {
                                    ///< ticks and y every 4, or the reverse), drawn per cycle from
                                    ///< block_offset(tick, seed, true); the same for every block of a tick
   BlockRule transition = nullptr;  ///< the rule itself
+  MotionParams motion;  ///< inertia and rolling (motion.hpp); the default is off: one step per tick
   std::string device_rule;  ///< name of the same rule compiled for GPUs ("paper"), empty when none:
                             ///< a GPU backend builds the table on the device from it
 };

@@ -1,0 +1,45 @@
+#pragma once
+/// @file motion.hpp
+/// The motion model: inertia and rolling for grains, carried in each cell's high bits.
+///
+/// A cell is one byte: bits 0..2 hold its material, bits 3..7 a grain's motion level (0 for every
+/// other material). The level is a fall speed: a grain at level v may move in a window of
+/// motion_window(v) of the tick's Margolus sub-steps, so it falls up to that many cells per tick.
+/// Every block transition is a permutation, so a grain's level travels with it. World::read_region,
+/// snapshot() and count() report materials only; World::hash() covers the whole byte.
+
+#include <cstdint>
+
+namespace granular {
+
+/// Bits of a cell byte that hold its material.
+inline constexpr std::uint8_t kMaterialMask = 7;
+/// A grain's motion level sits in the bits above the material.
+inline constexpr int kMotionShift = 3;
+/// Largest motion level a cell byte holds.
+inline constexpr int kMaxMotionBits = 31;
+
+/// What a rule set's motion model does (RuleSet::motion). The default is no motion model: one
+/// Margolus step per tick and no motion state, the paper's scheme.
+struct MotionParams {
+  int substeps = 1;     ///< Margolus sub-steps per tick (1: no motion model; else even, 8..32)
+  int roll_chance = 0;  ///< out of 256: chance that a moving grain blocked from below is offered a
+                        ///< roll to a level neighbour cell (the friction lever; 0: never rolls)
+  /// True when the rule set uses the motion model.
+  constexpr bool enabled() const { return substeps > 1; }
+  /// The highest motion level: a grain at it falls substeps - 1 cells per tick.
+  constexpr int max_level() const { return substeps / 2; }
+};
+
+/// The sub-steps a grain at motion level `level` takes part in: 1 at rest and at level 1, then
+/// 3, 5, 7, ... so that a grain falling from rest covers 1, 4, 9, ... cells after 1, 2, 3 ticks.
+/// Always odd, so a grain falling at every one of its sub-steps stays in phase with the partition.
+constexpr int motion_window(int level) { return level <= 1 ? 1 : 2 * level - 1; }
+
+/// The material of a cell byte.
+constexpr std::uint8_t cell_material(std::uint8_t cell) { return cell & kMaterialMask; }
+
+/// The motion level of a cell byte.
+constexpr int cell_motion(std::uint8_t cell) { return cell >> kMotionShift; }
+
+}  // namespace granular

@@ -1,0 +1,196 @@
+#pragma once
+/// @file motion_block.hpp
+/// One block of one sub-step of the motion model (granular/motion.hpp), as constexpr functions on
+/// plain integers: the CPU kernels and the CUDA kernels (nvcc --expt-relaxed-constexpr) compile
+/// this very code, which is what makes the two backends bit-identical.
+///
+/// A tick of a motion rule set runs MotionParams::substeps Margolus sub-steps. Sub-step s of tick
+/// t uses the partition offset motion_offset(t, s): z flips every sub-step, and the sub-step in
+/// which grains at rest take part (s = t & 1) walks all 8 offsets over 8 ticks, as the one-step
+/// cycle does. Per block:
+///  1. Each cell gets a code for the table: void 0, obstacle 1 (solid and every other material),
+///     grain 2. A grain in the top layer that is outside its window this sub-step (it is too slow
+///     to move now) reads as an obstacle; one inside its window with a motion level above 0 reads,
+///     with chance roll_chance / 256, as a roller (3), which the table lets roll sideways onto a
+///     level neighbour. Bottom-layer grains can only be pushed aside, never move on their own, so
+///     their code is always 2.
+///  2. The key is viewed under the block's random symmetry, looked up in the transition table of
+///     motion_rule, and the permutation is mapped back: cell i goes to position dest[i].
+///  3. The 8 bytes are permuted with their motion levels, and each grain that took part updates
+///     its level: one that fell keeps it (plus 1 in the first sub-step of its window: gravity),
+///     one that rolled loses 1, one that stayed takes the smaller of its level and that of the grain
+///     below it (0 on anything but a grain: it has landed).
+/// The random word is block_random(seed, t * substeps + s, x0, y0, z0); its low 3 bits pick the
+/// symmetry and byte k (k = 1..4) the roll draw of top cell k + 3.
+
+#include <cstdint>
+
+#include "granular/block.hpp"
+#include "granular/motion.hpp"
+
+namespace granular::motion {
+
+/// Table codes of a cell: what motion_rule sees.
+inline constexpr std::uint32_t kCodeVoid = 0, kCodeObstacle = 1, kCodeGrain = 2, kCodeRoller = 3;
+
+/// Material values the block step tests (material.hpp's Void and Granular).
+inline constexpr std::uint32_t kVoid = 0, kGrain = 2;
+
+/// The motion model's block rule on a key of table codes (3 bits per cell, block.hpp order):
+/// gravity (a grain or roller in the top layer falls into the void below it), then flow (it
+/// topples into the bottom cell of another column when that cell and the one above it are void),
+/// then roll (a roller that has not moved goes to the top cell of another column when that cell is
+/// void and the one below it is not). Preference: the x neighbour, then y, then the diagonal.
+/// Codes 1 and 4..7 are obstacles and never move. On codes 0..2 this is the paper's rule.
+constexpr Transition motion_rule(BlockKey key) {
+  std::uint32_t state[8] = {};
+  std::uint32_t at[8] = {};  // at[p]: the original cell now at position p
+  for (int i = 0; i < 8; ++i) {
+    state[i] = (key >> (3 * i)) & 7u;
+    at[i] = std::uint32_t(i);
+  }
+  auto mover = [&](int p) { return state[p] == kCodeGrain || state[p] == kCodeRoller; };
+  auto swap = [&](int p, int q) {
+    const std::uint32_t s = state[p], a = at[p];
+    state[p] = state[q];
+    at[p] = at[q];
+    state[q] = s;
+    at[q] = a;
+  };
+  bool moved[8] = {};
+  for (int column = 0; column < 4; ++column)
+    if (mover(column + 4) && state[column] == kCodeVoid) {
+      swap(column + 4, column);
+      moved[column] = true;
+    }
+  for (int column = 0; column < 4; ++column) {
+    if (!mover(column + 4)) continue;
+    for (int flip = 1; flip <= 3; ++flip) {
+      const int target = column ^ flip;
+      if (state[target] == kCodeVoid && state[target + 4] == kCodeVoid) {
+        swap(column + 4, target);
+        moved[target] = true;
+        break;
+      }
+    }
+  }
+  for (int column = 0; column < 4; ++column) {
+    if (state[column + 4] != kCodeRoller || moved[column + 4]) continue;
+    for (int flip = 1; flip <= 3; ++flip) {
+      const int target = column ^ flip;
+      if (state[target + 4] == kCodeVoid && state[target] != kCodeVoid) {
+        swap(column + 4, target + 4);
+        moved[target + 4] = true;
+        break;
+      }
+    }
+  }
+  Transition transition = 0;
+  for (int p = 0; p < 8; ++p) transition |= Transition(p) << (3 * at[p]);
+  return transition;
+}
+
+/// The partition offset of sub-step `substep` of tick `tick` (see the file comment); with
+/// `random_axis_order`, x and y are exchanged on the 8-tick cycles cycle_swaps_axes draws.
+constexpr BlockOffset motion_offset(std::uint64_t tick, int substep, std::uint64_t seed, bool random_axis_order) {
+  const std::uint64_t phase = tick + std::uint64_t(substep);
+  BlockOffset o{int((phase >> 1) & 1u), int((phase >> 2) & 1u), substep & 1};
+  if (random_axis_order && cycle_swaps_axes(seed, tick)) {
+    const int x = o.x;
+    o.x = o.y;
+    o.y = x;
+  }
+  return o;
+}
+
+/// What one sub-step of the motion model needs besides the cells.
+struct SubStep {
+  std::uint64_t seed = 0;       ///< world seed
+  std::uint64_t tick = 0;       ///< the tick
+  int substep = 0;              ///< this sub-step, 0 .. substeps - 1
+  int substeps = 2;             ///< MotionParams::substeps
+  int roll_chance = 0;          ///< MotionParams::roll_chance
+  bool random_symmetry = false; ///< draw a horizontal symmetry per block
+};
+
+/// The key of a block's materials with every grain as code 2 and every obstacle as 1 (what the
+/// inert-key table is asked about), and whether every grain in it is at rest (level 0). A block
+/// whose grains are all at rest and whose key is inert stays as it is in every sub-step, whatever
+/// the draws: at rest no grain is a roller, a grain outside its window only turns into an
+/// obstacle, which never lets a block move that would not move anyway, and a grain at rest that
+/// stays keeps level 0.
+constexpr BlockKey rest_key(std::uint64_t bytes, bool& all_at_rest) {
+  BlockKey key = 0;
+  std::uint64_t levels = 0;
+  for (int i = 0; i < 8; ++i) {
+    const std::uint32_t byte = std::uint32_t(bytes >> (8 * i)) & 0xFFu;
+    const std::uint32_t material = byte & kMaterialMask;
+    const std::uint32_t code = material == kVoid ? kCodeVoid : material == kGrain ? kCodeGrain : kCodeObstacle;
+    key |= code << (3 * i);
+    levels |= byte >> kMotionShift;
+  }
+  all_at_rest = levels == 0;
+  return key;
+}
+
+/// The block's 8 bytes (cell i in byte i) after sub-step `m` (see the file comment). `table` is the
+/// motion_rule transition table indexed by key; `load` reads an entry (a plain read on the CPU, a
+/// read-only cache load on a GPU).
+template <class Load>
+constexpr std::uint64_t step_block(std::uint64_t bytes, const SubStep& m, int x0, int y0, int z0, Load load) {
+  const int s = m.substep, window_start = int(m.tick & 1u);
+  const std::uint64_t random = block_random(m.seed, m.tick * std::uint64_t(m.substeps) + std::uint64_t(s), x0, y0, z0);
+  BlockKey key = 0;
+  unsigned takes_part = 0;
+  for (int i = 0; i < 8; ++i) {
+    const std::uint32_t byte = std::uint32_t(bytes >> (8 * i)) & 0xFFu;
+    const std::uint32_t material = byte & kMaterialMask;
+    std::uint32_t code = material == kVoid ? kCodeVoid : kCodeObstacle;
+    if (material == kGrain) {
+      code = kCodeGrain;
+      if (i >= 4) {
+        const int level = int(byte >> kMotionShift);
+        if (s >= window_start && s - window_start < motion_window(level)) {
+          takes_part |= 1u << i;
+          if (level > 0 && int((random >> (8 * (i - 3))) & 0xFFu) < m.roll_chance) code = kCodeRoller;
+        } else {
+          code = kCodeObstacle;
+        }
+      }
+    }
+    key |= code << (3 * i);
+  }
+  if (takes_part == 0) return bytes;  // only top-layer grains that take part ever move or change
+  const int symmetry = m.random_symmetry ? int(random & 7u) : 0;
+  const auto map = horizontal_symmetry(symmetry);
+  int inverse[8] = {};
+  BlockKey viewed = 0;
+  for (int i = 0; i < 8; ++i) {
+    inverse[map[i]] = i;
+    viewed |= ((key >> (3 * i)) & 7u) << (3 * map[i]);
+  }
+  const Transition t = load(viewed);
+  const int max_level = m.substeps / 2;
+  std::uint64_t out = 0;
+  for (int i = 0; i < 8; ++i) {
+    const int dest = inverse[destination(t, map[i])];
+    std::uint32_t byte = std::uint32_t(bytes >> (8 * i)) & 0xFFu;
+    if ((takes_part >> i) & 1u) {
+      int level = int(byte >> kMotionShift);
+      if (dest < 4) {
+        if (s == window_start && level < max_level) ++level;
+      } else if (dest != i) {
+        level = level > 0 ? level - 1 : 0;
+      } else {
+        const std::uint32_t below = std::uint32_t(bytes >> (8 * (i - 4))) & 0xFFu;
+        const int below_level = int(below >> kMotionShift);
+        level = (below & kMaterialMask) == kGrain ? (below_level < level ? below_level : level) : 0;
+      }
+      byte = kGrain | (std::uint32_t(level) << kMotionShift);
+    }
+    out |= std::uint64_t(byte) << (8 * dest);
+  }
+  return out;
+}
+
+}  // namespace granular::motion
