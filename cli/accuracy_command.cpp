@@ -19,7 +19,7 @@ namespace granular::cli {
 namespace {
 
 struct AccuracyOptions {
-  std::vector<std::string> rules{"paper", "d4", "isotropic"};
+  std::vector<std::string> rules{"paper", "d4", "isotropic", "inertial", "inertial-24"};
   std::vector<std::string> tests = accuracy::suite_test_names();
   std::string backend = "cpu";
   int threads = 0;

@@ -79,7 +79,7 @@ void run(const LutOptions& o) {
 void add_lut_command(CLI::App& app) {
   auto options = std::make_shared<LutOptions>();
   CLI::App* cmd = app.add_subcommand("lut", "build, validate and cache a rule set's transition table");
-  cmd->add_option("--rules", options->rules, "rule set: isotropic, paper or d4")->capture_default_str();
+  cmd->add_option("--rules", options->rules, "rule set: inertial, inertial-24, isotropic, d4 or paper")->capture_default_str();
   cmd->add_option("--cache-dir", options->cache_dir, "cache folder (default: $GRANULAR_CACHE_DIR or ~/.cache/granular)");
   cmd->add_flag("--rebuild", options->rebuild, "build even when cached, and time the build");
   cmd->add_option("-j,--threads", options->threads, "threads for the build (0 = all)")->capture_default_str();

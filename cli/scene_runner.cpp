@@ -13,7 +13,7 @@ void add_world_options(CLI::App& command, WorldOptions& o) {
   command.add_option("-s,--scene", o.scene, "scene name (see assets/scenes), scene .json, or a .raw/.vox grid file")
       ->capture_default_str();
   command.add_option("-n,--size", o.size, "scene size N (0 = the scene's default)")->capture_default_str();
-  command.add_option("--rules", o.rules, "rule set: isotropic, paper or d4")->capture_default_str();
+  command.add_option("--rules", o.rules, "rule set: inertial, inertial-24, isotropic, d4 or paper")->capture_default_str();
   command.add_option("--backend", o.backend, "compute backend")
       ->check(CLI::IsMember({"auto", "cpu", "cuda"}))
       ->capture_default_str();

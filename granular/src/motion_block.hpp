@@ -172,11 +172,11 @@ constexpr bool laterally_free(std::uint64_t bytes, int i) {
   return true;
 }
 
-/// True when a block of 8 equal bytes `byte` may be skipped in sub-step `substep`: void and
-/// obstacles never change, and a uniform block of grains changes nothing but in sub-step 0, which
-/// sets the phases of its two layers apart.
+/// True when a block of 8 equal bytes `byte` may be skipped in sub-step `substep` as unchanged and
+/// quiet: void and obstacles. A uniform block of grains is never at rest (sub-step 0 gives its two
+/// layers different phases), so it is stepped, and noted, like any other.
 constexpr bool uniform_block_unchanged(std::uint32_t byte, int substep) {
-  return substep != 0 || (byte & kMaterialMask) != kGrain;
+  return substep >= 0 && (byte & kMaterialMask) != kGrain;
 }
 
 /// The block's 8 bytes (cell i in byte i) after sub-step `m` (see the file comment). `table` is the

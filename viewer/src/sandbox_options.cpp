@@ -14,7 +14,7 @@ void add_sandbox_options(CLI::App& app, SandboxOptions& o) {
   app.add_option("--scene", o.world.scene, "scene name from assets/scenes, a scene .json, or a .raw/.vox grid");
   app.add_option("--size", o.world.size, "scene size parameter N (0: the scene's default)");
   app.add_option("--backend", o.world.backend, "auto, cpu or cuda");
-  app.add_option("--rules", o.world.rules, "rule-set preset (paper, isotropic)");
+  app.add_option("--rules", o.world.rules, "rule-set preset (inertial, inertial-24, isotropic, d4, paper)");
   app.add_option("--threads", o.world.threads, "CPU backend threads (0: all)");
   app.add_flag("--headless", o.headless, "render offscreen, no window, no display needed");
   app.add_option("--frames", o.frames, "frames to run (headless; windowed: 0 = until the window closes)");

@@ -77,13 +77,15 @@ class World {
 
   /// Cells per material.
   MaterialCounts count() const;
-  /// 64-bit hash of the grid (identical across backends and thread counts).
+  /// 64-bit hash of the grid's cell bytes, grains' motion state included (identical across backends
+  /// and thread counts).
   std::uint64_t hash() const;
-  /// Copies the cells of `box` (which must lie inside the grid) into a vector, x fastest.
+  /// Copies the materials of the cells of `box` (which must lie inside the grid) into a vector, x
+  /// fastest (the motion state of grains is internal, motion.hpp).
   std::vector<std::uint8_t> read_region(const Box& box) const;
   /// Copies the cells of `box` into `out` (size box.volume()).
   void read_region(const Box& box, std::span<std::uint8_t> out) const;
-  /// A copy of the whole grid.
+  /// A copy of the whole grid's materials (grains restart at rest when it is loaded).
   Grid snapshot() const;
   /// Replaces every cell with those of `grid`, which must have this world's size.
   void load(const Grid& grid);
@@ -92,7 +94,8 @@ class World {
   /// read earlier to bricks_changed_since() to learn what changed after it.
   std::uint64_t change_version() const;
   /// Indices (x fastest, see brick_box) of the bricks whose cells changed after change_version()
-  /// returned `version`. Never misses a changed brick. Exact with sparse stepping and for tools;
+  /// returned `version`. Never misses a changed brick. Exact with sparse stepping and for tools
+  /// (with a motion model, a brick where only a grain's motion state changed counts as changed);
   /// with dense stepping (WorldDef::sparse = false) a step lists every brick.
   std::vector<std::uint32_t> bricks_changed_since(std::uint64_t version) const;
   /// Bricks per axis (see activity.hpp).
