@@ -40,16 +40,19 @@ std::shared_ptr<const std::vector<std::uint64_t>> shared_inert_table(const Lut& 
 
 }  // namespace
 
-CpuBackend::CpuBackend(const Grid& initial, std::shared_ptr<const Lut> lut, bool random_symmetry, bool random_axis_order,
-                       std::uint64_t seed, int threads, bool sparse)
+CpuBackend::CpuBackend(const Grid& initial, std::shared_ptr<const Lut> lut, const RuleSet& rules, std::uint64_t seed,
+                       int threads, bool sparse)
     : grid_(initial),
       lut_(std::move(lut)),
       result_(shared_result_table(*lut_, threads)),
-      random_symmetry_(random_symmetry),
-      random_axis_order_(random_axis_order),
+      random_symmetry_(rules.random_symmetry),
+      random_axis_order_(rules.random_axis_order),
+      motion_(rules.motion),
       seed_(seed),
       sparse_(sparse),
-      inert_(sparse && random_symmetry ? shared_inert_table(*lut_, *result_, random_symmetry, threads) : nullptr),
+      inert_(sparse && (rules.random_symmetry || rules.motion.enabled())
+                 ? shared_inert_table(*lut_, *result_, rules.random_symmetry, threads)
+                 : nullptr),
       activity_(initial.size()),
       pool_(threads) {
   const Int3 b = activity_.bricks();
@@ -64,21 +67,32 @@ void CpuBackend::step(std::uint64_t first_tick, int ticks) {
   const std::uint64_t total = last_.total_bricks;
   last_ = ActivityStats{};
   last_.total_bricks = total;
+  const int substeps = motion_.enabled() ? motion_.substeps : 1;
   for (int i = 0; i < ticks; ++i) {
+    const std::uint64_t tick = first_tick + std::uint64_t(i);
     if (sparse_) {
-      step_tick_sparse(first_tick + std::uint64_t(i));
+      last_.active_bricks = activity_.active().size();
+      last_.active_cells = activity_.active_cells();
     } else {
-      step_tick(first_tick + std::uint64_t(i));
       last_.active_bricks = total;
       last_.active_cells = std::uint64_t(grid_.cell_count());
     }
+    for (int s = 0; s < substeps; ++s) {
+      const StepContext c = context(tick, s);
+      if (sparse_)
+        step_pass_sparse(c);
+      else
+        step_pass(c);
+    }
+    // The sleep/wake decision rests on a full cycle of all 8 offsets (ticks 8k .. 8k + 7).
+    if (sparse_ && (tick & 7u) == 7u) activity_.end_cycle();
     ++last_.ticks;
     last_.brick_ticks += last_.active_bricks;
     last_.cell_ticks += last_.active_cells;
   }
 }
 
-StepContext CpuBackend::context(std::uint64_t tick) {
+StepContext CpuBackend::context(std::uint64_t tick, int substep) {
   StepContext c;
   c.cells = grid_.cells().data();
   c.size = grid_.size();
@@ -87,15 +101,17 @@ StepContext CpuBackend::context(std::uint64_t tick) {
   c.tick = tick;
   c.random_symmetry = random_symmetry_;
   c.random_axis_order = random_axis_order_;
+  if (motion_.enabled()) {
+    c.motion = true;
+    c.transitions = lut_->entries().data();
+    c.sub = motion::SubStep{seed_, tick, substep, motion_.substeps, motion_.roll_chance, random_symmetry_};
+  }
   return c;
 }
 
-void CpuBackend::step_tick_sparse(std::uint64_t tick) {
-  const StepContext c = context(tick);
+void CpuBackend::step_pass_sparse(const StepContext& c) {
   const BrickRecord record = activity_.record(inert_ ? inert_->data() : nullptr);
   const auto& runs = activity_.runs();
-  last_.active_bricks = activity_.active().size();
-  last_.active_cells = activity_.active_cells();
   const int count = int(runs.size());
   const int tasks = std::min(count, pool_.size() == 1 ? 1 : pool_.size() * 8);
   if (tasks > 0)
@@ -104,8 +120,6 @@ void CpuBackend::step_tick_sparse(std::uint64_t tick) {
       const int last = int(std::int64_t(count) * (task + 1) / tasks);
       for (int i = first; i < last; ++i) step_brick_run(c, record, runs[std::size_t(i)].first, runs[std::size_t(i)].length);
     });
-  // The sleep/wake decision rests on a full cycle of all 8 offsets (ticks 8k .. 8k + 7).
-  if ((tick & 7u) == 7u) activity_.end_cycle();
 }
 
 void CpuBackend::wake(std::span<const std::uint32_t> bricks) {
@@ -119,8 +133,7 @@ void CpuBackend::take_changed_bricks(std::span<std::uint8_t> flags) {
     std::fill(flags.begin(), flags.end(), std::uint8_t(1));
 }
 
-void CpuBackend::step_tick(std::uint64_t tick) {
-  const StepContext c = context(tick);
+void CpuBackend::step_pass(const StepContext& c) {
   const int layers = block_layers(c);
   // Several layer ranges per thread so that uneven layers (sand vs. air) still balance.
   const int tasks = std::min(layers, pool_.size() == 1 ? 1 : pool_.size() * 8);
@@ -158,8 +171,9 @@ MaterialCounts CpuBackend::count() const {
     for (std::size_t i = first; i < last; ++i) ++h[cells[i]];
   });
   MaterialCounts counts{};
+  // A cell's high bits hold its motion level (motion.hpp): count by material.
   for (const auto& h : hist)
-    for (int m = 0; m < kMaterialCount; ++m) counts[m] += h[m];
+    for (int v = 0; v < 256; ++v) counts[v & kMaterialMask] += h[std::size_t(v)];
   return counts;
 }
 

@@ -16,10 +16,10 @@ namespace granular {
 /// are shared out among threads freely: the result never depends on the thread count.
 class CpuBackend final : public Backend {
  public:
-  /// Takes a copy of `initial`; `threads` >= 1. The random flags are the rule set's (RuleSet);
-  /// `sparse` steps only the awake bricks.
-  CpuBackend(const Grid& initial, std::shared_ptr<const Lut> lut, bool random_symmetry, bool random_axis_order,
-             std::uint64_t seed, int threads, bool sparse);
+  /// Takes a copy of `initial`; `threads` >= 1. `rules` is the rule set `lut` was built from (its
+  /// random flags and motion model); `sparse` steps only the awake bricks.
+  CpuBackend(const Grid& initial, std::shared_ptr<const Lut> lut, const RuleSet& rules, std::uint64_t seed, int threads,
+             bool sparse);
 
   BackendKind kind() const override { return BackendKind::Cpu; }
   std::string description() const override;
@@ -33,18 +33,19 @@ class CpuBackend final : public Backend {
   ActivityStats last_activity() const override { return last_; }
 
  private:
-  StepContext context(std::uint64_t tick);
-  void step_tick(std::uint64_t tick);
-  void step_tick_sparse(std::uint64_t tick);
+  StepContext context(std::uint64_t tick, int substep);
+  void step_pass(const StepContext& c);
+  void step_pass_sparse(const StepContext& c);
 
   Grid grid_;
   std::shared_ptr<const Lut> lut_;
   std::shared_ptr<const std::vector<BlockKey>> result_;
   bool random_symmetry_;
   bool random_axis_order_;
+  MotionParams motion_;
   std::uint64_t seed_;
   bool sparse_;
-  std::shared_ptr<const std::vector<std::uint64_t>> inert_;  ///< inert-key bits (sparse, random symmetry)
+  std::shared_ptr<const std::vector<std::uint64_t>> inert_;  ///< inert-key bits (sparse, random symmetry or motion)
   BrickActivity activity_;
   ActivityStats last_{};
   mutable ThreadPool pool_;

@@ -102,4 +102,15 @@ inline BlockKey next_key(const StepContext& c, BlockKey key, int x0, int y0, int
   }
 }
 
+/// The block's 8 bytes after this tick's (or sub-step's) rule: the result table's key for the
+/// plain rules, motion::step_block with the motion model.
+template <bool kRandom, bool kMotion>
+inline std::uint64_t block_after(const StepContext& c, std::uint64_t v, int x0, int y0, int z0) {
+  if constexpr (kMotion) {
+    return motion::step_block(v, c.sub, x0, y0, z0, [&c](BlockKey k) { return c.transitions[k]; });
+  } else {
+    return unpack_key(next_key<kRandom>(c, pack_key(v), x0, y0, z0));
+  }
+}
+
 }  // namespace granular::cpu_ops

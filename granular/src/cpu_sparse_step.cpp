@@ -13,9 +13,11 @@ namespace {
 
 using namespace cpu_ops;
 
-/// Bit i set when byte i of `diff` is non-zero (cell i of a block changed; bytes hold 3-bit states).
+/// Bit i set when byte i of `diff` is non-zero (cell i of a block changed).
 inline unsigned changed_cells(std::uint64_t diff) {
-  const std::uint64_t low = (diff | (diff >> 1) | (diff >> 2)) & kEveryByte;
+  std::uint64_t low = diff | (diff >> 4);
+  low |= low >> 2;
+  low = (low | (low >> 1)) & kEveryByte;
   return unsigned((low * 0x0102040810204080ull) >> 56);
 }
 
@@ -46,10 +48,11 @@ constexpr BrickCodeTable kBrickCodes = make_brick_codes();
 /// non-inert key and whether any cell of the brick itself changed; cells changed in a neighbour
 /// (by a block straddling into it) are recorded at once. select() names the brick whose blocks
 /// come next.
-template <bool kRandom>
+template <bool kRandom, bool kMotion>
 class BrickStepper {
  public:
-  BrickStepper(const StepContext& c, const BrickRecord& r, Int3 first) : c_(c), r_(r), first_(first), brick_(first) {}
+  BrickStepper(const StepContext& c, const BrickRecord& r, Int3 first)
+      : c_(c), r_(r), first_(first), brick_(first), offset_z_(context_offset(c).z) {}
 
   /// The following blocks belong to brick `i` of the run.
   void select(int i) {
@@ -67,11 +70,10 @@ class BrickStepper {
           inside(x, y, z) ? c_.cells[std::size_t(x) + sy * std::size_t(y) + sz * std::size_t(z)] : kOutsideCell;
       v |= cell << (8 * i);
     }
-    const BlockKey key = pack_key(v);
-    const BlockKey next = next_key<kRandom>(c_, key, x0, y0, z0);
-    note(key, next);
-    if (next == key) return;
-    const std::uint64_t out = unpack_key(next);
+    const std::uint64_t out = block_after<kRandom, kMotion>(c_, v, x0, y0, z0);
+    bool& non_inert = non_inert_[std::size_t(current_)];
+    if (!non_inert) non_inert = !quiet(v, out);
+    if (out == v) return;
     for (int i = 0; i < 8; ++i) {
       const int x = x0 + (i & 1), y = y0 + ((i >> 1) & 1), z = z0 + ((i >> 2) & 1);
       if (inside(x, y, z)) c_.cells[std::size_t(x) + sy * std::size_t(y) + sz * std::size_t(z)] = std::uint8_t(out >> (8 * i));
@@ -88,14 +90,8 @@ class BrickStepper {
                       unsigned& codes) {
     const std::uint64_t v = load_pair(r[0] + x0) | (load_pair(r[1] + x0) << 16) | (load_pair(r[2] + x0) << 32) |
                             (load_pair(r[3] + x0) << 48);
-    const BlockKey key = pack_key(v);
-    const BlockKey next = next_key<kRandom>(c_, key, x0, y0, z0);
-    if constexpr (kRandom) {
-      if (!non_inert && !is_inert(r_.inert, key)) non_inert = true;
-    } else {
-      non_inert |= next != key;
-    }
-    const std::uint64_t out = unpack_key(next);
+    const std::uint64_t out = block_after<kRandom, kMotion>(c_, v, x0, y0, z0);
+    if (!non_inert) non_inert = !quiet(v, out);
     store_pair(r[0] + x0, out);
     store_pair(r[1] + x0, out >> 16);
     store_pair(r[2] + x0, out >> 32);
@@ -103,7 +99,7 @@ class BrickStepper {
     // A block inside the brick changes only the brick (code 0); the rare straddling ones look
     // their cells' codes up.
     if (straddle == 0)
-      codes |= unsigned(next != key);
+      codes |= unsigned(out != v);
     else
       codes |= kBrickCodes.codes[straddle][changed_cells(v ^ out)];
   }
@@ -136,13 +132,19 @@ class BrickStepper {
     return x >= 0 && y >= 0 && z >= 0 && x < c_.size.x && y < c_.size.y && z < c_.size.z;
   }
 
-  /// Notes a block's key: a non-inert one keeps the brick awake for the next cycle. Without random
-  /// variants a key is inert iff the rule maps it to itself.
-  void note(BlockKey key, BlockKey next) {
-    if constexpr (kRandom) {
-      if (!non_inert_[std::size_t(current_)] && !is_inert(r_.inert, key)) non_inert_[std::size_t(current_)] = true;
+  /// True when the block (bytes `v`, `out` after the rule) is inert: no variant of the rule changes
+  /// it, so it cannot keep its brick awake. Without random variants, iff the rule left it as it was;
+  /// with random symmetry, iff its key is in the inert table; with the motion model, iff its grains
+  /// are all at rest and its rest key is in the inert table (motion::rest_key).
+  bool quiet(std::uint64_t v, std::uint64_t out) const {
+    if constexpr (kMotion) {
+      bool at_rest = false;
+      const BlockKey key = motion::rest_key(v, offset_z_, at_rest);
+      return at_rest && is_inert(r_.inert, key);
+    } else if constexpr (kRandom) {
+      return is_inert(r_.inert, pack_key(v));
     } else {
-      non_inert_[std::size_t(current_)] |= next != key;
+      return out == v;
     }
   }
 
@@ -165,13 +167,14 @@ class BrickStepper {
   Int3 first_;
   Int3 brick_;
   int current_ = 0;
+  int offset_z_;  ///< the partition's z offset (motion::rest_key)
   std::array<bool, kMaxBrickRun> non_inert_{};
   std::array<bool, kMaxBrickRun> owner_changed_{};
 };
 
-template <bool kRandom>
+template <bool kRandom, bool kMotion>
 void step_run_blocks(const StepContext& c, const BrickRecord& record, std::uint32_t first_index, int length) {
-  const BlockOffset o = block_offset(c.tick, c.seed, c.random_axis_order);
+  const BlockOffset o = context_offset(c);
   const Int3 first = brick_coords(record.bricks, first_index);
   const BlockSpan bx_first = owned_blocks(first.x, record.bricks.x, c.size.x, o.x);
   const BlockSpan bx_last = owned_blocks(first.x + length - 1, record.bricks.x, c.size.x, o.x);
@@ -179,7 +182,7 @@ void step_run_blocks(const StepContext& c, const BrickRecord& record, std::uint3
   const BlockSpan bz = owned_blocks(first.z, record.bricks.z, c.size.z, o.z);
   const int nx = c.size.x, ny = c.size.y, nz = c.size.z;
   const std::size_t sy = std::size_t(nx), sz = sy * std::size_t(ny);
-  BrickStepper<kRandom> stepper(c, record, first);
+  BrickStepper<kRandom, kMotion> stepper(c, record, first);
   // Brick i of the run owns the blocks starting in [x_first + i * kBrickSize, ...) up to the next
   // brick's; the last brick's end is its own (it may own one block more at the grid's edge).
   const int x_first = 2 * bx_first.first - o.x, x_stop = 2 * bx_last.last - o.x;
@@ -215,12 +218,13 @@ void step_run_blocks(const StepContext& c, const BrickRecord& record, std::uint3
         const int x_end = inside_end < stop ? inside_end : stop;
         bool non_inert = false;
         unsigned codes = 0;
-        // Eight blocks at a time are skipped when all 64 cells are equal: a uniform key is inert.
+        // Eight blocks at a time are skipped when all 64 cells are equal: a uniform key is inert
+        // (with the motion model, but for grains in sub-step 0).
         for (; x + 16 <= x_end; x += 16) {
           const std::uint64_t ref = (std::uint64_t(rows[0][x]) & 0xFFu) * kEveryByte;
           std::uint64_t diff = 0;
           for (int r = 0; r < 4; ++r) diff |= (load_word(rows[r] + x) ^ ref) | (load_word(rows[r] + x + 8) ^ ref);
-          if (diff == 0) continue;
+          if (diff == 0 && (!kMotion || motion::uniform_block_unchanged(rows[0][x], c.sub.substep))) continue;
           for (int k = 0; k < 16; k += 2)
             stepper.interior_block(rows, x + k, y0, z0, row_straddle | (x + k < x_min ? 1u : 0u), non_inert, codes);
         }
@@ -237,10 +241,12 @@ void step_run_blocks(const StepContext& c, const BrickRecord& record, std::uint3
 }  // namespace
 
 void step_brick_run(const StepContext& context, const BrickRecord& record, std::uint32_t first_brick, int length) {
-  if (context.random_symmetry)
-    step_run_blocks<true>(context, record, first_brick, length);
+  if (context.motion)
+    step_run_blocks<false, true>(context, record, first_brick, length);
+  else if (context.random_symmetry)
+    step_run_blocks<true, false>(context, record, first_brick, length);
   else
-    step_run_blocks<false>(context, record, first_brick, length);
+    step_run_blocks<false, false>(context, record, first_brick, length);
 }
 
 }  // namespace granular

@@ -8,6 +8,7 @@
 
 #include "granular/block.hpp"
 #include "granular/geometry.hpp"
+#include "motion_block.hpp"
 
 namespace granular {
 
@@ -20,7 +21,16 @@ struct StepContext {
   std::uint64_t tick = 0;             ///< the tick being computed (selects the offset)
   bool random_symmetry = false;       ///< draw a horizontal symmetry per block
   bool random_axis_order = false;     ///< draw the offset order per 8-tick cycle (block_offset)
+  const Transition* transitions = nullptr;  ///< the transition table (motion model only)
+  bool motion = false;                ///< the rule set's motion model is on: `sub` is one of its sub-steps
+  motion::SubStep sub{};              ///< the sub-step (motion model only; sub.tick == tick)
 };
+
+/// The partition offset of the context's tick (or sub-step, with the motion model).
+inline BlockOffset context_offset(const StepContext& c) {
+  return c.motion ? motion::motion_offset(c.tick, c.sub.substep, c.seed, c.random_axis_order)
+                  : block_offset(c.tick, c.seed, c.random_axis_order);
+}
 
 /// The CPU's form of a transition table: for each key, the key of the block after its transition
 /// (one lookup and an unpack instead of applying a permutation cell by cell).

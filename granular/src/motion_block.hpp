@@ -17,9 +17,15 @@
 ///  2. The key is viewed under the block's random symmetry, looked up in the transition table of
 ///     motion_rule, and the permutation is mapped back: cell i goes to position dest[i].
 ///  3. The 8 bytes are permuted with their motion levels, and each grain that took part updates
-///     its level: one that fell keeps it (plus 1 in the first sub-step of its window: gravity),
-///     one that rolled loses 1, one that stayed takes the smaller of its level and that of the grain
-///     below it (0 on anything but a grain: it has landed).
+///     its level: one that fell keeps it (plus 1 in the first sub-step of its window: gravity), a
+///     roller keeps it whether it rolled or found no room in this block, and a plain grain that
+///     stayed takes the smaller of its level and that of the grain below it (0 on anything but a
+///     grain: it has landed). So a moving grain stops with chance 1 - roll_chance / 256 each time
+///     it is blocked from below: the friction lever.
+/// A grain's window is motion_window(level) sub-steps from its phase: in sub-step 0 every grain
+/// notes its layer (top: phase 0, bottom: phase 1, where it is top one sub-step later), so a grain
+/// starting from rest falls 1, 4, 9, ... cells after 1, 2, 3 ticks whichever layer it starts in,
+/// and a grain at rest keeps the same phase tick after tick.
 /// The random word is block_random(seed, t * substeps + s, x0, y0, z0); its low 3 bits pick the
 /// symmetry and byte k (k = 1..4) the roll draw of top cell k + 3.
 
@@ -108,29 +114,59 @@ struct SubStep {
   std::uint64_t seed = 0;       ///< world seed
   std::uint64_t tick = 0;       ///< the tick
   int substep = 0;              ///< this sub-step, 0 .. substeps - 1
-  int substeps = 2;             ///< MotionParams::substeps
+  int substeps = 2;             ///< MotionParams::substeps (the highest level follows from it)
   int roll_chance = 0;          ///< MotionParams::roll_chance
   bool random_symmetry = false; ///< draw a horizontal symmetry per block
 };
 
+/// The phase a grain in cell i of a block takes at sub-step 0, as its bit: 0 in the top layer (its
+/// window starts at once), kMotionPhaseBit in the bottom layer (it is in a top layer from sub-step 1).
+constexpr std::uint32_t rest_phase(int i) { return i >= 4 ? 0u : kMotionPhaseBit; }
+
+/// The bytes with every grain's phase set as at sub-step 0 (rest_phase).
+constexpr std::uint64_t with_phases(std::uint64_t bytes) {
+  std::uint64_t out = 0;
+  for (int i = 0; i < 8; ++i) {
+    std::uint32_t byte = std::uint32_t(bytes >> (8 * i)) & 0xFFu;
+    if ((byte & kMaterialMask) == kGrain) byte = (byte & ~std::uint32_t(kMotionPhaseBit)) | rest_phase(i);
+    out |= std::uint64_t(byte) << (8 * i);
+  }
+  return out;
+}
+
 /// The key of a block's materials with every grain as code 2 and every obstacle as 1 (what the
-/// inert-key table is asked about), and whether every grain in it is at rest (level 0). A block
-/// whose grains are all at rest and whose key is inert stays as it is in every sub-step, whatever
-/// the draws: at rest no grain is a roller, a grain outside its window only turns into an
-/// obstacle, which never lets a block move that would not move anyway, and a grain at rest that
-/// stays keeps level 0.
-constexpr BlockKey rest_key(std::uint64_t bytes, bool& all_at_rest) {
+/// inert-key table is asked about), and whether every grain in it is at rest: level 0, and the
+/// phase sub-step 0 gives it (a block at offset z `offset_z` has its bottom layer at sub-step 0's
+/// parity when offset_z is 0, else its top layer). A block whose grains are all at rest and whose
+/// key is inert stays as it is in every sub-step, whatever the draws: at rest no grain is a
+/// roller, a grain outside its window only turns into an obstacle, which never lets a block move
+/// that would not move anyway, a grain at rest that stays keeps level 0, and sub-step 0 rewrites
+/// each phase with the value it has.
+constexpr BlockKey rest_key(std::uint64_t bytes, int offset_z, bool& all_at_rest) {
   BlockKey key = 0;
-  std::uint64_t levels = 0;
+  bool rest = true;
   for (int i = 0; i < 8; ++i) {
     const std::uint32_t byte = std::uint32_t(bytes >> (8 * i)) & 0xFFu;
     const std::uint32_t material = byte & kMaterialMask;
     const std::uint32_t code = material == kVoid ? kCodeVoid : material == kGrain ? kCodeGrain : kCodeObstacle;
     key |= code << (3 * i);
-    levels |= byte >> kMotionShift;
+    if (material == kGrain) {
+      // The cell's layer at sub-step 0 is its layer now when the offset is 0, else the other one.
+      const int layer_at_zero = offset_z == 0 ? i : i ^ 4;
+      rest = rest && (byte & ~std::uint32_t(kMaterialMask)) == rest_phase(layer_at_zero);
+    } else {
+      rest = rest && (byte & ~std::uint32_t(kMaterialMask)) == 0;
+    }
   }
-  all_at_rest = levels == 0;
+  all_at_rest = rest;
   return key;
+}
+
+/// True when a block of 8 equal bytes `byte` may be skipped in sub-step `substep`: void and
+/// obstacles never change, and a uniform block of grains changes nothing but in sub-step 0, which
+/// sets the phases of its two layers apart.
+constexpr bool uniform_block_unchanged(std::uint32_t byte, int substep) {
+  return substep != 0 || (byte & kMaterialMask) != kGrain;
 }
 
 /// The block's 8 bytes (cell i in byte i) after sub-step `m` (see the file comment). `table` is the
@@ -138,10 +174,11 @@ constexpr BlockKey rest_key(std::uint64_t bytes, bool& all_at_rest) {
 /// read-only cache load on a GPU).
 template <class Load>
 constexpr std::uint64_t step_block(std::uint64_t bytes, const SubStep& m, int x0, int y0, int z0, Load load) {
-  const int s = m.substep, window_start = int(m.tick & 1u);
+  const int s = m.substep;
+  if (s == 0) bytes = with_phases(bytes);
   const std::uint64_t random = block_random(m.seed, m.tick * std::uint64_t(m.substeps) + std::uint64_t(s), x0, y0, z0);
   BlockKey key = 0;
-  unsigned takes_part = 0;
+  unsigned takes_part = 0, rollers = 0;
   for (int i = 0; i < 8; ++i) {
     const std::uint32_t byte = std::uint32_t(bytes >> (8 * i)) & 0xFFu;
     const std::uint32_t material = byte & kMaterialMask;
@@ -149,10 +186,14 @@ constexpr std::uint64_t step_block(std::uint64_t bytes, const SubStep& m, int x0
     if (material == kGrain) {
       code = kCodeGrain;
       if (i >= 4) {
-        const int level = int(byte >> kMotionShift);
-        if (s >= window_start && s - window_start < motion_window(level)) {
+        const int level = int((byte >> kMotionShift) & kMotionLevelMask);
+        const int start = (byte & kMotionPhaseBit) ? 1 : 0;
+        if (s >= start && s - start < motion_window(level)) {
           takes_part |= 1u << i;
-          if (level > 0 && int((random >> (8 * (i - 3))) & 0xFFu) < m.roll_chance) code = kCodeRoller;
+          if (level > 0 && int((random >> (8 * (i - 3))) & 0xFFu) < m.roll_chance) {
+            code = kCodeRoller;
+            rollers |= 1u << i;
+          }
         } else {
           code = kCodeObstacle;
         }
@@ -170,23 +211,22 @@ constexpr std::uint64_t step_block(std::uint64_t bytes, const SubStep& m, int x0
     viewed |= ((key >> (3 * i)) & 7u) << (3 * map[i]);
   }
   const Transition t = load(viewed);
-  const int max_level = m.substeps / 2;
+  const int max_level = MotionParams{m.substeps, m.roll_chance}.max_level();
   std::uint64_t out = 0;
   for (int i = 0; i < 8; ++i) {
     const int dest = inverse[destination(t, map[i])];
     std::uint32_t byte = std::uint32_t(bytes >> (8 * i)) & 0xFFu;
     if ((takes_part >> i) & 1u) {
-      int level = int(byte >> kMotionShift);
+      int level = int((byte >> kMotionShift) & kMotionLevelMask);
+      const std::uint32_t phase = byte & kMotionPhaseBit;
       if (dest < 4) {
-        if (s == window_start && level < max_level) ++level;
-      } else if (dest != i) {
-        level = level > 0 ? level - 1 : 0;
-      } else {
+        if (s == (phase ? 1 : 0) && level < max_level) ++level;
+      } else if (dest == i && !((rollers >> i) & 1u)) {
         const std::uint32_t below = std::uint32_t(bytes >> (8 * (i - 4))) & 0xFFu;
-        const int below_level = int(below >> kMotionShift);
+        const int below_level = int((below >> kMotionShift) & kMotionLevelMask);
         level = (below & kMaterialMask) == kGrain ? (below_level < level ? below_level : level) : 0;
       }
-      byte = kGrain | (std::uint32_t(level) << kMotionShift);
+      byte = kGrain | (std::uint32_t(level) << kMotionShift) | phase;
     }
     out |= std::uint64_t(byte) << (8 * dest);
   }

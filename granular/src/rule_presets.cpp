@@ -12,7 +12,7 @@ namespace granular {
 namespace {
 
 /// The inertial presets' roll chance (out of 256), tuned on the accuracy suite's poured cone.
-constexpr int kInertialRollChance = 128;
+constexpr int kInertialRollChance = 240;
 
 RuleSet make_preset(std::string name, std::string description, std::uint32_t version, bool random_symmetry,
                     bool random_axis_order, MotionParams motion = {}) {
@@ -51,15 +51,15 @@ std::shared_ptr<const RuleSet> make_rule_set(std::string_view name) {
         "inertial",
         "isotropic plus inertia and rolling: 16 sub-steps per tick, grains accelerate in free fall and roll on",
         1, true, true, MotionParams{16, kInertialRollChance}));
-  if (name == "inertial-32")
+  if (name == "inertial-24")
     return std::make_shared<const RuleSet>(make_preset(
-        "inertial-32", "inertial with 32 sub-steps per tick: twice the top speed, twice the cost", 1, true, true,
-        MotionParams{32, kInertialRollChance}));
+        "inertial-24", "inertial with 24 sub-steps per tick: a top speed of 23 cells per tick instead of 15, for 1.5 times the cost", 1, true, true,
+        MotionParams{24, kInertialRollChance}));
   std::string valid;
   for (const auto& n : rule_preset_names()) valid += (valid.empty() ? "" : ", ") + n;
   throw InvalidArgument("unknown rule set '" + std::string(name) + "'; valid rule sets: " + valid);
 }
 
-std::vector<std::string> rule_preset_names() { return {"paper", "isotropic", "d4", "inertial", "inertial-32"}; }
+std::vector<std::string> rule_preset_names() { return {"paper", "isotropic", "d4", "inertial", "inertial-24"}; }
 
 }  // namespace granular

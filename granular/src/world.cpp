@@ -9,6 +9,7 @@
 #include "cpu_backend.hpp"
 #include "granular/errors.hpp"
 #include "granular/lut.hpp"
+#include "granular/motion.hpp"
 #include "granular/rule_presets.hpp"
 #include "granular/rule_set.hpp"
 #include "thread_pool.hpp"
@@ -44,6 +45,11 @@ const char* backend_name(BackendKind kind) noexcept {
 namespace {
 
 constexpr int kMaxThreads = 1024;
+
+/// Clears the motion levels (motion.hpp) of cell bytes read from a backend: readers get materials.
+void strip_motion(std::span<std::uint8_t> cells) {
+  for (auto& c : cells) c &= kMaterialMask;
+}
 
 /// Tables are 64 MiB: worlds of one process share them while any is alive.
 std::shared_ptr<const Lut> shared_lut(const RuleSet& rules, const WorldDef& def, int threads, double& seconds,
@@ -173,8 +179,7 @@ void World::init(const Grid& initial) {
     return;
   }
 #endif
-  backend_ = std::make_unique<CpuBackend>(initial, lut_, rules_->random_symmetry, rules_->random_axis_order,
-                                          def_.seed, threads, def_.sparse);
+  backend_ = std::make_unique<CpuBackend>(initial, lut_, *rules_, def_.seed, threads, def_.sparse);
 }
 
 BackendKind World::choose_backend(BackendKind wanted) {
@@ -312,11 +317,13 @@ void World::read_region(const Box& box, std::span<std::uint8_t> out) const {
     throw InvalidArgument("World::read_region: output holds " + std::to_string(out.size()) + " bytes; the box has " +
                           std::to_string(box.volume()) + " cells");
   backend_->read(box, out);
+  strip_motion(out);
 }
 
 Grid World::snapshot() const {
   Grid g(size_);
   backend_->read(g.bounds(), g.cells());
+  strip_motion(g.cells());
   return g;
 }
 

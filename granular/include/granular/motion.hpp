@@ -2,9 +2,11 @@
 /// @file motion.hpp
 /// The motion model: inertia and rolling for grains, carried in each cell's high bits.
 ///
-/// A cell is one byte: bits 0..2 hold its material, bits 3..7 a grain's motion level (0 for every
-/// other material). The level is a fall speed: a grain at level v may move in a window of
-/// motion_window(v) of the tick's Margolus sub-steps, so it falls up to that many cells per tick.
+/// A cell is one byte: bits 0..2 hold its material; for a grain, bits 3..6 hold its motion level and
+/// bit 7 its phase (0 for every other material). The level is a fall speed: a grain at level v may
+/// move in a window of motion_window(v) of the tick's Margolus sub-steps, so it falls up to that
+/// many cells per tick; the phase says whether that window starts at sub-step 0 or 1 (the grain's
+/// layer in its block at sub-step 0, noted then).
 /// Every block transition is a permutation, so a grain's level travels with it. World::read_region,
 /// snapshot() and count() report materials only; World::hash() covers the whole byte.
 
@@ -16,8 +18,10 @@ namespace granular {
 inline constexpr std::uint8_t kMaterialMask = 7;
 /// A grain's motion level sits in the bits above the material.
 inline constexpr int kMotionShift = 3;
-/// Largest motion level a cell byte holds.
-inline constexpr int kMaxMotionBits = 31;
+/// The motion level's bits once shifted down.
+inline constexpr std::uint8_t kMotionLevelMask = 15;
+/// A grain's phase bit: its window of sub-steps starts at sub-step 1 (else 0).
+inline constexpr std::uint8_t kMotionPhaseBit = 0x80;
 
 /// What a rule set's motion model does (RuleSet::motion). The default is no motion model: one
 /// Margolus step per tick and no motion state, the paper's scheme.
@@ -27,8 +31,9 @@ struct MotionParams {
                         ///< roll to a level neighbour cell (the friction lever; 0: never rolls)
   /// True when the rule set uses the motion model.
   constexpr bool enabled() const { return substeps > 1; }
-  /// The highest motion level: a grain at it falls substeps - 1 cells per tick.
-  constexpr int max_level() const { return substeps / 2; }
+  /// The highest motion level: a grain at it falls motion_window(max_level()) <= substeps - 1 cells
+  /// per tick (the window must fit after a phase of 1).
+  constexpr int max_level() const { return substeps / 2 < kMotionLevelMask ? substeps / 2 : kMotionLevelMask; }
 };
 
 /// The sub-steps a grain at motion level `level` takes part in: 1 at rest and at level 1, then
@@ -40,6 +45,6 @@ constexpr int motion_window(int level) { return level <= 1 ? 1 : 2 * level - 1; 
 constexpr std::uint8_t cell_material(std::uint8_t cell) { return cell & kMaterialMask; }
 
 /// The motion level of a cell byte.
-constexpr int cell_motion(std::uint8_t cell) { return cell >> kMotionShift; }
+constexpr int cell_motion(std::uint8_t cell) { return (cell >> kMotionShift) & kMotionLevelMask; }
 
 }  // namespace granular
