@@ -12,12 +12,15 @@
 /// sub-step are disjoint.
 ///
 /// Threads take groups of kGroupBlocks blocks of a row as step_kernel does. A group inside the
-/// grid is read as four 8-byte row segments and skipped when its 32 bytes are equal (a uniform
-/// block never changes under step_block); a block with no grain in its top layer is left as it is
-/// without a draw (step_block returns such a block unchanged). A group touching the edge goes
-/// block by block: cells outside read as solid and are never written. Only changed bytes are
-/// stored. The helpers take a Notes policy: NoNotes for the dense kernel (compiles to nothing),
-/// BrickNotes (sparse_motion_kernel.cuh) for the sparse kernel's per-brick flags.
+/// grid is read as four 8-byte row segments and skipped when its 32 bytes are equal and
+/// motion::uniform_block_unchanged says such a block stays as it is (any but grains, and grains
+/// but in sub-step 0, which sets their phases); a block that holds no grain step_block would look
+/// at (none at all in sub-step 0, none in the top layer after it) is left as it is without a draw.
+/// A group touching the edge goes block by block: cells outside read as solid and are never
+/// written. Only changed bytes are stored. The helpers take a Notes policy: NoNotes for the dense
+/// kernel (compiles to nothing), BrickNotes (sparse_motion_kernel.cuh) for the sparse kernel's
+/// per-brick flags, which notes every block but those of a skipped uniform group, as the CPU's
+/// sparse step does.
 /// The non-motion kernels (step_kernel.cuh, step_pair_kernel.cuh, sparse_step_kernel.cuh) keep
 /// their own bodies: their machine code and timings were measured.
 /// Kernels and launchers here are static: every translation unit including this gets its own copy.
@@ -49,23 +52,31 @@ __device__ inline BlockOffset motion_offset_of(const MotionStepParams& p) {
   return motion::motion_offset(p.sub.tick, p.sub.substep, p.sub.seed, p.random_axis_order);
 }
 
-/// True when a block's top layer (bytes 4..7) holds a grain: only then can step_block change it.
-__device__ inline bool has_top_grain(std::uint64_t bytes) {
-  const std::uint32_t top = std::uint32_t(bytes >> 32) & 0x07070707u;
-  const std::uint32_t grain = top ^ (0x01010101u * motion::kGrain);  // a zero byte where a grain is
-  return ((grain - 0x01010101u) & ~grain & 0x80808080u) != 0;
+/// True when step_block may change a block in sub-step `substep`: it holds a grain (sub-step 0
+/// sets every grain's phase), or after sub-step 0 a grain in its top layer (bytes 4..7): step_block
+/// leaves any other block as it is.
+__device__ inline bool may_change(std::uint64_t bytes, int substep) {
+  constexpr std::uint64_t kEveryByte = 0x0101010101010101ull;
+  std::uint64_t grain = (bytes & (kEveryByte * kMaterialMask)) ^ (kEveryByte * motion::kGrain);  // 0 where a grain is
+  if (substep != 0) grain |= 0x01010101u;                                                        // the bottom layer
+  return ((grain - kEveryByte) & ~grain & (kEveryByte * 0x80u)) != 0;
 }
 
 /// The block's 8 bytes (cell i in byte i) after the sub-step; (x0, y0, z0) is its lowest corner.
 __device__ inline std::uint64_t motion_next(const MotionStepParams& p, std::uint64_t bytes, int x0, int y0, int z0) {
-  if (!has_top_grain(bytes)) return bytes;
+  if (!may_change(bytes, p.sub.substep)) return bytes;
   return motion::step_block(bytes, p.sub, x0, y0, z0, [&](BlockKey key) { return __ldg(p.table + key); });
+}
+
+/// True when 8 bytes all equal `byte` (the low byte of `bytes`) and such a block stays as it is in
+/// the sub-step (motion::uniform_block_unchanged), which may then skip it.
+__device__ inline bool uniform_unchanged(std::uint64_t bytes, int substep) {
+  return bytes == (bytes & 0xFFu) * 0x0101010101010101ull &&
+         motion::uniform_block_unchanged(std::uint32_t(bytes & 0xFFu), substep);
 }
 
 /// The Notes policy of the dense kernel: records nothing.
 struct NoNotes {
-  /// A stepped block whose 8 bytes all equal `byte` (left as it is).
-  __device__ void uniform(std::uint32_t) {}
   /// A stepped block's bytes before the sub-step.
   __device__ void block(std::uint64_t) {}
   /// Cell (x, y, z), inside the grid, changed.
@@ -104,11 +115,8 @@ __device__ inline void motion_edge_block(const MotionStepParams& p, int x0, int 
     inside |= unsigned(in) << i;
     bytes |= byte << (8 * i);
   }
-  if (bytes == (bytes & 0xFFu) * 0x0101010101010101ull) {
-    notes.uniform(std::uint32_t(bytes & 0xFFu));
-    return;
-  }
   notes.block(bytes);
+  if (uniform_unchanged(bytes, p.sub.substep)) return;
   const std::uint64_t after = motion_next(p, bytes, x0, y0, z0);
   if (after != bytes) store_motion_block(p, origin, x0, y0, z0, bytes, after, inside, notes);
 }
@@ -124,20 +132,16 @@ __device__ inline void motion_inside_group(const MotionStepParams& p, int x0, in
 #pragma unroll
   for (int r = 0; r < 4; ++r) row[r] = load_bytes8(p.cells, origin + sy * (r & 1) + sz * (r >> 1));
   const std::uint64_t same = (row[0] & 0xFFu) * kEveryByte;
-  if (((row[0] ^ same) | (row[1] ^ same) | (row[2] ^ same) | (row[3] ^ same)) == 0) {
-    notes.uniform(std::uint32_t(row[0] & 0xFFu));
+  if (((row[0] ^ same) | (row[1] ^ same) | (row[2] ^ same) | (row[3] ^ same)) == 0 &&
+      motion::uniform_block_unchanged(std::uint32_t(row[0] & 0xFFu), p.sub.substep))
     return;
-  }
 #pragma unroll
   for (int k = 0; k < kGroupBlocks; ++k) {
     std::uint64_t v = 0;
 #pragma unroll
     for (int r = 0; r < 4; ++r) v |= ((row[r] >> (16 * k)) & 0xFFFFu) << (16 * r);
-    if (v == (v & 0xFFu) * kEveryByte) {
-      notes.uniform(std::uint32_t(v & 0xFFu));
-      continue;
-    }
     notes.block(v);
+    if (uniform_unchanged(v, p.sub.substep)) continue;
     const std::uint64_t after = motion_next(p, v, x0 + 2 * k, y0, z0);
     if (after != v) store_motion_block(p, origin + 2 * k, x0 + 2 * k, y0, z0, v, after, 0xFFu, notes);
   }

@@ -4,11 +4,15 @@
 /// list and its bookkeeping (dirty and changed flags, activity counters; sparse_step_kernel.cuh)
 /// around the motion block helpers (motion_step_kernel.cuh).
 ///
-/// A block marks its owner brick dirty unless it is *quiet*: every grain in it at rest and its
-/// rest key (motion::rest_key) inert under the rule set's variants. A quiet block stays as it is
-/// in every sub-step, whatever the draws (motion_block.hpp), which is what lets a brick of quiet
-/// blocks sleep. A uniform block is quiet iff its byte holds no motion level (a uniform key is
-/// inert). Changed cells flag their bricks as in the sparse step kernel.
+/// A block marks its owner brick dirty unless it is *quiet*: every grain in it at rest (level 0 and
+/// the phase sub-step 0 gives it) and its rest key (motion::rest_key) inert under the rule set's
+/// variants. A quiet block stays as it is in every sub-step, whatever the draws (motion_block.hpp),
+/// which is what lets a brick of quiet blocks sleep. Every stepped block is noted but those of a
+/// skipped uniform group (motion_step_kernel.cuh), the CPU's rule (cpu_sparse_step.cpp) on groups
+/// of 4 blocks where the CPU's are 8: the awake bricks, and so the activity figures, could differ
+/// from the CPU's only where a uniform group of grains, skipped in a sub-step other than 0, lies in
+/// a non-uniform group of 8 (the cells are exact either way: such a block does not change, and sub-
+/// step 0 notes it). Changed cells flag their bricks as in the sparse step kernel.
 ///
 /// The bricks are counted into the activity counters once per tick (`count`: the tick's first
 /// sub-step; the list changes only at a cycle's end, after a tick's last sub-step, or by a tool,
@@ -32,17 +36,14 @@ namespace granular::cuda {
 /// The Notes policy of the sparse motion kernel: one thread's flags for the brick it steps.
 struct BrickNotes {
   const SparseParams* s = nullptr;  ///< the sparse state (inert table, changed flags)
+  int offset_z = 0;                 ///< the sub-step's partition offset along z (motion::rest_key)
   BrickSeen seen;                   ///< what the thread saw of its brick
 
-  /// A block whose 8 bytes all equal `byte`: quiet iff the byte holds no motion level.
-  __device__ void uniform(std::uint32_t byte) {
-    if ((byte >> kMotionShift) != 0) seen.non_inert = true;
-  }
   /// A stepped block's bytes before the sub-step: not quiet marks the brick dirty.
   __device__ void block(std::uint64_t bytes) {
     if (seen.non_inert) return;
     bool rest = false;
-    const BlockKey key = motion::rest_key(bytes, rest);
+    const BlockKey key = motion::rest_key(bytes, offset_z, rest);
     if (!rest || ((__ldg(s->inert + (key >> 6)) >> (key & 63u)) & 1u) == 0) seen.non_inert = true;
   }
   /// Cell (x, y, z), inside the grid, changed.
@@ -69,6 +70,7 @@ static __global__ void __launch_bounds__(kBrickThreads)
     const std::uint32_t index = s.list[entry];
     BrickNotes notes;
     notes.s = &s;
+    notes.offset_z = o.z;
     notes.seen.brick = brick_coords(s.bricks, index);
     const Int3 brick = notes.seen.brick;
     const BlockSpan bx = owned_blocks(brick.x, s.bricks.x, p.size.x, o.x);
