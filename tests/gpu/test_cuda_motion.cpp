@@ -3,7 +3,8 @@
 /// the CPU's; the backend's dense and sparse motion kernels equal a plain host stepping of
 /// motion::step_block over the raw bytes (motion levels included, grid edges, tools between
 /// ticks); and CPU and CUDA worlds of the inertial preset, dense and sparse, hold the same cells
-/// bit for bit (hash and regions) and the same, conserved, material counts.
+/// bit for bit (hash and regions), the same, conserved, material counts and, sparse, the same
+/// activity figures.
 
 #include <doctest/doctest.h>
 
@@ -207,7 +208,8 @@ TEST_CASE("cuda motion: inertial worlds on the CPU and the GPU, dense and sparse
     REQUIRE(worlds[2].backend() == BackendKind::Cuda);
     REQUIRE(worlds[2].rules().motion.enabled());
     MaterialCounts counts = worlds[0].count();
-    // Checks every world against the first (dense CPU): hash, the whole region, counts.
+    // Checks every world against the first (dense CPU): hash, the whole region, counts; and the
+    // sparse GPU world's activity figures against the sparse CPU world's.
     auto require_same = [&] {
       const std::uint64_t reference = worlds[0].hash();
       const Box whole{{0, 0, 0}, kSceneSize};
@@ -219,6 +221,12 @@ TEST_CASE("cuda motion: inertial worlds on the CPU and the GPU, dense and sparse
         CHECK(worlds[i].read_region(whole) == region);
         CHECK(worlds[i].count() == counts);
       }
+      const ActivityStats cpu = worlds[1].activity(), gpu = worlds[3].activity();
+      CHECK(gpu.ticks == cpu.ticks);
+      CHECK(gpu.active_bricks == cpu.active_bricks);
+      CHECK(gpu.active_cells == cpu.active_cells);
+      CHECK(gpu.brick_ticks == cpu.brick_ticks);
+      CHECK(gpu.cell_ticks == cpu.cell_ticks);
     };
     // Steps every world; the counts are conserved.
     auto step = [&](int ticks) {
