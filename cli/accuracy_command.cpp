@@ -87,11 +87,12 @@ void run(const AccuracyOptions& o) {
   base.lut_cache_dir = o.cache_dir;
   base.log = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
 
-  if (!o.json) std::printf("calibration    %s\n", base.calibration.describe().c_str());
+  if (!o.json) std::printf("calibration    %s (rules with the motion model: per configuration)\n", base.calibration.describe().c_str());
   std::vector<accuracy::SuiteReport> reports;
   for (const auto& rules : o.rules) {
     accuracy::SuiteOptions options = base;
     options.rules = rules;
+    options.calibration = accuracy::calibration_for(*make_rule_set(rules));
     std::fprintf(stderr, "-- rules %s\n", rules.c_str());
     reports.push_back(accuracy::run_suite(options, o.tests));
     if (!o.json) std::printf("\n%s", accuracy::report_text(reports.back()).c_str());

@@ -18,4 +18,10 @@ std::string Calibration::describe() const {
   return line;
 }
 
+Calibration calibration_for(const RuleSet& rules) {
+  Calibration c;
+  if (rules.motion.enabled()) c.calibration_cells = 1;
+  return c;
+}
+
 }  // namespace granular::accuracy

@@ -5,17 +5,18 @@
 
 #include "accuracy/fit.hpp"
 #include "accuracy/suite_tests.hpp"
+#include "granular/rule_presets.hpp"
 #include "granular/world.hpp"
 
 namespace granular::accuracy {
 
 namespace {
 
-/// Height of the single grain in a 2 x 2 column (the z of its cell), or -1 if none.
+/// Height of the single grain in a 4 x 4 column (the z of its cell), or -1 if none.
 int grain_z(const World& w) {
   const std::vector<std::uint8_t> cells = w.read_region(Box{{0, 0, 0}, w.size()});
   for (std::size_t i = 0; i < cells.size(); ++i)
-    if (cells[i] == to_cell(Material::Granular)) return int(i / 4);
+    if (cells[i] == to_cell(Material::Granular)) return int(i / 16);
   return -1;
 }
 
@@ -28,7 +29,7 @@ TestReport run_fall_test(const SuiteOptions& o, const TestReport* collapse) {
   TestReport r;
   r.test = "fall";
   r.title = "Free fall and time scales";
-  r.scene = "one grain dropped in a 2x2 column onto a solid floor from H in {";
+  r.scene = "one grain dropped in a 4x4 column onto a solid floor from H in {";
   for (std::size_t i = 0; i < heights.size(); ++i) r.scene += (i ? ", " : "") + std::to_string(heights[i]);
   r.scene += "} cells";
   log_line(o, "fall: " + r.scene);
@@ -39,10 +40,10 @@ TestReport run_fall_test(const SuiteOptions& o, const TestReport* collapse) {
   std::vector<double> t_all, d_all;
   const auto start = std::chrono::steady_clock::now();
   for (int h : heights) {
-    const Int3 size{2, 2, h + 2};
+    const Int3 size{4, 4, h + 2};
     World world(test_world_def(o, size));
-    world.paint(Box{{0, 0, 0}, {2, 2, 1}}, Material::Solid);
-    world.paint(Box{{0, 0, h}, {1, 1, h + 1}}, Material::Granular);
+    world.paint(Box{{0, 0, 0}, {4, 4, 1}}, Material::Solid);
+    world.paint(Box{{1, 1, h}, {2, 2, h + 1}}, Material::Granular);
     const MaterialCounts before = world.count();
     int t = 0, z = h;
     std::vector<double> ts, ds;
@@ -54,7 +55,7 @@ TestReport run_fall_test(const SuiteOptions& o, const TestReport* collapse) {
       ds.push_back(h - z);
     }
     r.ticks += std::uint64_t(t);
-    r.cell_updates += 4.0 * (h + 2) * t;
+    r.cell_updates += 16.0 * (h + 2) * t;
     r.conserved = r.conserved && world.count() == before;
     fall_time.x.push_back(h);
     fall_time.y.push_back(t);
@@ -106,7 +107,12 @@ TestReport run_fall_test(const SuiteOptions& o, const TestReport* collapse) {
     r.notes.push_back("the collapse test did not run: no collapse stop-time exponent");
   }
   char line[160];
-  std::snprintf(line, sizeof line, "calibrated g = %.4g cells/tick^2; the grain's speed is capped at 1 cell/tick", g_cells);
+  const MotionParams motion = make_rule_set(o.rules)->motion;
+  if (motion.enabled())
+    std::snprintf(line, sizeof line, "calibrated g = %.4g cells/tick^2; the grain's speed is capped at %d cells/tick", g_cells,
+                  motion_window(motion.max_level()));
+  else
+    std::snprintf(line, sizeof line, "calibrated g = %.4g cells/tick^2; the grain's speed is capped at 1 cell/tick", g_cells);
   r.notes.push_back(line);
   return r;
 }

@@ -32,8 +32,8 @@ HourglassDischarge hourglass_discharge(const SuiteOptions& o, int n) {
   const std::uint64_t limit = 400ull * std::uint64_t(n);
   const auto start = std::chrono::steady_clock::now();
   while (h.ticks < limit) {
-    world.step(2);
-    h.ticks += 2;
+    world.step(1);
+    h.ticks += 1;
     ticks.push_back(double(h.ticks));
     left.push_back(grains_above(world, z_neck));
     if (left.back() <= 0.2 * initial) {

@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "accuracy/calibration.hpp"
+
 namespace granular::accuracy {
 
 /// One measured quantity against its reference.
@@ -60,6 +62,7 @@ struct SuiteConfig {
   std::string stepping = "sparse";  ///< "sparse" (awake bricks only) or "dense" (every block): same results
   int threads = 0;              ///< CPU threads (0 = all)
   std::uint64_t seed = 1;       ///< world seed
+  Calibration calibration;      ///< the physical units of the rule set (calibration_for)
 };
 
 /// All tests of one configuration.

@@ -35,6 +35,7 @@ std::string report_text(const SuiteReport& report) {
   const SuiteConfig& c = report.config;
   out << "configuration  rules " << c.rules << ", backend " << c.backend_description << ", size " << c.size << ", " << c.stepping << " stepping, seed " << c.seed
       << "\n";
+  out << "calibration    " << c.calibration.describe() << "\n";
   for (const TestReport& t : report.tests) {
     out << "\n== " << t.test << ": " << t.title << "\n";
     out << "   scene: " << t.scene << "\n";
@@ -98,6 +99,13 @@ std::string report_json(const std::vector<SuiteReport>& reports, const Calibrati
                     {"stepping", r.config.stepping},
                     {"threads", r.config.threads},
                     {"seed", r.config.seed}};
+    const Calibration& rc = r.config.calibration;
+    cj["calibration"] = {{"cell_m", rc.cell_m},
+                         {"tick_s", rc.tick_s()},
+                         {"gravity", rc.gravity},
+                         {"calibration_cells", rc.calibration_cells},
+                         {"bulk_density", rc.bulk_density},
+                         {"description", rc.describe()}};
     cj["seconds"] = r.seconds();
     cj["mean_normalized_error"] = number(r.mean_normalized_error());
     cj["conserved"] = r.conserved();

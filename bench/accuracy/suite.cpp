@@ -26,6 +26,7 @@ SuiteReport run_suite(const SuiteOptions& o, const std::vector<std::string>& tes
   report.config.threads = o.threads;
   report.config.stepping = o.sparse ? "sparse" : "dense";
   report.config.seed = o.seed;
+  report.config.calibration = o.calibration;
   {
     // The backend actually used (auto resolves here, once, with a tiny world).
     WorldDef probe = test_world_def(o, {2, 2, 2});

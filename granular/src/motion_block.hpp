@@ -17,7 +17,8 @@
 ///  2. The key is viewed under the block's random symmetry, looked up in the transition table of
 ///     motion_rule, and the permutation is mapped back: cell i goes to position dest[i].
 ///  3. The 8 bytes are permuted with their motion levels, and each grain that took part updates
-///     its level: one that fell keeps it (plus 1 in the first sub-step of its window: gravity), a
+///     its level: one that fell keeps it (plus 1 in the first sub-step of its window when nothing
+///     is beside it in the top layer: gravity accelerates free grains, not a dense flow), a
 ///     roller keeps it whether it rolled or found no room in this block, and a plain grain that
 ///     stayed takes the smaller of its level and that of the grain below it (0 on anything but a
 ///     grain: it has landed). So a moving grain stops with chance 1 - roll_chance / 256 each time
@@ -162,6 +163,15 @@ constexpr BlockKey rest_key(std::uint64_t bytes, int offset_z, bool& all_at_rest
   return key;
 }
 
+/// True when the top-layer cell i of a block has only void beside it in the top layer: a grain
+/// there that falls is in free fall and gains speed, while one that moves down in contact with
+/// others (a dense flow) does not.
+constexpr bool laterally_free(std::uint64_t bytes, int i) {
+  for (int j = 4; j < 8; ++j)
+    if (j != i && ((bytes >> (8 * j)) & kMaterialMask) != kVoid) return false;
+  return true;
+}
+
 /// True when a block of 8 equal bytes `byte` may be skipped in sub-step `substep`: void and
 /// obstacles never change, and a uniform block of grains changes nothing but in sub-step 0, which
 /// sets the phases of its two layers apart.
@@ -220,7 +230,7 @@ constexpr std::uint64_t step_block(std::uint64_t bytes, const SubStep& m, int x0
       int level = int((byte >> kMotionShift) & kMotionLevelMask);
       const std::uint32_t phase = byte & kMotionPhaseBit;
       if (dest < 4) {
-        if (s == (phase ? 1 : 0) && level < max_level) ++level;
+        if (s == (phase ? 1 : 0) && level < max_level && laterally_free(bytes, i)) ++level;
       } else if (dest == i && !((rollers >> i) & 1u)) {
         const std::uint32_t below = std::uint32_t(bytes >> (8 * (i - 4))) & 0xFFu;
         const int below_level = int((below >> kMotionShift) & kMotionLevelMask);
