@@ -16,10 +16,13 @@
 #include "granular/errors.hpp"
 #include "granular/grid.hpp"
 #include "granular/lut.hpp"
+#include "granular/motion.hpp"
 #include "granular/rule_set.hpp"
 #include "granular_cuda/cuda_backend_factory.hpp"
+#include "motion_step_kernel.cuh"
 #include "pinned_counters.cuh"
 #include "reduce_kernels.cuh"
+#include "sparse_motion_kernel.cuh"
 #include "sparse_step_kernel.cuh"
 #include "step_kernel.cuh"
 #include "step_pair_kernel.cuh"
@@ -45,18 +48,24 @@ cuda::DeviceInfo prepare_device(Int3 size) {
 /// the awake bricks), or, when more than `dense_fraction` of the bricks were awake at the last tick
 /// the host knows of, dense-recording ticks (the dense kernels, fused pairs included, recording
 /// the sparse flags).
+///
+/// A rule set with the motion model (granular/motion.hpp) keeps the transition table on the device
+/// and steps each tick as MotionParams::substeps sub-steps of the motion kernels
+/// (motion_step_kernel.cuh, sparse_motion_kernel.cuh); every other rule set runs the kernels above,
+/// unchanged.
 class CudaBackend final : public Backend {
  public:
-  /// Uploads `initial` and derives the result table from `lut` on the device. `dense_fraction`
-  /// (0..1) is the awake fraction above which sparse stepping uses dense-recording ticks (0: always,
-  /// 1: never).
-  CudaBackend(const Grid& initial, const Lut& lut, bool random_symmetry, bool random_axis_order, std::uint64_t seed,
-              bool sparse, double dense_fraction)
+  /// Uploads `initial` and derives the result table from `lut` on the device (keeping `lut` there
+  /// too when `motion` is enabled). `dense_fraction` (0..1) is the awake fraction above which sparse
+  /// stepping uses dense-recording ticks (0: always, 1: never).
+  CudaBackend(const Grid& initial, const Lut& lut, bool random_symmetry, bool random_axis_order, MotionParams motion,
+              std::uint64_t seed, bool sparse, double dense_fraction)
       : device_(prepare_device(initial.size())),
         size_(initial.size()),
         cell_count_(std::uint64_t(initial.cell_count())),
         random_symmetry_(random_symmetry),
         random_axis_order_(random_axis_order),
+        motion_(motion),
         seed_(seed),
         shape_(cuda::step_shape(initial.size())),
         owned_cells_(cuda::cell_buffer_bytes(cell_count_), "the grid's cells"),
@@ -81,6 +90,7 @@ class CudaBackend final : public Backend {
     cuda::launch_result_table(table.data(), result_.data(), s);
     if (sparse_) init_sparse(s);
     stream_.synchronize("building the result table");
+    if (motion_.enabled()) table_ = std::move(table);  // the motion kernels look up the transitions
   }
 
   BackendKind kind() const override { return BackendKind::Cuda; }
@@ -112,7 +122,9 @@ class CudaBackend final : public Backend {
       return;
     }
     if (sparse_) {
-      if (dense_recording())
+      if (motion_.enabled())
+        enqueue_motion(first_tick, ticks);
+      else if (dense_recording())
         enqueue_dense(first_tick, ticks, true);
       else
         enqueue_sparse(first_tick, ticks);
@@ -121,7 +133,10 @@ class CudaBackend final : public Backend {
       if (!ready_) collect_sparse_counters();
       return;
     }
-    enqueue_dense(first_tick, ticks, false);
+    if (motion_.enabled())
+      enqueue_motion(first_tick, ticks);
+    else
+      enqueue_dense(first_tick, ticks, false);
     after_write();
     // With a renderer attached the host goes on at once; the timelines order the device's work.
     if (!ready_) stream_.synchronize("step");
@@ -238,7 +253,9 @@ class CudaBackend final : public Backend {
   }
 
  private:
-  /// Allocates and initialises the sparse state (every brick dirty and awake) and the inert-key table.
+  /// Allocates and initialises the sparse state (every brick dirty and awake) and the inert-key table
+  /// (with random symmetry, and for every motion rule set: the sparse motion kernel asks it about
+  /// rest keys).
   void init_sparse(cudaStream_t s) {
     awake_ = cuda::DeviceBuffer<std::uint8_t>(total_bricks_, "awake bricks");
     dirty_ = cuda::DeviceBuffer<std::uint8_t>(total_bricks_, "dirty bricks");
@@ -254,10 +271,10 @@ class CudaBackend final : public Backend {
     cuda::check(cudaMemsetAsync(count_.data(), 0, sizeof(unsigned), s), "cudaMemsetAsync (brick count)");
     cuda::build_list_kernel<<<cuda::activity_blocks(total_bricks_), cuda::kActivityThreads, 0, s>>>(sparse_params());
     cuda::check_launch("build brick list kernel launch");
-    if (random_symmetry_) {
+    if (random_symmetry_ || motion_.enabled()) {
       inert_ = cuda::DeviceBuffer<std::uint64_t>(kInertTableWords, "the inert-key table");
       cuda::inert_table_kernel<<<cuda::activity_blocks(kInertTableWords), cuda::kActivityThreads, 0, s>>>(
-          result_.data(), true, inert_.data());
+          result_.data(), random_symmetry_, inert_.data());
       cuda::check_launch("inert-key table kernel launch");
     }
     // Enough CUDA blocks of the sparse kernel to fill the device; each walks the list from there.
@@ -311,7 +328,7 @@ class CudaBackend final : public Backend {
       rec.changed = changed_.data();
       rec.inert = inert_.data();
       recording = &rec;
-      cuda::check(cudaMemsetAsync(counters_.data(), 0, counters_.bytes(), s), "cudaMemsetAsync (activity counters)");
+      reset_counters();
     }
     std::uint64_t tick = first_tick;
     int left = ticks;
@@ -354,10 +371,7 @@ class CudaBackend final : public Backend {
     while (left > 0) single();
     if (!record) return;
     if (uncounted > 0) cuda::launch_count_awake(sp, size_, uncounted, true, s);
-    cuda::check(cudaMemcpyAsync(counters_host_.get(), counters_.data(), counters_.bytes(), cudaMemcpyDeviceToHost, s),
-                "cudaMemcpyAsync (activity counters)");
-    last_.ticks = std::uint64_t(ticks);
-    counters_pending_ = true;
+    fetch_counters(ticks);
   }
 
   /// Enqueues the ticks over the awake bricks, one launch per tick plus the sleep/wake update at
@@ -371,13 +385,59 @@ class CudaBackend final : public Backend {
     p.seed = seed_;
     p.random_axis_order = random_axis_order_;
     const cuda::SparseParams sp = sparse_params();
-    cuda::check(cudaMemsetAsync(counters_.data(), 0, counters_.bytes(), s), "cudaMemsetAsync (activity counters)");
+    reset_counters();
     for (int i = 0; i < ticks; ++i) {
       p.tick = first_tick + std::uint64_t(i);
       cuda::launch_sparse_step(p, sp, random_symmetry_, i + 1 == ticks, sparse_grid_, s);
       if ((p.tick & 7u) == 7u) cuda::launch_end_cycle(sp, s);
     }
-    cuda::check(cudaMemcpyAsync(counters_host_.get(), counters_.data(), counters_.bytes(), cudaMemcpyDeviceToHost, s),
+    fetch_counters(ticks);
+  }
+
+  /// Enqueues the ticks of a motion rule set, each as motion_.substeps sub-steps: one launch of the
+  /// dense motion kernel per sub-step, or in sparse mode of the sparse motion kernel over the awake
+  /// bricks, with the cycle's end after the last sub-step of a tick t with t % 8 == 7 and the
+  /// activity counters as enqueue_sparse (the bricks counted once per tick). Motion rule sets have
+  /// no dense-recording ticks (no recording form of the dense motion kernel): sparse mode always
+  /// steps the awake bricks, whatever dense_fraction_.
+  void enqueue_motion(std::uint64_t first_tick, int ticks) {
+    cudaStream_t s = stream_.get();
+    cuda::MotionStepParams p;
+    p.cells = cells_;
+    p.size = size_;
+    p.table = table_.data();
+    p.random_axis_order = random_axis_order_;
+    p.sub.seed = seed_;
+    p.sub.substeps = motion_.substeps;
+    p.sub.roll_chance = motion_.roll_chance;
+    p.sub.random_symmetry = random_symmetry_;
+    const cuda::SparseParams sp = sparse_ ? sparse_params() : cuda::SparseParams{};
+    if (sparse_) reset_counters();
+    for (int i = 0; i < ticks; ++i) {
+      p.sub.tick = first_tick + std::uint64_t(i);
+      for (int sub = 0; sub < motion_.substeps; ++sub) {
+        p.sub.substep = sub;
+        if (sparse_)
+          cuda::launch_sparse_motion(p, sp, sub == 0, sub == 0 && i + 1 == ticks, sparse_grid_, s);
+        else
+          cuda::launch_motion_step(p, shape_, s);
+      }
+      if (sparse_ && (p.sub.tick & 7u) == 7u) cuda::launch_end_cycle(sp, s);
+    }
+    if (sparse_) fetch_counters(ticks);
+  }
+
+  /// Enqueues zeroing the activity counters (before a sparse step's first tick).
+  void reset_counters() {
+    cuda::check(cudaMemsetAsync(counters_.data(), 0, counters_.bytes(), stream_.get()),
+                "cudaMemsetAsync (activity counters)");
+  }
+
+  /// Enqueues the copy of the activity counters to pinned host memory after a sparse step of `ticks`
+  /// ticks; collect_sparse_counters takes them.
+  void fetch_counters(int ticks) {
+    cuda::check(cudaMemcpyAsync(counters_host_.get(), counters_.data(), counters_.bytes(), cudaMemcpyDeviceToHost,
+                                stream_.get()),
                 "cudaMemcpyAsync (activity counters)");
     last_.ticks = std::uint64_t(ticks);
     counters_pending_ = true;
@@ -467,6 +527,7 @@ class CudaBackend final : public Backend {
   std::uint64_t cell_count_;
   bool random_symmetry_;
   bool random_axis_order_;
+  MotionParams motion_;  ///< the rule set's motion model (enabled: the motion kernels step)
   std::uint64_t seed_;
   cuda::StepShape shape_;
   cuda::Stream stream_;
@@ -478,6 +539,7 @@ class CudaBackend final : public Backend {
   std::uint64_t writes_ = 0;                       ///< last value signalled on ready_
   std::uint64_t handoffs_ = 0;                     ///< last value handed out for released_
   cuda::DeviceBuffer<BlockKey> result_;
+  cuda::DeviceBuffer<Transition> table_;  ///< the transition table, kept for motion rule sets only
   cuda::DeviceBuffer<unsigned long long> scratch_;
   bool sparse_;
   double dense_fraction_;  ///< awake fraction above which step() uses dense-recording ticks
@@ -506,8 +568,8 @@ std::unique_ptr<Backend> make_cuda_backend(const Grid& initial, std::shared_ptr<
     throw InvalidArgument("cuda backend: a full transition table (16,777,216 entries) is required");
   if (!(dense_fraction >= 0.0 && dense_fraction <= 1.0))
     throw InvalidArgument("cuda backend: dense_fraction = " + std::to_string(dense_fraction) + " must lie in 0..1");
-  return std::make_unique<CudaBackend>(initial, *lut, rules.random_symmetry, rules.random_axis_order, seed, sparse,
-                                       dense_fraction);
+  return std::make_unique<CudaBackend>(initial, *lut, rules.random_symmetry, rules.random_axis_order, rules.motion,
+                                       seed, sparse, dense_fraction);
 }
 
 }  // namespace granular

@@ -14,15 +14,19 @@
 namespace granular {
 
 std::vector<Transition> build_lut_on_gpu(const RuleSet& rules, float* kernel_ms) {
-  if (rules.device_rule != "paper")
+  const bool motion = rules.device_rule == "motion";
+  if (rules.device_rule != "paper" && !motion)
     throw InvalidArgument("build_lut_on_gpu: rule set '" + rules.name + "' has device rule '" + rules.device_rule +
-                          "'; only \"paper\" is compiled for GPUs");
+                          "'; only \"paper\" and \"motion\" are compiled for GPUs");
   cuda::acquire_device();
   cuda::Stream stream;
   cuda::DeviceBuffer<Transition> table(kBlockKeyCount, "the transition table");
   cuda::Event start, stop;
   start.record(stream.get());
-  cuda::launch_paper_lut(table.data(), stream.get());
+  if (motion)
+    cuda::launch_motion_lut(table.data(), stream.get());
+  else
+    cuda::launch_paper_lut(table.data(), stream.get());
   stop.record(stream.get());
   stream.synchronize("building the transition table");
   const float ms = stop.ms_since(start);

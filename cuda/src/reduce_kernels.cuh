@@ -1,8 +1,10 @@
 #pragma once
 /// @file reduce_kernels.cuh
-/// Whole-grid reductions on the device: the grid hash's word sum (hash_cells in grid.hpp) and the
-/// per-material histogram. Both read the cells as 8-byte little-endian words; the buffer is
-/// allocated in whole words, and bytes past the last cell are masked, whatever they hold.
+/// Whole-grid reductions on the device: the grid hash's word sum (hash_cells in grid.hpp, over
+/// whole bytes) and the per-material histogram (over each byte's material bits: a motion rule
+/// set's motion level is not a material, granular/motion.hpp). Both read the cells as 8-byte
+/// little-endian words; the buffer is allocated in whole words, and bytes past the last cell are
+/// masked, whatever they hold.
 /// Kernels and launchers here are static: every translation unit including this gets its own copy.
 
 #include <cuda_runtime.h>
@@ -12,6 +14,7 @@
 #include "cuda_check.cuh"
 #include "granular/grid.hpp"
 #include "granular/material.hpp"
+#include "granular/motion.hpp"
 
 namespace granular::cuda {
 
@@ -31,6 +34,15 @@ __device__ inline std::uint64_t cell_word(const std::uint8_t* cells, std::uint64
     w = (w & keep) | (fill & ~keep);
   }
   return w;
+}
+
+/// Word `i` of the cells' materials (n cells in all): each byte & kMaterialMask, bytes at or past
+/// n 0xFF (no material).
+__device__ inline std::uint64_t material_word(const std::uint8_t* cells, std::uint64_t n, std::uint64_t i) {
+  constexpr std::uint64_t kMaterialBytes = 0x0101010101010101ull * kMaterialMask;
+  const std::uint64_t at = i * 8;
+  const std::uint64_t keep = at + 8 > n ? (std::uint64_t(1) << (8 * (n - at))) - 1 : ~std::uint64_t(0);
+  return (reinterpret_cast<const std::uint64_t*>(cells)[i] & kMaterialBytes & keep) | ~keep;
 }
 
 /// Sum of a value over the CUDA block's threads; the result is valid in thread 0.
@@ -61,15 +73,15 @@ static __global__ void __launch_bounds__(kReduceThreads) hash_kernel(const std::
   if (threadIdx.x == 0) atomicAdd(sum, total);
 }
 
-/// Adds the number of cells holding each material 0..7 into counts[0..7] (cells with other
-/// values are not counted, as on the CPU). Launch with kReduceThreads threads per CUDA block.
+/// Adds the number of cells holding each material 0..7 (a byte's low bits) into counts[0..7].
+/// Launch with kReduceThreads threads per CUDA block.
 static __global__ void __launch_bounds__(kReduceThreads) count_kernel(const std::uint8_t* cells, std::uint64_t n,
                                                                 unsigned long long* counts) {
   const std::uint64_t words = (n + 7) / 8;
   unsigned long long local[kMaterialCount] = {};
   for (std::uint64_t i = std::uint64_t(blockIdx.x) * blockDim.x + threadIdx.x; i < words;
        i += std::uint64_t(gridDim.x) * blockDim.x) {
-    const std::uint64_t w = cell_word(cells, n, i, ~std::uint64_t(0));  // 0xFF is no material
+    const std::uint64_t w = material_word(cells, n, i);
     const unsigned lo = unsigned(w), hi = unsigned(w >> 32);
 #pragma unroll
     for (int m = 0; m < kMaterialCount; ++m) {

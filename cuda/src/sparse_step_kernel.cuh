@@ -58,7 +58,7 @@ struct SparseParams {
   std::uint32_t* list = nullptr;          ///< the awake bricks, in any order
   unsigned* count = nullptr;              ///< length of the list
   unsigned long long* counters = nullptr; ///< ActivityCounter slots
-  const std::uint64_t* inert = nullptr;   ///< inert-key bits (with random symmetry; else unused)
+  const std::uint64_t* inert = nullptr;   ///< inert-key bits (with random symmetry or motion; else unused)
 };
 
 /// What one thread saw of its brick while stepping.

@@ -1,7 +1,7 @@
 #pragma once
 /// @file table_kernels.cuh
-/// Device kernels over the 16,777,216 block keys: the paper rule's transition table, and the
-/// result table (per key, the key after its transition) that the step kernel looks up.
+/// Device kernels over the 16,777,216 block keys: the transition tables of the device rules
+/// (RuleSet::device_rule "paper" and "motion"), and the result table (per key, the key after its transition) that the step kernel looks up.
 /// Kernels and launchers here are static: every translation unit including this gets its own copy.
 
 #include <cuda_runtime.h>
@@ -10,6 +10,7 @@
 
 #include "cuda_check.cuh"
 #include "granular/block.hpp"
+#include "motion_block.hpp"
 #include "paper_rule.hpp"
 
 namespace granular::cuda {
@@ -23,6 +24,12 @@ static __global__ void paper_lut_kernel(Transition* out) {
   if (key < kBlockKeyCount) out[key] = rules::paper_rule(key);
 }
 
+/// out[k] = motion::motion_rule(k): the very function the CPU's motion rule sets evaluate.
+static __global__ void motion_lut_kernel(Transition* out) {
+  const std::uint32_t key = blockIdx.x * blockDim.x + threadIdx.x;
+  if (key < kBlockKeyCount) out[key] = motion::motion_rule(key);
+}
+
 /// result[k] = encode_key(apply_transition(decode_key(k), lut[k])), as the CPU's derive_result_table.
 static __global__ void result_table_kernel(const Transition* lut, BlockKey* result) {
   const std::uint32_t key = blockIdx.x * blockDim.x + threadIdx.x;
@@ -33,6 +40,12 @@ static __global__ void result_table_kernel(const Transition* lut, BlockKey* resu
 static inline void launch_paper_lut(Transition* out, cudaStream_t stream) {
   paper_lut_kernel<<<kBlockKeyCount / kTableThreads, kTableThreads, 0, stream>>>(out);
   check_launch("transition table kernel launch");
+}
+
+/// Enqueues motion_lut_kernel over all keys into `out` (kBlockKeyCount entries).
+static inline void launch_motion_lut(Transition* out, cudaStream_t stream) {
+  motion_lut_kernel<<<kBlockKeyCount / kTableThreads, kTableThreads, 0, stream>>>(out);
+  check_launch("motion transition table kernel launch");
 }
 
 /// Enqueues result_table_kernel over all keys (`lut` and `result` hold kBlockKeyCount entries).

@@ -47,8 +47,8 @@ std::unique_ptr<Backend> make_cuda_backend(const Grid& initial, std::shared_ptr<
                                            std::uint64_t seed, bool sparse = true,
                                            double dense_fraction = WorldDef{}.dense_fraction);
 
-/// Builds the transition table for `rules` on the GPU (rules.device_rule must be "paper", else
-/// InvalidArgument), returns the 16,777,216 entries (copied back), and the kernel time in
+/// Builds the transition table for `rules` on the GPU (rules.device_rule must be "paper" or
+/// "motion", else InvalidArgument), returns the 16,777,216 entries (copied back), and the kernel time in
 /// milliseconds in `kernel_ms` when given. Throws BackendError as make_cuda_backend.
 std::vector<Transition> build_lut_on_gpu(const RuleSet& rules, float* kernel_ms = nullptr);
 
