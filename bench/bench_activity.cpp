@@ -13,7 +13,7 @@
 ///    against the same pour into a 64^3 world alone (both sparse); ms per tick of the steps.
 ///
 ///   bench_activity [--backend cpu|cuda] [--n N] [--max-ticks T] [--window W] [--threads J]
-///                  [--series-seconds S] [--pour-ticks P] [--dense-fraction F] [--out DIR]
+///                  [--series-seconds S] [--pour-ticks P] [--dense-fraction F] [--rules R] [--out DIR]
 /// --dense-fraction sets the sparse worlds' WorldDef::dense_fraction (CUDA: above this awake
 /// fraction a step uses dense-recording ticks; 1 = sparse ticks only, as before that existed).
 /// Prints a short table last.
@@ -46,6 +46,7 @@ struct Options {
   double series_seconds = 1e9;  ///< stepping time after which the side-by-side series stops
   double dense_fraction = WorldDef{}.dense_fraction;  ///< the sparse worlds' WorldDef::dense_fraction
   std::string out = ".";        ///< folder of the CSV
+  std::string rules = WorldDef{}.rules;  ///< rule-set preset
 };
 
 /// Reads the options; throws InvalidArgument for unknown ones or bad values.
@@ -61,6 +62,7 @@ Options parse(int argc, char** argv) {
     else if (key == "--pour-ticks") o.pour_ticks = std::atoi(value.c_str());
     else if (key == "--series-seconds") o.series_seconds = std::atof(value.c_str());
     else if (key == "--dense-fraction") o.dense_fraction = std::atof(value.c_str());
+    else if (key == "--rules") o.rules = value;
     else if (key == "--out") o.out = value;
     else throw InvalidArgument("bench_activity: unknown option " + key + " (see the file comment for the options)");
   }
@@ -76,6 +78,7 @@ WorldDef def_for(const Options& o, bool sparse) {
   def.threads = o.threads;
   def.sparse = sparse;
   def.dense_fraction = o.dense_fraction;
+  def.rules = o.rules;
   return def;
 }
 

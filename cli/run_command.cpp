@@ -8,6 +8,7 @@
 #include "granular/hex.hpp"
 #include "granular/lut.hpp"
 #include "granular/rule_set.hpp"
+#include "granular/time_scale.hpp"
 #include "scene_runner.hpp"
 
 namespace granular::cli {
@@ -48,6 +49,9 @@ void run(const RunOptions& o) {
   s["seconds"] = seconds;
   s["cell_updates_per_second"] = rate;
   s["ms_per_tick"] = o.ticks ? seconds * 1000.0 / double(o.ticks) : 0.0;
+  // Simulated time for 5 mm cells (time_scale.hpp): >= 1 simulated second per wall second is real time.
+  s["tick_seconds"] = tick_seconds(w.rules());
+  s["real_time_factor"] = seconds > 0 ? tick_seconds(w.rules()) * double(o.ticks) / seconds : 0.0;
   s["lut"] = {{"seconds", w.lut_seconds()}, {"from_cache", w.lut_from_cache()}, {"hash", hex64(w.lut().content_hash())}};
   s["grains_before"] = counts_json(before);
   s["grains_after"] = counts_json(after);

@@ -20,7 +20,7 @@ void main() {
   uint filled = 0u;
   for (uint i = gl_LocalInvocationIndex; i < kBrickCells; i += 256u) {
     ivec3 p = origin + ivec3(int(i & 15u), int((i >> 4) & 15u), int(i >> 8));
-    if (inside_grid(p) && cells[cell_index(p)] != uint8_t(0)) filled = 1u;
+    if (inside_grid(p) && material_of(cells[cell_index(p)]) != 0u) filled = 1u;
   }
   if (filled != 0u) atomicOr(any_filled, 1u);
   barrier();

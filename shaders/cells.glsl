@@ -9,8 +9,11 @@ bool inside_grid(ivec3 p) { return all(greaterThanEqual(p, ivec3(0))) && all(les
 
 uint cell_index(ivec3 p) { return uint(p.x) + uint(pc.grid.x) * (uint(p.y) + uint(pc.grid.y) * uint(p.z)); }
 
+// Material of a cell byte: its low 3 bits (a grain keeps its motion state above them).
+uint material_of(uint8_t cell) { return uint(cell) & 7u; }
+
 // Material of cell p; cells outside the grid read as void.
-uint cell_at(ivec3 p) { return inside_grid(p) ? uint(cells[cell_index(p)]) : 0u; }
+uint cell_at(ivec3 p) { return inside_grid(p) ? material_of(cells[cell_index(p)]) : 0u; }
 
 ivec3 brick_origin(uint brick) {
   uint bx = uint(pc.bricks.x), by = uint(pc.bricks.y);

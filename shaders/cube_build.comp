@@ -23,7 +23,7 @@ void main() {
     ivec3 local = ivec3(int(i & 15u), int((i >> 4) & 15u), int(i >> 8));
     ivec3 p = origin + local;
     if (!inside_grid(p)) continue;
-    uint material = uint(cells[cell_index(p)]);
+    uint material = material_of(cells[cell_index(p)]);
     if (material == 0u) continue;
     uint faces = (cell_at(p + ivec3(-1, 0, 0)) == 0u ? 1u : 0u) | (cell_at(p + ivec3(1, 0, 0)) == 0u ? 2u : 0u) |
                  (cell_at(p + ivec3(0, -1, 0)) == 0u ? 4u : 0u) | (cell_at(p + ivec3(0, 1, 0)) == 0u ? 8u : 0u) |

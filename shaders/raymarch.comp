@@ -57,7 +57,7 @@ void main() {
         t_max = (vec3(cell) + max(vec3(step_dir), vec3(0.0)) - origin) * inv;
         continue;
       }
-      uint material = uint(cells[cell_index(cell)]);
+      uint material = material_of(cells[cell_index(cell)]);
       if (material != 0u) {
         ivec3 n = ivec3(0);
         n[axis] = -step_dir[axis];

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "granular/time_scale.hpp"
+
 namespace granular::accuracy {
 
 double Calibration::tick_s() const { return std::sqrt(2 * cell_m / (gravity * calibration_cells)); }
@@ -20,7 +22,7 @@ std::string Calibration::describe() const {
 
 Calibration calibration_for(const RuleSet& rules) {
   Calibration c;
-  if (rules.motion.enabled()) c.calibration_cells = 1;
+  c.calibration_cells = 2 / gravity_cells_per_tick2(rules);  // 64 cells, or 1 with the motion model
   return c;
 }
 
