@@ -396,7 +396,8 @@ class CudaBackend final : public Backend {
 
   /// Enqueues the ticks of a motion rule set, each as motion_.substeps sub-steps: one launch of the
   /// dense motion kernel per sub-step, or in sparse mode of the sparse motion kernel over the awake
-  /// bricks, with the cycle's end after the last sub-step of a tick t with t % 8 == 7 and the
+  /// bricks, with a cycle's end after every 8th sub-step (substeps is a multiple of 8; a grain moves
+  /// at most 8 cells in a cycle, as with one step per tick) and the
   /// activity counters as enqueue_sparse (the bricks counted once per tick). Motion rule sets have
   /// no dense-recording ticks (no recording form of the dense motion kernel): sparse mode always
   /// steps the awake bricks, whatever dense_fraction_.
@@ -417,12 +418,13 @@ class CudaBackend final : public Backend {
       p.sub.tick = first_tick + std::uint64_t(i);
       for (int sub = 0; sub < motion_.substeps; ++sub) {
         p.sub.substep = sub;
-        if (sparse_)
+        if (sparse_) {
           cuda::launch_sparse_motion(p, sp, sub == 0, sub == 0 && i + 1 == ticks, sparse_grid_, s);
-        else
+          if ((sub & 7) == 7) cuda::launch_end_cycle(sp, s);
+        } else {
           cuda::launch_motion_step(p, shape_, s);
+        }
       }
-      if (sparse_ && (p.sub.tick & 7u) == 7u) cuda::launch_end_cycle(sp, s);
     }
     if (sparse_) fetch_counters(ticks);
   }

@@ -79,13 +79,16 @@ void CpuBackend::step(std::uint64_t first_tick, int ticks) {
     }
     for (int s = 0; s < substeps; ++s) {
       const StepContext c = context(tick, s);
-      if (sparse_)
+      if (sparse_) {
         step_pass_sparse(c);
-      else
+        // The sleep/wake decision rests on a cycle of 8 Margolus steps, which walk all 8 offsets
+        // (ticks 8k .. 8k + 7, or sub-steps 8k .. 8k + 7 of a tick with the motion model): a
+        // grain moves at most 8 cells in one, so the neighbourhood of a brick covers its reach.
+        if (((tick * std::uint64_t(substeps) + std::uint64_t(s)) & 7u) == 7u) activity_.end_cycle();
+      } else {
         step_pass(c);
+      }
     }
-    // The sleep/wake decision rests on a full cycle of all 8 offsets (ticks 8k .. 8k + 7).
-    if (sparse_ && (tick & 7u) == 7u) activity_.end_cycle();
     ++last_.ticks;
     last_.brick_ticks += last_.active_bricks;
     last_.cell_ticks += last_.active_cells;

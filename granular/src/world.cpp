@@ -168,6 +168,12 @@ void World::init(const Grid& initial) {
   changed_flags_.assign(brick_version_.size(), 0);
   activity_.total_bricks = brick_version_.size();
   rules_ = make_rule_set(def_.rules);
+  const MotionParams& motion = rules_->motion;
+  if (motion.enabled() && (motion.substeps % 8 != 0 || motion.substeps > 32 || motion.roll_chance < 0 ||
+                           motion.roll_chance > 256))
+    throw RuleError("rule set '" + rules_->name + "': MotionParams substeps = " + std::to_string(motion.substeps) +
+                    ", roll_chance = " + std::to_string(motion.roll_chance) +
+                    "; substeps must be 1 or a multiple of 8 up to 32 and roll_chance 0..256");
   const int threads = def_.threads > 0 ? def_.threads : hardware_threads();
   [[maybe_unused]] const BackendKind kind = choose_backend(def_.backend);
   std::string notice;
@@ -332,8 +338,17 @@ void World::load(const Grid& grid) {
     throw InvalidArgument("World::load: grid is " + to_string(grid.size()) + " but the world is " + to_string(size_));
   check_cells(grid.cells(), grid.size(), "World::load");
   const Grid before = snapshot();
-  backend_->write(grid.bounds(), grid.cells());
+  backend_->write(grid.bounds(), with_motion_kept(grid.bounds(), before.cells(), grid.cells()));
   mark_changed(grid.bounds(), before.cells(), grid.cells());
+}
+
+std::vector<std::uint8_t> World::with_motion_kept(const Box& region, std::span<const std::uint8_t> before,
+                                                  std::span<const std::uint8_t> after) const {
+  std::vector<std::uint8_t> bytes(after.size());
+  backend_->read(region, bytes);
+  for (std::size_t i = 0; i < bytes.size(); ++i)
+    if (before[i] != after[i]) bytes[i] = after[i];
+  return bytes;
 }
 
 ChangeReport World::commit_region(const Box& region, bool clipped, const std::vector<std::uint8_t>& before,
@@ -348,7 +363,7 @@ ChangeReport World::commit_region(const Box& region, bool clipped, const std::ve
       ++report.added[after[i]];
     }
   if (report.cells_changed > 0) {
-    backend_->write(region, after);
+    backend_->write(region, with_motion_kept(region, before, after));
     mark_changed(region, before, after);
   }
   ++tool_calls_;

@@ -26,7 +26,8 @@ inline constexpr std::uint8_t kMotionPhaseBit = 0x80;
 /// What a rule set's motion model does (RuleSet::motion). The default is no motion model: one
 /// Margolus step per tick and no motion state, the paper's scheme.
 struct MotionParams {
-  int substeps = 1;     ///< Margolus sub-steps per tick (1: no motion model; else even, 8..32)
+  int substeps = 1;     ///< Margolus sub-steps per tick (1: no motion model; else a multiple of 8
+                        ///< up to 32, so that sparse stepping's 8-step cycles fit in whole ticks)
   int roll_chance = 0;  ///< out of 256: chance that a moving grain blocked from below is offered a
                         ///< roll to a level neighbour cell (the friction lever; 0: never rolls)
   /// True when the rule set uses the motion model.

@@ -87,7 +87,8 @@ class World {
   void read_region(const Box& box, std::span<std::uint8_t> out) const;
   /// A copy of the whole grid's materials (grains restart at rest when it is loaded).
   Grid snapshot() const;
-  /// Replaces every cell with those of `grid`, which must have this world's size.
+  /// Replaces every cell with those of `grid`, which must have this world's size (a grain whose
+  /// material is unchanged keeps its motion state).
   void load(const Grid& grid);
 
   /// A counter that grows with every call that changes cells (step, tools, load). Pass a value
@@ -124,6 +125,11 @@ class World {
   void init(const Grid& initial);
   BackendKind choose_backend(BackendKind wanted);
   void mark_changed(const Box& region, std::span<const std::uint8_t> before, std::span<const std::uint8_t> after);
+  // The cell bytes to write over `region` for new materials `after` (old ones `before`): a cell
+  // whose material stays keeps its byte, motion state included (motion.hpp), so a tool or load
+  // changes nothing it does not change in materials (a sleeping brick stays exact).
+  std::vector<std::uint8_t> with_motion_kept(const Box& region, std::span<const std::uint8_t> before,
+                                             std::span<const std::uint8_t> after) const;
   void mark_bricks(std::span<const std::uint32_t> bricks) const;
   void take_step_changes() const;
   ChangeReport commit_region(const Box& region, bool clipped, const std::vector<std::uint8_t>& before,
