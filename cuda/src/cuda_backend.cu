@@ -411,6 +411,8 @@ class CudaBackend final : public Backend {
     p.sub.seed = seed_;
     p.sub.substeps = motion_.substeps;
     p.sub.roll_chance = motion_.roll_chance;
+    p.sub.topple_gain = motion_.topple_gain;
+    p.sub.roll_cost = motion_.roll_cost;
     p.sub.random_symmetry = random_symmetry_;
     const cuda::SparseParams sp = sparse_ ? sparse_params() : cuda::SparseParams{};
     if (sparse_) reset_counters();

@@ -11,24 +11,25 @@
 ///  1. Each cell gets a code for the table: void 0, obstacle 1 (solid and every other material),
 ///     grain 2. A grain in the top layer that is outside its window this sub-step (it is too slow
 ///     to move now) reads as an obstacle; one inside its window with a motion level above 0 reads,
-///     with chance roll_chance / 256, as a roller (3), which the table lets roll sideways onto a
-///     level neighbour. Bottom-layer grains can only be pushed aside, never move on their own, so
+///     with chance roll_chance / 256, as a roller (3), which the table lets roll sideways onto the
+///     top of a neighbour column one cell lower. Bottom-layer grains can only be pushed aside, never move on their own, so
 ///     their code is always 2.
 ///  2. The key is viewed under the block's random symmetry, looked up in the transition table of
 ///     motion_rule, and the permutation is mapped back: cell i goes to position dest[i].
 ///  3. The 8 bytes are permuted with their motion levels, and each grain that took part updates
-///     its level: one that fell keeps it (plus 1 in the first sub-step of its window when nothing
-///     is beside it in the top layer: gravity accelerates free grains, not a dense flow), a
-///     roller keeps it whether it rolled or found no room in this block, and a plain grain that
-///     stayed takes the smaller of its level and that of the grain below it (0 on anything but a
-///     grain: it has landed). So a moving grain stops with chance 1 - roll_chance / 256 each time
-///     it is blocked from below: the friction lever.
+///     its level: one that fell straight down gains 1 in the first sub-step of its window when
+///     nothing is beside it in the top layer (gravity accelerates free grains, not a dense flow);
+///     one that toppled down a step gains 1 with chance topple_gain / 256; one that was blocked
+///     from below loses 1 with chance roll_cost / 256 if it rolled, kStuckCost / 256 if its block
+///     had no room. So a moving grain runs on down slopes steeper than the balance of gains and
+///     costs and stops on shallower ones, whatever the pile's size: the friction lever.
 /// A grain's window is motion_window(level) sub-steps from its phase: in sub-step 0 every grain
 /// notes its layer (top: phase 0, bottom: phase 1, where it is top one sub-step later), so a grain
 /// starting from rest falls 1, 4, 9, ... cells after 1, 2, 3 ticks whichever layer it starts in,
 /// and a grain at rest keeps the same phase tick after tick.
 /// The random word is block_random(seed, t * substeps + s, x0, y0, z0); its low 3 bits pick the
-/// symmetry and byte k (k = 1..4) the roll draw of top cell k + 3.
+/// symmetry, byte k (k = 1..4) the roll draw of top cell k + 3, and 6 bits from bit 40 + 6 (i - 4)
+/// the level draw of top cell i (as a multiple of 4 out of 256).
 
 #include <cstdint>
 
@@ -36,6 +37,10 @@
 #include "granular/motion.hpp"
 
 namespace granular::motion {
+
+/// Chance out of 256 that a moving grain blocked from below with no room to roll in its block
+/// loses a level (so a grain stuck in a pit comes to rest, and its brick can sleep).
+inline constexpr int kStuckCost = 64;
 
 /// Table codes of a cell: what motion_rule sees.
 inline constexpr std::uint32_t kCodeVoid = 0, kCodeObstacle = 1, kCodeGrain = 2, kCodeRoller = 3;
@@ -117,6 +122,8 @@ struct SubStep {
   int substep = 0;              ///< this sub-step, 0 .. substeps - 1
   int substeps = 2;             ///< MotionParams::substeps (the highest level follows from it)
   int roll_chance = 0;          ///< MotionParams::roll_chance
+  int topple_gain = 0;          ///< MotionParams::topple_gain
+  int roll_cost = 0;            ///< MotionParams::roll_cost
   bool random_symmetry = false; ///< draw a horizontal symmetry per block
 };
 
@@ -230,11 +237,14 @@ constexpr std::uint64_t step_block(std::uint64_t bytes, const SubStep& m, int x0
       int level = int((byte >> kMotionShift) & kMotionLevelMask);
       const std::uint32_t phase = byte & kMotionPhaseBit;
       if (dest < 4) {
-        if (s == (phase ? 1 : 0) && level < max_level && laterally_free(bytes, i)) ++level;
-      } else if (dest == i && !((rollers >> i) & 1u)) {
-        const std::uint32_t below = std::uint32_t(bytes >> (8 * (i - 4))) & 0xFFu;
-        const int below_level = int((below >> kMotionShift) & kMotionLevelMask);
-        level = (below & kMaterialMask) == kGrain ? (below_level < level ? below_level : level) : 0;
+        if ((dest & 3) == (i & 3)) {
+          if (s == (phase ? 1 : 0) && laterally_free(bytes, i)) ++level;
+        } else if (int((random >> (40 + 6 * (i - 4))) & 63u) * 4 < m.topple_gain) {
+          ++level;
+        }
+        if (level > max_level) level = max_level;
+      } else if (level > 0 && int((random >> (40 + 6 * (i - 4))) & 63u) * 4 < (dest != i ? m.roll_cost : kStuckCost)) {
+        --level;
       }
       byte = kGrain | (std::uint32_t(level) << kMotionShift) | phase;
     }

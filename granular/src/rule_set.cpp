@@ -12,7 +12,8 @@ std::uint64_t rule_fingerprint(const RuleSet& rules) {
   if (rules.random_axis_order) h = mix64(h ^ 0x617865736F726465ull);
   if (rules.motion.enabled())
     h = mix64(h ^ 0x6D6F74696F6E0000ull ^ std::uint64_t(rules.motion.substeps) ^
-              (std::uint64_t(rules.motion.roll_chance) << 8));
+              (std::uint64_t(rules.motion.roll_chance) << 8) ^ (std::uint64_t(rules.motion.topple_gain) << 20) ^
+              (std::uint64_t(rules.motion.roll_cost) << 32));
   if (!rules.transition) return h;
   // Every block over the three simulated states.
   for (std::uint32_t n = 0; n < 6561; ++n) {

@@ -169,11 +169,13 @@ void World::init(const Grid& initial) {
   activity_.total_bricks = brick_version_.size();
   rules_ = make_rule_set(def_.rules);
   const MotionParams& motion = rules_->motion;
-  if (motion.enabled() && (motion.substeps % 8 != 0 || motion.substeps > 32 || motion.roll_chance < 0 ||
-                           motion.roll_chance > 256))
+  auto chance = [](int c) { return c >= 0 && c <= 256; };
+  if (motion.enabled() && (motion.substeps % 8 != 0 || motion.substeps > 32 || !chance(motion.roll_chance) ||
+                           !chance(motion.topple_gain) || !chance(motion.roll_cost)))
     throw RuleError("rule set '" + rules_->name + "': MotionParams substeps = " + std::to_string(motion.substeps) +
-                    ", roll_chance = " + std::to_string(motion.roll_chance) +
-                    "; substeps must be 1 or a multiple of 8 up to 32 and roll_chance 0..256");
+                    ", roll_chance = " + std::to_string(motion.roll_chance) + ", topple_gain = " +
+                    std::to_string(motion.topple_gain) + ", roll_cost = " + std::to_string(motion.roll_cost) +
+                    "; substeps must be 1 or a multiple of 8 up to 32 and the chances 0..256");
   const int threads = def_.threads > 0 ? def_.threads : hardware_threads();
   [[maybe_unused]] const BackendKind kind = choose_backend(def_.backend);
   std::string notice;

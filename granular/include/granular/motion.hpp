@@ -28,6 +28,8 @@ inline constexpr std::uint8_t kMotionPhaseBit = 0x80;
 struct MotionParams {
   int substeps = 1;     ///< Margolus sub-steps per tick (1: no motion model; else a multiple of 8
                         ///< up to 32, so that sparse stepping's 8-step cycles fit in whole ticks)
+  int topple_gain = 0;  ///< out of 256: chance that a grain toppling down a step gains a level
+  int roll_cost = 0;    ///< out of 256: chance that a roll (a move onto a level neighbour) costs a level
   int roll_chance = 0;  ///< out of 256: chance that a moving grain blocked from below is offered a
                         ///< roll to a level neighbour cell (the friction lever; 0: never rolls)
   /// True when the rule set uses the motion model.
