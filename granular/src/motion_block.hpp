@@ -12,7 +12,7 @@
 ///     grain 2. A grain in the top layer that is outside its window this sub-step (it is too slow
 ///     to move now) reads as an obstacle; one inside its window with a motion level above 0 reads,
 ///     with chance roll_chance / 256, as a roller (3), which the table lets roll sideways onto the
-///     top of a neighbour column one cell lower. Bottom-layer grains can only be pushed aside, never move on their own, so
+///     top of a neighbour column one cell lower. Bottom-layer grains never move on their own, so
 ///     their code is always 2.
 ///  2. The key is viewed under the block's random symmetry, looked up in the transition table of
 ///     motion_rule, and the permutation is mapped back: cell i goes to position dest[i].
