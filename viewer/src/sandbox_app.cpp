@@ -20,6 +20,7 @@
 #include "glfw_window.hpp"
 #include "granular/raycast.hpp"
 #include "granular/scene.hpp"
+#include "granular/time_scale.hpp"
 #include "hud.hpp"
 #include "input_tracker.hpp"
 #include "pausable_subsystem.hpp"
@@ -168,9 +169,11 @@ class SandboxApp final : public engine::Subsystem {
     choice_.size = session_->sandbox.n;
     renderer_ = std::make_unique<WorldRenderer>(context_, world(), swapchain_.target().compatible_pass(), kind_,
                                                 session_->shared.get());
+    // Fixed updates at the rules' real-time rate for 5 mm cells (31 Hz with the motion model, 250 Hz
+    // for one step per tick), so sand falls at the speed of real sand.
     engine::FixedTimestepConfig timestep;
-    timestep.tick_rate_hz = 60.0;
-    timestep.max_ticks_per_frame = 4;
+    timestep.tick_rate_hz = 1.0 / granular::tick_seconds(world().rules());
+    timestep.max_ticks_per_frame = 8;
     loop_ = std::make_unique<engine::EngineLoop>(clock_, timestep);
     loop_->add(*session_->tools);
     loop_->add(*session_->pausable);
