@@ -19,7 +19,7 @@ std::vector<std::uint8_t> render_once(OffscreenRenderer& renderer, const OrbitCa
 
 }  // namespace
 
-TEST_CASE("offscreen: the bowl scene renders, sand where the heap is, and changes after 100 ticks") {
+TEST_CASE("offscreen: the bowl scene renders, sand where the heap is, and changes after 0.4 s") {
   auto world = bowl_world();
   const OrbitCamera camera = test_camera(world->size());
   OffscreenRenderer renderer(context(), *world, {kWidth, kHeight}, RendererKind::Cubes);
@@ -28,7 +28,7 @@ TEST_CASE("offscreen: the bowl scene renders, sand where the heap is, and change
   CHECK(coverage(start) < 0.95);
   CHECK(is_sand(pixel(start, kWidth / 2, kHeight / 2)));  // the top of the sand block
   CHECK(is_background(pixel(start, 2, 2)));
-  world->step(100);
+  world->step(ticks_for_seconds(*world, 0.4));  // 100 ticks of the one-step rules
   const auto later = render_once(renderer, camera);
   CHECK(difference(start, later) > 0.05);
   CHECK(is_sand(pixel(later, kWidth / 2, kHeight / 2)));
@@ -37,7 +37,7 @@ TEST_CASE("offscreen: the bowl scene renders, sand where the heap is, and change
 
 TEST_CASE("offscreen: digging along the camera's centre ray opens a hole in the next render") {
   auto world = bowl_world();
-  world->step(40);
+  world->step(ticks_for_seconds(*world, 0.16));
   const OrbitCamera camera = test_camera(world->size());
   OffscreenRenderer renderer(context(), *world, {kWidth, kHeight}, RendererKind::Cubes);
   const auto before = render_once(renderer, camera);
@@ -68,7 +68,7 @@ TEST_CASE("offscreen: digging along the camera's centre ray opens a hole in the 
 
 TEST_CASE("offscreen: every renderer draws the scene; cubes and ray march agree pixel for pixel") {
   auto world = bowl_world();
-  world->step(120);
+  world->step(ticks_for_seconds(*world, 0.48));
   const OrbitCamera camera = test_camera(world->size());
   std::vector<std::vector<std::uint8_t>> images;
   for (RendererKind kind : {RendererKind::Cubes, RendererKind::Marching, RendererKind::Raymarch}) {

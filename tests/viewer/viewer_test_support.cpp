@@ -1,10 +1,13 @@
 #include "viewer_test_support.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 
 #include "granular/scene.hpp"
+#include "granular/time_scale.hpp"
 
 namespace viewer::test {
 
@@ -25,6 +28,10 @@ std::unique_ptr<granular::World> bowl_world(int n) {
   def.threads = 2;
   const granular::SceneInstance scene = granular::instantiate(granular::load_scene(granular::find_scene("bowl")), n);
   return std::make_unique<granular::World>(def, scene.grid);
+}
+
+int ticks_for_seconds(const granular::World& world, double seconds) {
+  return std::max(1, int(std::lround(seconds / granular::tick_seconds(world.rules()))));
 }
 
 OrbitCamera test_camera(granular::Int3 size) { return OrbitCamera::framing(size); }

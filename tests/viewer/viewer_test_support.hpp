@@ -23,6 +23,10 @@ VulkanContext& context();
 /// The bowl scene at N = 64 on the CPU backend.
 std::unique_ptr<granular::World> bowl_world(int n = 64);
 
+/// Ticks of `world`'s rules that last `seconds` of simulated time (granular::tick_seconds, 5 mm
+/// cells; at least 1), so that a test sees the same physical moment whatever the default rules.
+int ticks_for_seconds(const granular::World& world, double seconds);
+
 /// The fixed camera of the tests: the default framing of the grid.
 OrbitCamera test_camera(granular::Int3 size);
 
