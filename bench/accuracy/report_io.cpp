@@ -28,6 +28,16 @@ std::string format(const char* fmt, double v) {
   return buf;
 }
 
+/// A calibration's fields and its one-line description.
+nlohmann::json calibration_json(const Calibration& cal) {
+  return {{"cell_m", cal.cell_m},
+          {"tick_s", cal.tick_s()},
+          {"gravity", cal.gravity},
+          {"calibration_cells", cal.calibration_cells},
+          {"bulk_density", cal.bulk_density},
+          {"description", cal.describe()}};
+}
+
 }  // namespace
 
 std::string report_text(const SuiteReport& report) {
@@ -83,12 +93,7 @@ std::string report_json(const std::vector<SuiteReport>& reports, const Calibrati
   j["command"] = info.command;
   j["date"] = info.date;
   j["machine"] = info.machine;
-  j["calibration"] = {{"cell_m", cal.cell_m},
-                      {"tick_s", cal.tick_s()},
-                      {"gravity", cal.gravity},
-                      {"calibration_cells", cal.calibration_cells},
-                      {"bulk_density", cal.bulk_density},
-                      {"description", cal.describe()}};
+  j["calibration"] = calibration_json(cal);
   j["configurations"] = nlohmann::json::array();
   for (const SuiteReport& r : reports) {
     nlohmann::json cj;
@@ -99,13 +104,7 @@ std::string report_json(const std::vector<SuiteReport>& reports, const Calibrati
                     {"stepping", r.config.stepping},
                     {"threads", r.config.threads},
                     {"seed", r.config.seed}};
-    const Calibration& rc = r.config.calibration;
-    cj["calibration"] = {{"cell_m", rc.cell_m},
-                         {"tick_s", rc.tick_s()},
-                         {"gravity", rc.gravity},
-                         {"calibration_cells", rc.calibration_cells},
-                         {"bulk_density", rc.bulk_density},
-                         {"description", rc.describe()}};
+    cj["calibration"] = calibration_json(r.config.calibration);
     cj["seconds"] = r.seconds();
     cj["mean_normalized_error"] = number(r.mean_normalized_error());
     cj["conserved"] = r.conserved();

@@ -35,6 +35,7 @@
 
 #include "granular/block.hpp"
 #include "granular/motion.hpp"
+#include "paper_rule.hpp"
 
 namespace granular::motion {
 
@@ -49,56 +50,41 @@ inline constexpr std::uint32_t kCodeVoid = 0, kCodeObstacle = 1, kCodeGrain = 2,
 inline constexpr std::uint32_t kVoid = 0, kGrain = 2;
 
 /// The motion model's block rule on a key of table codes (3 bits per cell, block.hpp order):
-/// gravity (a grain or roller in the top layer falls into the void below it), then flow (it
-/// topples into the bottom cell of another column when that cell and the one above it are void),
-/// then roll (a roller that has not moved goes to the top cell of another column when that cell is
-/// void and the one below it is not). Preference: the x neighbour, then y, then the diagonal.
-/// Codes 1 and 4..7 are obstacles and never move. On codes 0..2 this is the paper's rule.
+/// the paper's gravity and flow (rules::paper_rule) with rollers moving as grains, then roll (a
+/// roller that has not moved goes to the top cell of another column when that cell is void and the
+/// one below it is not; preference: the x neighbour, then y, then the diagonal). Codes 1 and 4..7
+/// are obstacles and never move. On codes 0..2 this is the paper's rule.
 constexpr Transition motion_rule(BlockKey key) {
-  std::uint32_t state[8] = {};
-  std::uint32_t at[8] = {};  // at[p]: the original cell now at position p
+  BlockKey as_grains = key;
+  for (int i = 0; i < 8; ++i)
+    if (((key >> (3 * i)) & 7u) == kCodeRoller) as_grains ^= (kCodeRoller ^ kCodeGrain) << (3 * i);
+  const Transition fall = rules::paper_rule(as_grains);
+  std::uint32_t state[8] = {}, from[8] = {};  // after gravity and flow: the code at p, and where it came from
   for (int i = 0; i < 8; ++i) {
-    state[i] = (key >> (3 * i)) & 7u;
-    at[i] = std::uint32_t(i);
+    state[destination(fall, i)] = (key >> (3 * i)) & 7u;
+    from[destination(fall, i)] = std::uint32_t(i);
   }
-  auto mover = [&](int p) { return state[p] == kCodeGrain || state[p] == kCodeRoller; };
-  auto swap = [&](int p, int q) {
-    const std::uint32_t s = state[p], a = at[p];
-    state[p] = state[q];
-    at[p] = at[q];
-    state[q] = s;
-    at[q] = a;
-  };
-  bool moved[8] = {};
-  for (int column = 0; column < 4; ++column)
-    if (mover(column + 4) && state[column] == kCodeVoid) {
-      swap(column + 4, column);
-      moved[column] = true;
-    }
+  // Gravity and flow only move grains down into the bottom layer, so a roller still in the top
+  // layer has not moved; one that rolls is marked so it does not roll again.
+  bool rolled[8] = {};
   for (int column = 0; column < 4; ++column) {
-    if (!mover(column + 4)) continue;
+    const int top = column + 4;
+    if (state[top] != kCodeRoller || rolled[top]) continue;
     for (int flip = 1; flip <= 3; ++flip) {
-      const int target = column ^ flip;
-      if (state[target] == kCodeVoid && state[target + 4] == kCodeVoid) {
-        swap(column + 4, target);
-        moved[target] = true;
-        break;
-      }
-    }
-  }
-  for (int column = 0; column < 4; ++column) {
-    if (state[column + 4] != kCodeRoller || moved[column + 4]) continue;
-    for (int flip = 1; flip <= 3; ++flip) {
-      const int target = column ^ flip;
-      if (state[target + 4] == kCodeVoid && state[target] != kCodeVoid) {
-        swap(column + 4, target + 4);
-        moved[target + 4] = true;
+      const int target = (column ^ flip) + 4;
+      if (state[target] == kCodeVoid && state[target - 4] != kCodeVoid) {
+        const std::uint32_t s = state[top], f = from[top];
+        state[top] = state[target];
+        from[top] = from[target];
+        state[target] = s;
+        from[target] = f;
+        rolled[target] = true;
         break;
       }
     }
   }
   Transition transition = 0;
-  for (int p = 0; p < 8; ++p) transition |= Transition(p) << (3 * at[p]);
+  for (int p = 0; p < 8; ++p) transition |= Transition(p) << (3 * from[p]);
   return transition;
 }
 
