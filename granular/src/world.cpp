@@ -46,7 +46,7 @@ namespace {
 
 constexpr int kMaxThreads = 1024;
 
-/// Clears the motion levels (motion.hpp) of cell bytes read from a backend: readers get materials.
+/// Clears the motion state (motion.hpp) of cell bytes read from a backend: readers get materials.
 void strip_motion(std::span<std::uint8_t> cells) {
   for (auto& c : cells) c &= kMaterialMask;
 }

@@ -9,7 +9,8 @@
 
 namespace granular {
 
-/// One cell state. Values are stored as-is in the grid (one byte per cell, high 5 bits zero).
+/// One cell state. Values are stored in the low 3 bits of a cell byte; the high 5 bits are zero but
+/// for a grain's motion state under a rule set with a motion model (motion.hpp).
 /// Void, Solid and Granular are simulated; Liquid and Gas are reserved for rules to come and
 /// behave as immovable obstacles until then; 5..7 are free for future materials.
 enum class Material : std::uint8_t {
