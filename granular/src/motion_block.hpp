@@ -181,7 +181,7 @@ constexpr std::uint64_t step_block(std::uint64_t bytes, const SubStep& m, int x0
   if (s == 0) bytes = with_phases(bytes);
   const std::uint64_t random = block_random(m.seed, m.tick * std::uint64_t(m.substeps) + std::uint64_t(s), x0, y0, z0);
   BlockKey key = 0;
-  unsigned takes_part = 0, rollers = 0;
+  unsigned takes_part = 0;
   for (int i = 0; i < 8; ++i) {
     const std::uint32_t byte = std::uint32_t(bytes >> (8 * i)) & 0xFFu;
     const std::uint32_t material = byte & kMaterialMask;
@@ -193,10 +193,7 @@ constexpr std::uint64_t step_block(std::uint64_t bytes, const SubStep& m, int x0
         const int start = (byte & kMotionPhaseBit) ? 1 : 0;
         if (s >= start && s - start < motion_window(level)) {
           takes_part |= 1u << i;
-          if (level > 0 && int((random >> (8 * (i - 3))) & 0xFFu) < m.roll_chance) {
-            code = kCodeRoller;
-            rollers |= 1u << i;
-          }
+          if (level > 0 && int((random >> (8 * (i - 3))) & 0xFFu) < m.roll_chance) code = kCodeRoller;
         } else {
           code = kCodeObstacle;
         }
@@ -214,7 +211,7 @@ constexpr std::uint64_t step_block(std::uint64_t bytes, const SubStep& m, int x0
     viewed |= ((key >> (3 * i)) & 7u) << (3 * map[i]);
   }
   const Transition t = load(viewed);
-  const int max_level = MotionParams{m.substeps, m.roll_chance}.max_level();
+  const int max_level = MotionParams{.substeps = m.substeps}.max_level();
   std::uint64_t out = 0;
   for (int i = 0; i < 8; ++i) {
     const int dest = inverse[destination(t, map[i])];
