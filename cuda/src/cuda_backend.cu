@@ -408,12 +408,7 @@ class CudaBackend final : public Backend {
     p.size = size_;
     p.table = table_.data();
     p.random_axis_order = random_axis_order_;
-    p.sub.seed = seed_;
-    p.sub.substeps = motion_.substeps;
-    p.sub.roll_chance = motion_.roll_chance;
-    p.sub.topple_gain = motion_.topple_gain;
-    p.sub.roll_cost = motion_.roll_cost;
-    p.sub.random_symmetry = random_symmetry_;
+    p.sub = motion::sub_step(motion_, seed_, first_tick, 0, random_symmetry_);
     const cuda::SparseParams sp = sparse_ ? sparse_params() : cuda::SparseParams{};
     if (sparse_) reset_counters();
     for (int i = 0; i < ticks; ++i) {

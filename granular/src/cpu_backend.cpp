@@ -107,14 +107,7 @@ StepContext CpuBackend::context(std::uint64_t tick, int substep) {
   if (motion_.enabled()) {
     c.motion = true;
     c.transitions = lut_->entries().data();
-    c.sub = motion::SubStep{seed_,
-                            tick,
-                            substep,
-                            motion_.substeps,
-                            motion_.roll_chance,
-                            motion_.topple_gain,
-                            motion_.roll_cost,
-                            random_symmetry_};
+    c.sub = motion::sub_step(motion_, seed_, tick, substep, random_symmetry_);
   }
   return c;
 }

@@ -113,6 +113,13 @@ struct SubStep {
   bool random_symmetry = false; ///< draw a horizontal symmetry per block
 };
 
+/// The SubStep of sub-step `substep` of tick `tick` for a rule set's motion model.
+constexpr SubStep sub_step(const MotionParams& motion, std::uint64_t seed, std::uint64_t tick, int substep,
+                           bool random_symmetry) {
+  return SubStep{seed, tick, substep, motion.substeps, motion.roll_chance, motion.topple_gain, motion.roll_cost,
+                 random_symmetry};
+}
+
 /// The phase a grain in cell i of a block takes at sub-step 0, as its bit: 0 in the top layer (its
 /// window starts at once), kMotionPhaseBit in the bottom layer (it is in a top layer from sub-step 1).
 constexpr std::uint32_t rest_phase(int i) { return i >= 4 ? 0u : kMotionPhaseBit; }

@@ -58,14 +58,7 @@ Grid motion_scene(Int3 size, std::uint64_t seed) {
 void reference_tick(std::vector<std::uint8_t>& cells, Int3 size, const RuleSet& rules, const Lut& lut,
                     std::uint64_t seed, std::uint64_t tick) {
   const auto load = [&](BlockKey key) { return lut[key]; };
-  motion::SubStep sub{seed,
-                      tick,
-                      0,
-                      rules.motion.substeps,
-                      rules.motion.roll_chance,
-                      rules.motion.topple_gain,
-                      rules.motion.roll_cost,
-                      rules.random_symmetry};
+  motion::SubStep sub = motion::sub_step(rules.motion, seed, tick, 0, rules.random_symmetry);
   for (int s = 0; s < rules.motion.substeps; ++s) {
     sub.substep = s;
     const BlockOffset o = motion::motion_offset(tick, s, seed, rules.random_axis_order);
