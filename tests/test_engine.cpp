@@ -9,24 +9,24 @@
 #include <string>
 #include <vector>
 
-#include "engine/clock.hpp"
-#include "engine/engine_loop.hpp"
-#include "engine/fixed_timestep.hpp"
-#include "engine/subsystem.hpp"
+#include "granular/engine/clock.hpp"
+#include "granular/engine/engine_loop.hpp"
+#include "granular/engine/fixed_timestep.hpp"
+#include "granular/engine/subsystem.hpp"
 
 namespace {
 
-using engine::EngineLoop;
-using engine::FixedTimestep;
-using engine::FixedTimestepConfig;
-using engine::FrameStats;
-using engine::FrameTicks;
-using engine::ManualClock;
+using granular::engine::EngineLoop;
+using granular::engine::FixedTimestep;
+using granular::engine::FixedTimestepConfig;
+using granular::engine::FrameStats;
+using granular::engine::FrameTicks;
+using granular::engine::ManualClock;
 
 constexpr double kHz60 = 1.0 / 60.0;
 
 /// Records every call into a log shared with other recorders, plus the arguments it got.
-class Recorder : public engine::Subsystem {
+class Recorder : public granular::engine::Subsystem {
  public:
   Recorder(std::string name, std::vector<std::string>& log)
       : Subsystem(std::move(name)), log_(log) {}
@@ -51,7 +51,7 @@ class Recorder : public engine::Subsystem {
 };
 
 /// Calls request_stop() on its loop from its n-th update().
-class Stopper : public engine::Subsystem {
+class Stopper : public granular::engine::Subsystem {
  public:
   Stopper(EngineLoop& loop, int stop_after_updates)
       : Subsystem("stopper"), loop_(loop), stop_after_(stop_after_updates) {}
@@ -68,14 +68,14 @@ class Stopper : public engine::Subsystem {
 };
 
 /// Tries to add a subsystem to its own loop from inside a frame.
-class Adder : public engine::Subsystem {
+class Adder : public granular::engine::Subsystem {
  public:
-  Adder(EngineLoop& loop, engine::Subsystem& other) : Subsystem("adder"), loop_(loop), other_(other) {}
+  Adder(EngineLoop& loop, granular::engine::Subsystem& other) : Subsystem("adder"), loop_(loop), other_(other) {}
   void update(double) override { loop_.add(other_); }
 
  private:
   EngineLoop& loop_;
-  engine::Subsystem& other_;
+  granular::engine::Subsystem& other_;
 };
 
 /// The message of the std::invalid_argument `f` throws; fails the test when it throws nothing.
@@ -489,7 +489,7 @@ TEST_CASE("EngineLoop: add rejects duplicates and calls from inside a frame") {
 }
 
 TEST_CASE("SteadyClock never goes backwards and starts near 0") {
-  engine::SteadyClock clock;
+  granular::engine::SteadyClock clock;
   const double t0 = clock.now_seconds();
   CHECK(t0 >= 0.0);
   CHECK(t0 < 1.0);

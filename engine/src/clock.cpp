@@ -1,6 +1,6 @@
-#include "engine/clock.hpp"
+#include "granular/engine/clock.hpp"
 
-namespace engine {
+namespace granular::engine {
 
 SteadyClock::SteadyClock() : epoch_(std::chrono::steady_clock::now()) {}
 
@@ -8,4 +8,4 @@ double SteadyClock::now_seconds() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - epoch_).count();
 }
 
-}  // namespace engine
+}  // namespace granular::engine

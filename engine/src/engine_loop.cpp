@@ -1,10 +1,10 @@
-#include "engine/engine_loop.hpp"
+#include "granular/engine/engine_loop.hpp"
 
 #include <algorithm>
 #include <stdexcept>
 #include <string>
 
-namespace engine {
+namespace granular::engine {
 namespace {
 
 /// Clears a flag when the scope ends, exceptions included.
@@ -108,4 +108,4 @@ int EngineLoop::run_frames(int frames) {
   return done;
 }
 
-}  // namespace engine
+}  // namespace granular::engine

@@ -1,11 +1,11 @@
-#include "engine/fixed_timestep.hpp"
+#include "granular/engine/fixed_timestep.hpp"
 
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
 #include <string>
 
-namespace engine {
+namespace granular::engine {
 namespace {
 
 /// Ticks owed within this fraction of a tick count as owed (absorbs floating-point sums).
@@ -74,4 +74,4 @@ FrameTicks FixedTimestep::advance(double frame_seconds) {
   return result;
 }
 
-}  // namespace engine
+}  // namespace granular::engine

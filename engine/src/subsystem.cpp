@@ -1,6 +1,6 @@
-#include "engine/subsystem.hpp"
+#include "granular/engine/subsystem.hpp"
 
-namespace engine {
+namespace granular::engine {
 
 void Subsystem::fixed_update(double) {}
 
@@ -8,4 +8,4 @@ void Subsystem::update(double) {}
 
 void Subsystem::render(double) {}
 
-}  // namespace engine
+}  // namespace granular::engine

@@ -55,8 +55,8 @@ TEST_CASE("tools: a held brush acts once per fixed update at the picked point; r
 
 TEST_CASE("tools: pausing holds the simulation; a step lets one fixed update through") {
   auto world = test::bowl_world(48);
-  struct Stepper final : engine::Subsystem {
-    explicit Stepper(granular::World& w) : engine::Subsystem("stepper"), world(w) {}
+  struct Stepper final : granular::engine::Subsystem {
+    explicit Stepper(granular::World& w) : granular::engine::Subsystem("stepper"), world(w) {}
     void fixed_update(double) override { world.step(1); }
     granular::World& world;
   } stepper(*world);

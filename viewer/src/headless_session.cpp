@@ -6,9 +6,9 @@
 #include <optional>
 
 #include "camera.hpp"
-#include "engine/clock.hpp"
-#include "engine/engine_loop.hpp"
-#include "engine/granular_subsystem.hpp"
+#include "granular/engine/clock.hpp"
+#include "granular/engine/engine_loop.hpp"
+#include "granular/engine/granular_subsystem.hpp"
 #include "offscreen_renderer.hpp"
 #include "png_writer.hpp"
 #include "render_subsystem.hpp"
@@ -35,10 +35,10 @@ int run_headless(const SandboxOptions& options) {
                               *parse_renderer_kind(options.renderer), shared.get());
 
   // One fixed update per frame: the manual clock advances exactly one tick length per frame.
-  engine::ManualClock clock;
-  engine::EngineLoop loop(clock);
+  granular::engine::ManualClock clock;
+  granular::engine::EngineLoop loop(clock);
   ToolSubsystem tools(world, sandbox.emitters);
-  engine::GranularSubsystem simulation(world, options.ticks_per_frame);
+  granular::engine::GranularSubsystem simulation(world, options.ticks_per_frame);
   RenderSubsystem render([&] { offscreen.render(camera); });
   loop.add(tools);
   loop.add(simulation);

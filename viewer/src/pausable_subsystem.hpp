@@ -2,15 +2,15 @@
 /// @file pausable_subsystem.hpp
 /// Wraps a subsystem so that its fixed updates can be paused and single-stepped from the UI.
 
-#include "engine/subsystem.hpp"
+#include "granular/engine/subsystem.hpp"
 
 namespace viewer {
 
 /// Forwards fixed_update to the wrapped subsystem unless paused; step() lets one through.
-class PausableSubsystem final : public engine::Subsystem {
+class PausableSubsystem final : public granular::engine::Subsystem {
  public:
   /// Wraps `inner` (which must outlive this).
-  explicit PausableSubsystem(engine::Subsystem& inner) : engine::Subsystem("pausable"), inner_(inner) {}
+  explicit PausableSubsystem(granular::engine::Subsystem& inner) : granular::engine::Subsystem("pausable"), inner_(inner) {}
   /// Runs the inner fixed update when running, or once per requested step when paused.
   void fixed_update(double dt) override {
     if (paused_ && steps_ == 0) return;
@@ -28,7 +28,7 @@ class PausableSubsystem final : public engine::Subsystem {
   void step() { ++steps_; }
 
  private:
-  engine::Subsystem& inner_;
+  granular::engine::Subsystem& inner_;
   bool paused_ = false;
   int steps_ = 0;
 };

@@ -14,9 +14,9 @@
 
 #include "camera.hpp"
 #include "controls.hpp"
-#include "engine/clock.hpp"
-#include "engine/engine_loop.hpp"
-#include "engine/granular_subsystem.hpp"
+#include "granular/engine/clock.hpp"
+#include "granular/engine/engine_loop.hpp"
+#include "granular/engine/granular_subsystem.hpp"
 #include "glfw_window.hpp"
 #include "granular/raycast.hpp"
 #include "granular/scene.hpp"
@@ -41,7 +41,7 @@ struct Session {
   std::unique_ptr<SharedCells> shared;  ///< CUDA interop; declared first so the world goes first
   SandboxWorld sandbox;
   std::unique_ptr<ToolSubsystem> tools;
-  std::unique_ptr<engine::GranularSubsystem> simulation;
+  std::unique_ptr<granular::engine::GranularSubsystem> simulation;
   std::unique_ptr<PausableSubsystem> pausable;
 };
 
@@ -49,10 +49,10 @@ enum class Brush { Sand, Solid };
 
 /// The windowed sandbox: an engine subsystem (input and camera in update(), drawing in render())
 /// next to the tools and the simulation.
-class SandboxApp final : public engine::Subsystem {
+class SandboxApp final : public granular::engine::Subsystem {
  public:
   explicit SandboxApp(const SandboxOptions& options)
-      : engine::Subsystem("sandbox"),
+      : granular::engine::Subsystem("sandbox"),
         options_(options),
         window_(options.width, options.height, "granular sandbox"),
         context_(context_options(options, window_)),
@@ -160,7 +160,7 @@ class SandboxApp final : public engine::Subsystem {
     session->tools = std::make_unique<ToolSubsystem>(*session->sandbox.world, session->sandbox.emitters);
     session->tools->state() = tool_state;
     session->tools->state().held = false;
-    session->simulation = std::make_unique<engine::GranularSubsystem>(*session->sandbox.world, ticks);
+    session->simulation = std::make_unique<granular::engine::GranularSubsystem>(*session->sandbox.world, ticks);
     session->pausable = std::make_unique<PausableSubsystem>(*session->simulation);
     session->pausable->set_paused(paused);
     session_ = std::move(session);
@@ -171,10 +171,10 @@ class SandboxApp final : public engine::Subsystem {
                                                 session_->shared.get());
     // Fixed updates at the rules' real-time rate for 5 mm cells (31 Hz with the motion model, 250 Hz
     // for one step per tick), so sand falls at the speed of real sand.
-    engine::FixedTimestepConfig timestep;
+    granular::engine::FixedTimestepConfig timestep;
     timestep.tick_rate_hz = 1.0 / granular::tick_seconds(world().rules());
     timestep.max_ticks_per_frame = 8;
-    loop_ = std::make_unique<engine::EngineLoop>(clock_, timestep);
+    loop_ = std::make_unique<granular::engine::EngineLoop>(clock_, timestep);
     loop_->add(*session_->tools);
     loop_->add(*session_->pausable);
     loop_->add(*this);
@@ -328,10 +328,10 @@ class SandboxApp final : public engine::Subsystem {
   Hud hud_;
   RendererKind kind_;
   VkExtent2D requested_extent_;
-  engine::SteadyClock clock_;
+  granular::engine::SteadyClock clock_;
   std::unique_ptr<Session> session_;
   std::unique_ptr<WorldRenderer> renderer_;
-  std::unique_ptr<engine::EngineLoop> loop_;
+  std::unique_ptr<granular::engine::EngineLoop> loop_;
   OrbitCamera camera_;
   WorldChoice choice_;
   bool pending_load_ = false;

@@ -41,7 +41,7 @@ std::int64_t apply_tool(granular::World& world, const ToolState& state) {
 }
 
 ToolSubsystem::ToolSubsystem(granular::World& world, std::vector<granular::Emitter> emitters)
-    : engine::Subsystem("tools"), world_(world), emitters_(std::move(emitters)) {}
+    : granular::engine::Subsystem("tools"), world_(world), emitters_(std::move(emitters)) {}
 
 void ToolSubsystem::fixed_update(double) {
   cells_changed_ += apply_tool(world_, state_);

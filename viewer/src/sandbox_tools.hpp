@@ -8,7 +8,7 @@
 #include <optional>
 #include <vector>
 
-#include "engine/subsystem.hpp"
+#include "granular/engine/subsystem.hpp"
 #include "granular/geometry.hpp"
 #include "granular/material.hpp"
 #include "granular/scene.hpp"
@@ -39,7 +39,7 @@ struct ToolState {
 };
 
 /// Applies the tools and the scene's emitters once per fixed update. Borrows the world.
-class ToolSubsystem final : public engine::Subsystem {
+class ToolSubsystem final : public granular::engine::Subsystem {
  public:
   /// Acts on `world` with the scene's `emitters`.
   ToolSubsystem(granular::World& world, std::vector<granular::Emitter> emitters);

@@ -4,7 +4,7 @@
 
 #include <chrono>
 
-namespace engine {
+namespace granular::engine {
 
 /// A source of monotonic time, in seconds. The loop only ever subtracts two readings, so the
 /// epoch is arbitrary.
@@ -45,4 +45,4 @@ class ManualClock final : public Clock {
   double now_;
 };
 
-}  // namespace engine
+}  // namespace granular::engine

@@ -9,11 +9,11 @@
 #include <span>
 #include <vector>
 
-#include "engine/clock.hpp"
-#include "engine/fixed_timestep.hpp"
-#include "engine/subsystem.hpp"
+#include "granular/engine/clock.hpp"
+#include "granular/engine/fixed_timestep.hpp"
+#include "granular/engine/subsystem.hpp"
 
-namespace engine {
+namespace granular::engine {
 
 /// What one EngineLoop::run_frame() did.
 struct FrameStats {
@@ -102,4 +102,4 @@ class EngineLoop {
   std::atomic<bool> stop_requested_{false};
 };
 
-}  // namespace engine
+}  // namespace granular::engine

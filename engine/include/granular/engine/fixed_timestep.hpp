@@ -3,7 +3,7 @@
 /// The fixed-timestep accumulator of Gaffer's "Fix Your Timestep!": variable frame times in,
 /// a whole number of fixed ticks and an interpolation factor out, with a spiral-of-death clamp.
 
-namespace engine {
+namespace granular::engine {
 
 /// Parameters of a FixedTimestep. Every field has a usable default.
 struct FixedTimestepConfig {
@@ -66,4 +66,4 @@ class FixedTimestep {
   double accumulator_ = 0.0;
 };
 
-}  // namespace engine
+}  // namespace granular::engine

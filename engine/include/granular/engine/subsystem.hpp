@@ -6,7 +6,7 @@
 #include <string_view>
 #include <utility>
 
-namespace engine {
+namespace granular::engine {
 
 /// One part of a game that the EngineLoop calls every frame. Override what you need; the
 /// default hooks do nothing. Not copyable (the loop keeps references to subsystems).
@@ -40,4 +40,4 @@ class Subsystem {
   std::string name_;
 };
 
-}  // namespace engine
+}  // namespace granular::engine
