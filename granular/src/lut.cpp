@@ -36,10 +36,11 @@ std::string check_transition(BlockKey key, Transition t) {
 
 Lut Lut::build(const RuleSet& rules, int threads) {
   if (!rules.transition) throw RuleError("rule set '" + rules.name + "' has no transition function");
+  threads = resolve_threads(threads, "Lut::build threads");
   Lut lut;
   lut.entries_.resize(kBlockKeyCount);
   lut.rule_fingerprint_ = granular::rule_fingerprint(rules);
-  ThreadPool pool(threads > 0 ? threads : hardware_threads());
+  ThreadPool pool(threads);
   Transition* out = lut.entries_.data();
   pool.run(kChunks, [&](int chunk) {
     const BlockKey first = BlockKey(chunk) * kChunkKeys;
@@ -57,6 +58,7 @@ Lut Lut::from_entries(std::vector<Transition> entries, std::uint64_t rule_finger
   if (entries.size() != kBlockKeyCount)
     throw RuleError("transition table has " + std::to_string(entries.size()) + " entries; expected " +
                     std::to_string(kBlockKeyCount));
+  threads = resolve_threads(threads, "Lut::from_entries threads");
   Lut lut;
   lut.entries_ = std::move(entries);
   lut.rule_fingerprint_ = rule_fingerprint;
@@ -67,7 +69,7 @@ Lut Lut::from_entries(std::vector<Transition> entries, std::uint64_t rule_finger
 void Lut::validate_and_summarise(int threads) {
   std::vector<std::uint64_t> hashes(kChunks), moving(kChunks);
   std::vector<std::string> errors(kChunks);
-  ThreadPool pool(threads > 0 ? threads : hardware_threads());
+  ThreadPool pool(threads);
   const Transition* e = entries_.data();
   pool.run(kChunks, [&](int chunk) {
     const BlockKey first = BlockKey(chunk) * kChunkKeys;

@@ -1,5 +1,10 @@
 #include "thread_pool.hpp"
 
+#include <string>
+#include <system_error>
+
+#include "granular/errors.hpp"
+
 namespace granular {
 
 int hardware_threads() {
@@ -7,19 +12,40 @@ int hardware_threads() {
   return n == 0 ? 1 : int(n);
 }
 
-ThreadPool::ThreadPool(int threads) {
-  const int workers = threads > 1 ? threads - 1 : 0;
-  workers_.reserve(std::size_t(workers));
-  for (int i = 0; i < workers; ++i) workers_.emplace_back([this] { worker_loop(); });
+int max_threads() { return 4 * hardware_threads(); }
+
+int resolve_threads(int threads, const char* field) {
+  if (threads < 0 || threads > max_threads())
+    throw InvalidArgument(std::string(field) + " = " + std::to_string(threads) + "; use 0 (all " +
+                          std::to_string(hardware_threads()) + " hardware threads) or 1.." +
+                          std::to_string(max_threads()) + " (4 times the hardware threads)");
+  return threads == 0 ? hardware_threads() : threads;
 }
 
-ThreadPool::~ThreadPool() {
+ThreadPool::ThreadPool(int threads) {
+  const int workers = threads > 1 ? threads - 1 : 0;
+  try {
+    workers_.reserve(std::size_t(workers));
+    for (int i = 0; i < workers; ++i) workers_.emplace_back([this] { worker_loop(); });
+  } catch (const std::exception& e) {
+    const std::size_t started = workers_.size();
+    stop_workers();
+    throw BackendError("CPU thread pool: the system refused to start thread " + std::to_string(started + 2) +
+                       " of " + std::to_string(threads) + " (" + e.what() +
+                       "); use fewer threads (WorldDef::threads, --threads)");
+  }
+}
+
+ThreadPool::~ThreadPool() { stop_workers(); }
+
+void ThreadPool::stop_workers() noexcept {
   {
     std::lock_guard lock(mutex_);
     stopping_ = true;
   }
   start_cv_.notify_all();
   for (auto& w : workers_) w.join();
+  workers_.clear();
 }
 
 void ThreadPool::drain() {

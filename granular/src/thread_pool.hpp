@@ -10,6 +10,8 @@
 #include <vector>
 #include <atomic>
 
+#include "granular/threads.hpp"
+
 namespace granular {
 
 /// Runs `fn(task)` for task in [0, tasks) across `size()` threads (workers plus the caller) and
@@ -17,7 +19,9 @@ namespace granular {
 /// fixed, so results must not depend on it.
 class ThreadPool {
  public:
-  /// A pool of `threads` threads in total (>= 1); `threads - 1` workers are started.
+  /// A pool of `threads` threads in total (>= 1); `threads - 1` workers are started. Throws
+  /// BackendError naming the thread when the system refuses to start one (the workers already
+  /// started are stopped and joined first).
   explicit ThreadPool(int threads);
   ~ThreadPool();
   ThreadPool(const ThreadPool&) = delete;
@@ -31,6 +35,7 @@ class ThreadPool {
  private:
   void worker_loop();
   void drain();
+  void stop_workers() noexcept;
 
   std::vector<std::thread> workers_;
   std::mutex mutex_;
@@ -44,8 +49,5 @@ class ThreadPool {
   int busy_workers_ = 0;
   std::exception_ptr error_;
 };
-
-/// Number of hardware threads (at least 1).
-int hardware_threads();
 
 }  // namespace granular

@@ -12,7 +12,7 @@
 #include "granular/motion.hpp"
 #include "granular/rule_presets.hpp"
 #include "granular/rule_set.hpp"
-#include "thread_pool.hpp"
+#include "granular/threads.hpp"
 
 #ifdef GRANULAR_HAS_CUDA
 #include "granular_cuda/cuda_backend_factory.hpp"
@@ -43,8 +43,6 @@ const char* backend_name(BackendKind kind) noexcept {
 }
 
 namespace {
-
-constexpr int kMaxThreads = 1024;
 
 /// Clears the motion state (motion.hpp) of cell bytes read from a backend: readers get materials.
 void strip_motion(std::span<std::uint8_t> cells) {
@@ -85,26 +83,28 @@ void check_material(Material m, const char* tool) {
                           " is not a valid state (0..7)");
 }
 
-/// The in-grid box of cells a sphere can touch; throws when it misses the grid entirely.
+/// The in-grid box of cells a sphere can touch; throws when it misses the grid entirely. Works in
+/// doubles until the box is known to lie inside the grid, so no centre or radius overflows an int.
 Box sphere_region(const Sphere& s, Int3 size, const char* tool, bool& clipped) {
   const Vec3& c = s.center;
   if (!std::isfinite(c.x) || !std::isfinite(c.y) || !std::isfinite(c.z))
     throw InvalidArgument(std::string(tool) + ": sphere centre " + format_vec(c) + " is not finite");
   if (!std::isfinite(s.radius) || s.radius <= 0)
     throw InvalidArgument(std::string(tool) + ": sphere radius " + std::to_string(s.radius) + " must be > 0");
-  const double lo[3] = {std::ceil(c.x - s.radius - 0.5), std::ceil(c.y - s.radius - 0.5), std::ceil(c.z - s.radius - 0.5)};
-  const double hi[3] = {std::floor(c.x + s.radius - 0.5) + 1, std::floor(c.y + s.radius - 0.5) + 1,
-                        std::floor(c.z + s.radius - 0.5) + 1};
+  const double centre[3] = {c.x, c.y, c.z};
   const int n[3] = {size.x, size.y, size.z};
   int bmin[3], bmax[3];
   clipped = false;
   for (int a = 0; a < 3; ++a) {
-    if (lo[a] < 0 || hi[a] > n[a]) clipped = true;
-    bmin[a] = int(std::max(lo[a], 0.0));
-    bmax[a] = int(std::min(hi[a], double(n[a])));
-    if (bmin[a] >= bmax[a] || lo[a] >= hi[a])
+    // Cells whose centre k + 0.5 lies within [centre - r, centre + r].
+    const double lo = std::ceil(centre[a] - s.radius - 0.5), hi = std::floor(centre[a] + s.radius - 0.5) + 1;
+    if (lo < 0 || hi > n[a]) clipped = true;
+    const double first = std::max(lo, 0.0), last = std::min(hi, double(n[a]));
+    if (!(first < last))
       throw InvalidArgument(std::string(tool) + ": sphere at " + format_vec(c) + " with radius " +
                             std::to_string(s.radius) + " covers no cell of the " + to_string(size) + " grid");
+    bmin[a] = int(first);
+    bmax[a] = int(last);
   }
   return {{bmin[0], bmin[1], bmin[2]}, {bmax[0], bmax[1], bmax[2]}};
 }
@@ -124,6 +124,13 @@ void for_each_cell_in_sphere(const Box& region, const Sphere& s, Fn&& fn) {
 std::string box_string(const Box& b) {
   return "[" + std::to_string(b.min.x) + "," + std::to_string(b.min.y) + "," + std::to_string(b.min.z) + ")-[" +
          std::to_string(b.max.x) + "," + std::to_string(b.max.y) + "," + std::to_string(b.max.z) + ")";
+}
+
+/// Throws unless `box` is non-empty and lies inside a grid of `size`.
+void check_inside(const Box& box, Int3 size, const char* what) {
+  if (box.empty() || !(intersect(box, Box{{0, 0, 0}, size}) == box))
+    throw InvalidArgument(std::string(what) + ": box " + box_string(box) + " is empty or not inside the " +
+                          to_string(size) + " grid");
 }
 
 void check_cells(std::span<const std::uint8_t> cells, Int3 size, const char* what) {
@@ -155,9 +162,10 @@ World::World(World&&) noexcept = default;
 World& World::operator=(World&&) noexcept = default;
 
 void World::init(const Grid& initial) {
-  if (def_.threads < 0 || def_.threads > kMaxThreads)
-    throw InvalidArgument("WorldDef::threads = " + std::to_string(def_.threads) + "; use 0 (all hardware threads) or 1.." +
-                          std::to_string(kMaxThreads));
+  const int threads = resolve_threads(def_.threads, "WorldDef::threads");
+  if (def_.backend != BackendKind::Auto && def_.backend != BackendKind::Cpu && def_.backend != BackendKind::Cuda)
+    throw InvalidArgument("WorldDef::backend = " + std::to_string(int(def_.backend)) +
+                          " is not a BackendKind; use Auto, Cpu or Cuda");
   if (!(def_.dense_fraction >= 0.0 && def_.dense_fraction <= 1.0))
     throw InvalidArgument("WorldDef::dense_fraction = " + std::to_string(def_.dense_fraction) +
                           "; use a fraction of the bricks in 0..1 (0: always dense-recording, 1: never)");
@@ -176,7 +184,6 @@ void World::init(const Grid& initial) {
                     ", roll_chance = " + std::to_string(motion.roll_chance) + ", topple_gain = " +
                     std::to_string(motion.topple_gain) + ", roll_cost = " + std::to_string(motion.roll_cost) +
                     "; substeps must be 1 or a multiple of 8 up to 32 and the chances 0..256");
-  const int threads = def_.threads > 0 ? def_.threads : hardware_threads();
   [[maybe_unused]] const BackendKind kind = choose_backend(def_.backend);
   std::string notice;
   lut_ = shared_lut(*rules_, def_, threads, lut_seconds_, lut_from_cache_, notice);
@@ -208,29 +215,32 @@ BackendKind World::choose_backend(BackendKind wanted) {
 }
 
 void World::step(int ticks) {
+  live();
   if (ticks < 0) throw InvalidArgument("World::step: ticks = " + std::to_string(ticks) + " must be >= 0");
   if (ticks == 0) return;
-  backend_->step(tick_, ticks);
+  live().step(tick_, ticks);
   tick_ += std::uint64_t(ticks);
   activity_pending_ = true;
   step_changes_pending_ = true;
 }
 
 ActivityStats World::activity() const {
+  live();
   // Read lazily: with a renderer's timelines attached the CUDA backend returns from step() before
   // the device has finished, and only this waits for the activity counters.
   if (activity_pending_) {
-    activity_ = backend_->last_activity();
+    activity_ = live().last_activity();
     activity_pending_ = false;
   }
   return activity_;
 }
 
 void World::take_step_changes() const {
+  live();
   if (!step_changes_pending_) return;
   step_changes_pending_ = false;
   std::fill(changed_flags_.begin(), changed_flags_.end(), std::uint8_t(0));
-  backend_->take_changed_bricks(changed_flags_);
+  live().take_changed_bricks(changed_flags_);
   std::vector<std::uint32_t> changed;
   for (std::uint32_t i = 0; i < changed_flags_.size(); ++i)
     if (changed_flags_[i]) changed.push_back(i);
@@ -272,13 +282,13 @@ void World::mark_changed(const Box& region, std::span<const std::uint8_t> before
           bricks.push_back(std::uint32_t(
               (std::size_t(lo.z + bz) * std::size_t(n.y) + std::size_t(lo.y + by)) * std::size_t(n.x) + std::size_t(lo.x + bx)));
   mark_bricks(bricks);
-  backend_->wake(bricks);
+  live().wake(bricks);
 }
 
-std::uint64_t World::shared_cell_bytes() const { return backend_->shared_cell_bytes(); }
+std::uint64_t World::shared_cell_bytes() const { return live().shared_cell_bytes(); }
 
 void World::share_cells(const ExternalCellMemory& memory) {
-  const std::uint64_t needed = backend_->shared_cell_bytes();
+  const std::uint64_t needed = live().shared_cell_bytes();
   if (needed > 0 && (memory.offset > memory.allocation_size || memory.allocation_size - memory.offset < needed))
     throw InvalidArgument("World::share_cells: the shared buffer holds " +
                           std::to_string(memory.allocation_size - std::min(memory.offset, memory.allocation_size)) +
@@ -286,14 +296,14 @@ void World::share_cells(const ExternalCellMemory& memory) {
                           " grid needs " + std::to_string(needed) + " (World::shared_cell_bytes)");
   if (needed > 0 && memory.fd < 0)
     throw InvalidArgument("World::share_cells: fd " + std::to_string(memory.fd) + " is not a file descriptor");
-  backend_->share_cells(memory);
+  live().share_cells(memory);
 }
 
 void World::attach_timelines(const ExternalTimeline& cells_ready, const ExternalTimeline& cells_released) {
-  backend_->attach_timelines(cells_ready, cells_released);
+  live().attach_timelines(cells_ready, cells_released);
 }
 
-CellsHandoff World::hand_off_cells() { return backend_->hand_off_cells(); }
+CellsHandoff World::hand_off_cells() { return live().hand_off_cells(); }
 
 std::vector<std::uint32_t> World::bricks_changed_since(std::uint64_t version) const {
   take_step_changes();
@@ -303,34 +313,44 @@ std::vector<std::uint32_t> World::bricks_changed_since(std::uint64_t version) co
   return changed;
 }
 
-BackendKind World::backend() const { return backend_->kind(); }
-std::string World::backend_description() const { return backend_->description(); }
-const RuleSet& World::rules() const { return *rules_; }
-const Lut& World::lut() const { return *lut_; }
-MaterialCounts World::count() const { return backend_->count(); }
-std::uint64_t World::hash() const { return backend_->hash(); }
+BackendKind World::backend() const { return live().kind(); }
+std::string World::backend_description() const { return live().description(); }
+const RuleSet& World::rules() const {
+  live();
+  return *rules_;
+}
+const Lut& World::lut() const {
+  live();
+  return *lut_;
+}
+
+Backend& World::live() const {
+  if (!backend_)
+    throw StateError("World: this world was moved from (std::move); call it through the World it was moved into");
+  return *backend_;
+}
+MaterialCounts World::count() const { return live().count(); }
+std::uint64_t World::hash() const { return live().hash(); }
 
 std::vector<std::uint8_t> World::read_region(const Box& box) const {
-  std::vector<std::uint8_t> out(std::size_t(std::max<std::int64_t>(box.volume(), 0)));
+  check_inside(box, size_, "World::read_region");
+  std::vector<std::uint8_t> out(std::size_t(box.volume()));
   read_region(box, out);
   return out;
 }
 
 void World::read_region(const Box& box, std::span<std::uint8_t> out) const {
-  const Box inside = intersect(box, Box{{0, 0, 0}, size_});
-  if (box.empty() || !(inside == box))
-    throw InvalidArgument("World::read_region: box " + box_string(box) + " is empty or not inside the " +
-                          to_string(size_) + " grid");
+  check_inside(box, size_, "World::read_region");
   if (out.size() != std::size_t(box.volume()))
     throw InvalidArgument("World::read_region: output holds " + std::to_string(out.size()) + " bytes; the box has " +
                           std::to_string(box.volume()) + " cells");
-  backend_->read(box, out);
+  live().read(box, out);
   strip_motion(out);
 }
 
 Grid World::snapshot() const {
   Grid g(size_);
-  backend_->read(g.bounds(), g.cells());
+  live().read(g.bounds(), g.cells());
   strip_motion(g.cells());
   return g;
 }
@@ -340,14 +360,14 @@ void World::load(const Grid& grid) {
     throw InvalidArgument("World::load: grid is " + to_string(grid.size()) + " but the world is " + to_string(size_));
   check_cells(grid.cells(), grid.size(), "World::load");
   const Grid before = snapshot();
-  backend_->write(grid.bounds(), with_motion_kept(grid.bounds(), before.cells(), grid.cells()));
+  live().write(grid.bounds(), with_motion_kept(grid.bounds(), before.cells(), grid.cells()));
   mark_changed(grid.bounds(), before.cells(), grid.cells());
 }
 
 std::vector<std::uint8_t> World::with_motion_kept(const Box& region, std::span<const std::uint8_t> before,
                                                   std::span<const std::uint8_t> after) const {
   std::vector<std::uint8_t> bytes(after.size());
-  backend_->read(region, bytes);
+  live().read(region, bytes);
   for (std::size_t i = 0; i < bytes.size(); ++i)
     if (before[i] != after[i]) bytes[i] = after[i];
   return bytes;
@@ -365,7 +385,7 @@ ChangeReport World::commit_region(const Box& region, bool clipped, const std::ve
       ++report.added[after[i]];
     }
   if (report.cells_changed > 0) {
-    backend_->write(region, with_motion_kept(region, before, after));
+    live().write(region, with_motion_kept(region, before, after));
     mark_changed(region, before, after);
   }
   ++tool_calls_;

@@ -40,6 +40,12 @@ class ParseError : public Error {
   using Error::Error;
 };
 
+/// The object cannot take the call in its present state (a World that was moved from).
+class StateError : public Error {
+ public:
+  using Error::Error;
+};
+
 /// A compute backend failed or is unavailable (no GPU, driver error).
 class BackendError : public Error {
  public:

@@ -3,6 +3,7 @@
 /// Small value types for grid coordinates and tool regions. Coordinates are in cells; z is up.
 
 #include <cstdint>
+#include <limits>
 
 namespace granular {
 
@@ -28,12 +29,18 @@ struct Box {
   Int3 max;  ///< one past the last cell inside
   /// True when the box holds no cell.
   constexpr bool empty() const { return max.x <= min.x || max.y <= min.y || max.z <= min.z; }
-  /// Number of cells in the box (0 when empty).
+  /// Number of cells in the box (0 when empty; INT64_MAX when the count does not fit in it, as for a box
+  /// spanning all of int on every axis).
   constexpr std::int64_t volume() const {
-    return empty() ? 0
-                   : std::int64_t(max.x - min.x) * (max.y - min.y) * (max.z - min.z);
+    if (empty()) return 0;
+    constexpr std::int64_t kMax = std::numeric_limits<std::int64_t>::max();
+    const std::int64_t ex = std::int64_t(max.x) - min.x, ey = std::int64_t(max.y) - min.y,
+                       ez = std::int64_t(max.z) - min.z;  // each < 2^32
+    if (ex > kMax / ey) return kMax;
+    const std::int64_t exy = ex * ey;
+    return exy > kMax / ez ? kMax : exy * ez;
   }
-  /// Extent per axis.
+  /// Extent per axis (for a box whose extents fit in int, as every box inside a grid does).
   constexpr Int3 extent() const { return {max.x - min.x, max.y - min.y, max.z - min.z}; }
   friend constexpr bool operator==(const Box&, const Box&) = default;
 };

@@ -17,8 +17,9 @@ namespace granular {
 /// A built, validated transition table for one rule set.
 class Lut {
  public:
-  /// Evaluates the rule on all 16,777,216 keys with `threads` threads (0 = all) and validates the
-  /// result. Throws RuleError naming the first offending key.
+  /// Evaluates the rule on all 16,777,216 keys with `threads` threads (0 = all; InvalidArgument
+  /// past max_threads(), threads.hpp) and validates the result. Throws RuleError naming the first
+  /// offending key.
   static Lut build(const RuleSet& rules, int threads = 0);
   /// Wraps entries read from elsewhere (the cache, a GPU build); validates them (RuleError).
   static Lut from_entries(std::vector<Transition> entries, std::uint64_t rule_fingerprint, int threads = 0);

@@ -33,7 +33,10 @@ class World {
   /// Creates a world whose size and cells are those of `initial` (def.size is ignored).
   World(const WorldDef& def, const Grid& initial);
   ~World();
+  /// Moves the world; every call on the moved-from one, but destruction and assignment, throws
+  /// StateError.
   World(World&&) noexcept;
+  /// Moves the world (see the move constructor).
   World& operator=(World&&) noexcept;
   World(const World&) = delete;
   World& operator=(const World&) = delete;
@@ -123,6 +126,8 @@ class World {
 
  private:
   void init(const Grid& initial);
+  // The backend; throws StateError on a moved-from World.
+  Backend& live() const;
   BackendKind choose_backend(BackendKind wanted);
   void mark_changed(const Box& region, std::span<const std::uint8_t> before, std::span<const std::uint8_t> after);
   // The cell bytes to write over `region` for new materials `after` (old ones `before`): a cell
