@@ -2,7 +2,15 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+
 #include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <future>
 #include <atomic>
 #include <cstring>
 #include <filesystem>
@@ -16,6 +24,8 @@
 #include "granular/errors.hpp"
 #include "granular/grid.hpp"
 #include "granular/grid_io.hpp"
+#include "granular/memory_budget.hpp"
+#include "granular/vox_io.hpp"
 #include "test_support.hpp"
 
 namespace fs = std::filesystem;
@@ -206,16 +216,70 @@ TEST_CASE("raw: malformed bodies are rejected with sizes, offsets and values") {
   }
 }
 
-TEST_CASE("raw: a header larger than memory is refused before allocating") {
-  const auto b = raw_header(65536, 65536, 65536);
-  try {
-    decode_raw(b, "huge.raw");
-    FAIL("a 65536^3 header with no body was accepted");
-  } catch (const OutOfMemory& e) {
-    check_has(e.what(), {"huge.raw", "65536x65536x65536"});
-  } catch (const ParseError& e) {
-    check_has(e.what(), {"huge.raw", "truncated body"});
+TEST_CASE("raw: a truncated file with a header larger than memory is a truncated body, found before allocating") {
+  auto b = raw_header(65536, 65536, 65536);
+  b.resize(b.size() + 10, 0);
+  check_raw_rejected(b, {"truncated body", "65536x65536x65536 = 281474976710656 cells but only 10 bytes follow"});
+}
+
+TEST_CASE("raw: a complete grid larger than the memory budget is OutOfMemory naming the size and the limit") {
+  // memory_budget is pure: a 1 GiB RLIMIT_AS with 900 MiB mapped leaves 124 MiB.
+  MemorySources s;
+  s.mem_available = std::uint64_t(8) << 30;
+  s.address_space_limit = std::uint64_t(1) << 30;
+  s.address_space_used = std::uint64_t(900) << 20;
+  const MemoryBudget b = memory_budget(s);
+  CHECK(b.bytes == (std::uint64_t(124) << 20));
+  check_has(b.limited_by, {"ulimit -v (RLIMIT_AS) of 1 GiB", "900 MiB in use"});
+  const std::string m = error_of<OutOfMemory>([] { check_grid_size({65536, 65536, 4096}, "big.raw", 1.0); });
+  check_has(m, {"big.raw", "65536x65536x4096", "17592186044416 cells", "16 TiB", "limited by"});
+}
+
+TEST_CASE("memory_budget takes the least of MemAvailable, the cgroup limit and the rlimits") {
+  MemorySources s;
+  CHECK(memory_budget(s).limited_by.empty());
+  CHECK(memory_budget(s).bytes == UINT64_MAX);
+  s.physical = 64ull << 30;
+  CHECK(memory_budget(s).bytes == 64ull << 30);
+  check_has(memory_budget(s).limited_by, {"physical memory"});
+  s.mem_available = 20ull << 30;
+  CHECK(memory_budget(s).bytes == 20ull << 30);
+  check_has(memory_budget(s).limited_by, {"MemAvailable"});
+  s.cgroup_limit = 4ull << 30;
+  s.cgroup_usage = 1ull << 30;
+  CHECK(memory_budget(s).bytes == 3ull << 30);
+  check_has(memory_budget(s).limited_by, {"cgroup", "4 GiB", "1 GiB in use"});
+  s.data_limit = 2ull << 30;
+  CHECK(memory_budget(s).bytes == 2ull << 30);
+  check_has(memory_budget(s).limited_by, {"ulimit -d (RLIMIT_DATA)"});
+  s.data_used = 3ull << 30;  // more in use than the limit: nothing left
+  CHECK(memory_budget(s).bytes == 0);
+  // This process: the budget is known (at least MemAvailable or the physical memory) and positive.
+  const MemoryBudget here = available_memory();
+  CHECK_FALSE(here.limited_by.empty());
+  CHECK(here.bytes > 0);
+}
+
+TEST_CASE("check_grid_size counts every byte per cell and the extra bytes against the budget") {
+  const MemoryBudget here = available_memory();
+  REQUIRE(here.bytes > (std::uint64_t(64) << 20));
+  // A grid whose one-byte copy fits but whose two-byte run does not.
+  const std::int64_t cells = std::int64_t(here.bytes / 3 * 2);
+  const int side = int(std::cbrt(double(cells))) + 1;
+  if (side > kMaxGridExtent) {
+    MESSAGE("too much memory available to find a grid that fits once but not twice");
+    return;
   }
+  const Int3 size{side, side, side};
+  if (double(side) * side * side > double(here.bytes)) {
+    MESSAGE("no side fits once at this budget's granularity");
+    return;
+  }
+  CHECK_NOTHROW(check_grid_size(size, "once", 1.0));
+  const std::string m = error_of<OutOfMemory>([&] { check_grid_size(size, "twice", 2.0); });
+  check_has(m, {"twice", to_string(size), "2 bytes per cell"});
+  const std::string e = error_of<OutOfMemory>([&] { check_grid_size({1, 1, 1}, "extra", 1.0, double(here.bytes) * 2); });
+  check_has(e, {"extra", "1x1x1", "bytes per cell + "});
 }
 
 TEST_CASE("raw: a failed save leaves an existing file untouched") {
@@ -325,4 +389,153 @@ TEST_CASE("load_grid / save_grid dispatch on the extension") {
     const std::string s = error_of<InvalidArgument>([&] { save_grid(g, p); });
     check_has(s, {p.string(), "no extension", ".raw", ".vox"});
   }
+}
+
+TEST_CASE("readers read only regular files: a FIFO or a link to a device is a FileError naming what it is") {
+  TempDir dir;
+  SUBCASE("a FIFO named x.raw is refused at once instead of blocking") {
+    const fs::path fifo = dir / "x.raw";
+    REQUIRE(mkfifo(fifo.c_str(), 0600) == 0);
+    const auto start = std::chrono::steady_clock::now();
+    auto result = std::async(std::launch::async, [&] { return error_of<FileError>([&] { load_grid(fifo); }); });
+    if (result.wait_for(std::chrono::seconds(10)) != std::future_status::ready) {
+      // Unblock the reader (a writer opening the FIFO ends its open) before failing.
+      const int fd = ::open(fifo.c_str(), O_WRONLY | O_NONBLOCK);
+      if (fd >= 0) ::close(fd);
+      FAIL("load_grid blocked on a FIFO");
+    }
+    check_has(result.get(), {fifo.string(), "FIFO", "not a regular file"});
+    CHECK(std::chrono::steady_clock::now() - start < std::chrono::seconds(10));
+    check_has(error_of<FileError>([&] { read_file_bytes(fifo); }), {"FIFO"});
+  }
+  SUBCASE("a symbolic link to /dev/zero named z.raw or z.vox is not read until memory runs out") {
+    if (!fs::exists("/dev/zero")) return;
+    for (const char* name : {"z.raw", "z.vox", "z.RAW"}) {
+      const fs::path link = dir / name;
+      fs::create_symlink("/dev/zero", link);
+      const std::string m = error_of<FileError>([&] { load_grid(link); });
+      check_has(m, {link.string(), "a symbolic link to '/dev/zero'", "a character device", "not a regular file"});
+    }
+  }
+  SUBCASE("a directory") {
+    check_has(error_of<FileError>([&] { read_file_bytes(dir.path()); }), {"a directory", std::strerror(EISDIR)});
+  }
+  SUBCASE("a file larger than the reader's limit") {
+    const fs::path p = dir / "big.bin";
+    write_bytes(p, std::vector<std::uint8_t>(100, 1));
+    check_has(error_of<FileError>([&] { read_file_bytes(p, 99); }), {p.string(), "100 bytes", "more than"});
+    CHECK(read_file_bytes(p, 100).size() == 100);
+  }
+}
+
+TEST_CASE("is_grid_file and check_grid_save_path judge the path before any work") {
+  TempDir dir;
+  CHECK(is_grid_file("a.raw"));
+  CHECK(is_grid_file("dir/A.VOX"));
+  CHECK(is_grid_file("b.Raw"));
+  CHECK_FALSE(is_grid_file("a.json"));
+  CHECK_FALSE(is_grid_file("raw"));
+  CHECK_NOTHROW(check_grid_save_path(dir / "out.raw"));
+  CHECK_NOTHROW(check_grid_save_path(dir / "OUT.VOX"));
+  check_has(error_of<InvalidArgument>([&] { check_grid_save_path(dir / "out.txt"); }), {"'.txt'", ".raw and .vox"});
+  check_has(error_of<FileError>([&] { check_grid_save_path(dir / "missing" / "out.raw"); }),
+            {"missing", std::strerror(ENOENT)});
+  fs::create_directory(dir / "taken.raw");
+  check_has(error_of<FileError>([&] { check_grid_save_path(dir / "taken.raw"); }), {"taken.raw", "is a directory"});
+  const fs::path ro = dir / "readonly";
+  fs::create_directory(ro);
+  fs::permissions(ro, fs::perms::owner_read | fs::perms::owner_exec);
+  if (access(ro.c_str(), W_OK) != 0)
+    check_has(error_of<FileError>([&] { check_grid_save_path(ro / "out.raw"); }), {"not writable"});
+  fs::permissions(ro, fs::perms::owner_all);
+}
+
+TEST_CASE("saving through a symbolic link writes its target and keeps the link") {
+  TempDir dir;
+  const Grid g = random_grid({5, 4, 3}, 11);
+  fs::create_directory(dir / "real");
+  const fs::path target = dir / "real" / "target.raw";
+  write_bytes(target, {'o', 'l', 'd'});
+  fs::permissions(target, fs::perms::owner_read | fs::perms::owner_write | fs::perms::group_read);
+  const fs::path link = dir / "link.raw";
+  fs::create_symlink(fs::path("real") / "target.raw", link);  // relative, from the link's directory
+  save_grid(g, link);
+  CHECK(fs::is_symlink(link));
+  CHECK(fs::read_symlink(link) == fs::path("real") / "target.raw");
+  CHECK(file_bytes(target) == encode_raw(g));
+  CHECK(fs::status(target).permissions() == (fs::perms::owner_read | fs::perms::owner_write | fs::perms::group_read));
+  CHECK(std::distance(fs::directory_iterator(dir / "real"), fs::directory_iterator()) == 1);  // no temporary left
+  CHECK(load_grid(link).hash() == g.hash());
+
+  SUBCASE("a chain of links and a dangling link") {
+    const fs::path chain = dir / "chain.vox";
+    fs::create_symlink(dir / "dangling.vox", chain);
+    save_grid(g, chain);
+    CHECK(fs::is_symlink(chain));
+    CHECK(fs::is_regular_file(fs::symlink_status(dir / "dangling.vox")));
+    CHECK(load_grid(chain).hash() == g.hash());
+  }
+  SUBCASE("a loop of links is a FileError") {
+    fs::create_symlink(dir / "b.raw", dir / "a.raw");
+    fs::create_symlink(dir / "a.raw", dir / "b.raw");
+    check_has(error_of<FileError>([&] { save_grid(g, dir / "a.raw"); }), {"a.raw", "symbolic links"});
+  }
+}
+
+TEST_CASE("remove_pending_temporaries removes the temporary of a write interrupted by a signal") {
+  // A child process writes more than its RLIMIT_FSIZE allows: the kernel sends SIGXFSZ in the
+  // middle of write_file_atomic, whose handler calls remove_pending_temporaries and exits 3.
+  TempDir dir;
+  const fs::path target = dir / "interrupted.raw";
+  const pid_t child = fork();
+  REQUIRE(child >= 0);
+  if (child == 0) {
+    struct sigaction action {};
+    action.sa_handler = [](int) {
+      remove_pending_temporaries();
+      _exit(3);
+    };
+    sigemptyset(&action.sa_mask);
+    sigaction(SIGXFSZ, &action, nullptr);
+    const rlimit limit{1 << 16, 1 << 16};
+    setrlimit(RLIMIT_FSIZE, &limit);
+    const std::vector<std::uint8_t> big(std::size_t(1) << 20, 1);
+    try {
+      write_file_atomic(target, {big});
+    } catch (...) {
+      _exit(4);
+    }
+    _exit(5);
+  }
+  int status = 0;
+  REQUIRE(waitpid(child, &status, 0) == child);
+  REQUIRE(WIFEXITED(status));
+  CHECK(WEXITSTATUS(status) == 3);
+  CHECK(std::distance(fs::directory_iterator(dir.path()), fs::directory_iterator()) == 0);
+}
+
+TEST_CASE("load_grid reports a lossy .vox import as a notice") {
+  TempDir dir;
+  Grid g({4, 4, 4});
+  g.set({0, 0, 0}, Material::Solid);
+  g.set({1, 0, 0}, Material::Granular);
+  auto bytes = encode_vox(g);
+  // Rewrite the two voxels' palette indices to 0 and 200 (XYZI content follows its 12-byte header and count).
+  const std::string xyzi = "XYZI";
+  const auto at = std::search(bytes.begin(), bytes.end(), xyzi.begin(), xyzi.end());
+  REQUIRE(at != bytes.end());
+  const std::size_t first = std::size_t(at - bytes.begin()) + 12 + 4;
+  bytes[first + 3] = 0;
+  bytes[first + 7] = 200;
+  const fs::path p = dir / "lossy.vox";
+  write_bytes(p, bytes);
+  std::vector<std::string> notices;
+  const Grid back = load_grid(p, &notices);
+  CHECK(back.count()[to_cell(Material::Solid)] == 2);
+  REQUIRE(notices.size() == 1);
+  check_has(notices[0], {p.string(), "2 of 2 voxels", "(0, 200)", "imported as solid", "1..7"});
+  std::vector<std::string> none;
+  save_grid(g, dir / "clean.vox");
+  load_grid(dir / "clean.vox", &none);
+  CHECK(none.empty());
 }

@@ -293,7 +293,11 @@ TEST_CASE("vox: palette indices 1..7 map to materials, others to Solid and are c
   for (int i = 7; i < 10; ++i) CHECK(g.at({i, 0, 0}) == Material::Solid);
   CHECK(report.voxels == 10);
   CHECK(report.unmapped_voxels == 3);
+  CHECK(report.unmapped_indices == std::vector<int>{0, 8, 255});
   CHECK(report.models == 1);
+  check_has(vox_import_notice(report, "palette.vox"),
+            {"palette.vox: 3 of 10 voxels", "(0, 8, 255)", "imported as solid", "1..7"});
+  CHECK(vox_import_notice(VoxImportReport{}, "clean.vox").empty());
 }
 
 TEST_CASE("vox: nested translations are summed and the bounding box is shifted to 0") {
@@ -576,4 +580,52 @@ TEST_CASE("vox: file errors") {
   SUBCASE("empty grid") {
     check_has(error_of<InvalidArgument>([&] { encode_vox(Grid()); }), {"encode_vox", "empty"});
   }
+}
+
+TEST_CASE("vox: a small file whose scene graph places a model far away is refused, not a 2004^3 grid") {
+  // Two 4x4x4 models, the second translated by 2000 on every axis: 320 bytes, a 2004^3 (7.5 GiB) box.
+  const Bytes b = vox_file(cat({
+      size_chunk(4, 4, 4), xyzi_chunk({{0, 0, 0, 1}}), size_chunk(4, 4, 4), xyzi_chunk({{0, 0, 0, 2}}),
+      ntrn(0, 1, {}), ngrp(1, {2, 4}), ntrn(2, 3, {}), nshp(3, 0), ntrn(4, 5, {{"_t", "2000 2000 2000"}}), nshp(5, 1),
+  }));
+  CHECK(b.size() < 400);
+  check_vox_rejected(b, {"2 placed models", "128 cells of SIZE", "2004x2004x2004", "8048096064 cells",
+                         "more than 64 times their volume", "sparse"});
+  // The same two models 100 cells apart (a 104^3 box, under 256^3 cells) are accepted.
+  const Bytes near = vox_file(cat({
+      size_chunk(4, 4, 4), xyzi_chunk({{0, 0, 0, 1}}), size_chunk(4, 4, 4), xyzi_chunk({{0, 0, 0, 2}}),
+      ntrn(0, 1, {}), ngrp(1, {2, 4}), ntrn(2, 3, {}), nshp(3, 0), ntrn(4, 5, {{"_t", "100 100 100"}}), nshp(5, 1),
+  }));
+  CHECK(decode_vox(near, "near.vox").size() == Int3{104, 104, 104});
+}
+
+TEST_CASE("vox: a large grid that its models fill is accepted (a written 300x300x4 grid)") {
+  Grid g({300, 300, 4});
+  g.set({299, 299, 3}, Material::Granular);
+  const Grid back = decode_vox(encode_vox(g), "tiles.vox");
+  CHECK(back.size() == g.size());
+  CHECK(back.hash() == g.hash());
+}
+
+TEST_CASE("vox: one model placed over and over on the same cells is refused") {
+  std::vector<Voxel> voxels;
+  for (int x = 0; x < 2; ++x)
+    for (int y = 0; y < 2; ++y)
+      for (int z = 0; z < 2; ++z) voxels.push_back({std::uint8_t(x), std::uint8_t(y), std::uint8_t(z), 1});
+  std::vector<int> children;
+  Bytes graph;
+  for (int k = 0; k < 10; ++k) {
+    children.push_back(2 + 2 * k);
+    graph = cat({graph, ntrn(2 + 2 * k, 3 + 2 * k, {}), nshp(3 + 2 * k, 0)});
+  }
+  const Bytes b = vox_file(cat({size_chunk(2, 2, 2), xyzi_chunk(voxels), ntrn(0, 1, {}), ngrp(1, children), graph}));
+  check_vox_rejected(b, {"10 placed models hold 80 voxels for a grid of 8 cells", "more than 8 per cell"});
+}
+
+TEST_CASE("vox: messages quote at most an excerpt of a long attribute") {
+  const std::string long_t(100000, '7');
+  const Bytes b = vox_file(cat({size_chunk(1, 1, 1), xyzi_chunk({{0, 0, 0, 1}}), ntrn(0, 1, {{"_t", long_t}}), nshp(1, 0)}));
+  const std::string m = error_of<ParseError>([&] { decode_vox(b, "long.vox"); });
+  check_has(m, {"translation _t", "... (100000 bytes)"});
+  CHECK(m.size() < 300);
 }

@@ -1,41 +1,21 @@
 #include "granular/grid.hpp"
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <cstring>
 #include <new>
 #include <sstream>
+#include <stdexcept>
 
 #include "granular/errors.hpp"
+#include "granular/memory_budget.hpp"
 
 namespace granular {
-
-namespace {
-
-double physical_memory_bytes() {
-  const long pages = sysconf(_SC_PHYS_PAGES);
-  const long page_size = sysconf(_SC_PAGE_SIZE);
-  if (pages <= 0 || page_size <= 0) return 0;  // unknown: do not pre-check
-  return double(pages) * double(page_size);
-}
-
-std::string human_bytes(double b) {
-  std::ostringstream s;
-  s.precision(3);
-  if (b >= 1024.0 * 1024 * 1024) s << b / (1024.0 * 1024 * 1024) << " GiB";
-  else if (b >= 1024.0 * 1024) s << b / (1024.0 * 1024) << " MiB";
-  else s << b << " bytes";
-  return s.str();
-}
-
-}  // namespace
 
 std::string to_string(Int3 size) {
   return std::to_string(size.x) + "x" + std::to_string(size.y) + "x" + std::to_string(size.z);
 }
 
-void check_grid_size(Int3 size, const std::string& what, double bytes_per_cell) {
+void check_grid_size(Int3 size, const std::string& what, double bytes_per_cell, double extra_bytes) {
   const int extents[3] = {size.x, size.y, size.z};
   const char* axes[3] = {"x", "y", "z"};
   for (int a = 0; a < 3; ++a) {
@@ -47,23 +27,63 @@ void check_grid_size(Int3 size, const std::string& what, double bytes_per_cell) 
                             std::to_string(kMaxGridExtent) + " along " + axes[a]);
   }
   const double cells = double(size.x) * size.y * size.z;
-  const double need = cells * bytes_per_cell;
-  const double have = physical_memory_bytes();
-  if (have > 0 && need > have)
-    throw OutOfMemory(what + ": size " + to_string(size) + " (" + std::to_string(std::int64_t(cells)) +
-                      " cells) needs " + human_bytes(need) + " but this machine has " + human_bytes(have) +
-                      " of memory");
+  const double need = cells * bytes_per_cell + extra_bytes;
+  const MemoryBudget have = available_memory();
+  if (have.limited_by.empty() || need <= double(have.bytes)) return;
+  std::ostringstream per_cell;
+  per_cell << bytes_per_cell;
+  throw OutOfMemory(what + ": size " + to_string(size) + " (" + std::to_string(std::int64_t(cells)) + " cells) needs " +
+                    format_bytes(need) + " (" + per_cell.str() + " bytes per cell" +
+                    (extra_bytes > 0 ? " + " + format_bytes(extra_bytes) : std::string()) + ") but only " +
+                    format_bytes(double(have.bytes)) + " can be allocated (limited by " + have.limited_by + ")");
 }
+
+namespace {
+
+/// Allocates `n` cells of `value`, turning an allocation failure into OutOfMemory.
+std::vector<std::uint8_t> allocate_cells(std::size_t n, std::uint8_t value, Int3 size, const char* purpose) {
+  try {
+    return std::vector<std::uint8_t>(n, value);
+  } catch (const std::bad_alloc&) {
+    throw OutOfMemory(std::string("Grid: could not allocate ") + format_bytes(double(n)) + " (" + std::to_string(n) +
+                      " bytes) " + purpose + " a " + to_string(size) + " grid");
+  } catch (const std::length_error&) {
+    throw OutOfMemory(std::string("Grid: ") + std::to_string(n) + " bytes " + purpose + " a " + to_string(size) +
+                      " grid exceed what a vector can hold");
+  }
+}
+
+}  // namespace
 
 Grid::Grid(Int3 size) {
   check_grid_size(size, "Grid");
   const std::size_t n = std::size_t(size.x) * std::size_t(size.y) * std::size_t(size.z);
-  try {
-    cells_.assign(n, to_cell(Material::Void));
-  } catch (const std::bad_alloc&) {
-    throw OutOfMemory("Grid: could not allocate " + std::to_string(n) + " bytes for a " + to_string(size) + " grid");
-  }
+  cells_ = allocate_cells(n, to_cell(Material::Void), size, "for");
   size_ = size;
+}
+
+Grid::Grid(const Grid& other) : size_(other.size_) {
+  cells_ = allocate_cells(other.cells_.size(), 0, other.size_, "to copy");
+  std::copy(other.cells_.begin(), other.cells_.end(), cells_.begin());
+}
+
+Grid& Grid::operator=(const Grid& other) {
+  if (this != &other) *this = Grid(other);
+  return *this;
+}
+
+Grid::Grid(Grid&& other) noexcept : size_(other.size_), cells_(std::move(other.cells_)) {
+  other.size_ = {0, 0, 0};
+  other.cells_.clear();
+}
+
+Grid& Grid::operator=(Grid&& other) noexcept {
+  if (this == &other) return *this;
+  size_ = other.size_;
+  cells_ = std::move(other.cells_);
+  other.size_ = {0, 0, 0};
+  other.cells_.clear();
+  return *this;
 }
 
 void Grid::fill(const Box& box, Material m) {

@@ -1,8 +1,10 @@
+#include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cctype>
 #include <cerrno>
 #include <climits>
@@ -13,6 +15,7 @@
 
 #include "granular/errors.hpp"
 #include "granular/grid_io.hpp"
+#include "granular/memory_budget.hpp"
 #include "granular/vox_io.hpp"
 
 namespace granular {
@@ -33,17 +36,51 @@ std::string quoted(const std::filesystem::path& p) {
 
 std::string system_reason(int err) { return std::strerror(err); }
 
+/// What a non-regular file is, for messages.
+const char* file_kind(mode_t mode) {
+  if (S_ISDIR(mode)) return "a directory";
+  if (S_ISFIFO(mode)) return "a FIFO (named pipe)";
+  if (S_ISCHR(mode)) return "a character device";
+  if (S_ISBLK(mode)) return "a block device";
+  if (S_ISSOCK(mode)) return "a socket";
+  return "not a regular file";
+}
+
+/// " (a symbolic link to 'target')" when `path` is a symbolic link, else "".
+std::string link_note(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_symlink(path, ec)) return {};
+  const auto target = std::filesystem::read_symlink(path, ec);
+  return ec ? std::string(" (a symbolic link)") : " (a symbolic link to " + quoted(target) + ")";
+}
+
+/// Opens a regular file for reading (symbolic links followed). Opening never blocks: a FIFO, a
+/// device, a socket or a directory is a FileError naming the path and what it is.
 FilePtr open_for_reading(const std::filesystem::path& path, struct stat& info) {
-  FilePtr f(std::fopen(path.c_str(), "rb"));
-  if (!f) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
+  if (fd < 0) {
     const int err = errno;
     throw FileError("cannot open " + quoted(path) + " for reading: " + system_reason(err));
   }
-  if (fstat(fileno(f.get()), &info) != 0) {
+  if (fstat(fd, &info) != 0) {
     const int err = errno;
+    ::close(fd);
     throw FileError("cannot read " + quoted(path) + ": " + system_reason(err));
   }
-  if (S_ISDIR(info.st_mode)) throw FileError("cannot read " + quoted(path) + ": " + system_reason(EISDIR));
+  if (!S_ISREG(info.st_mode)) {
+    ::close(fd);
+    const std::string reason = S_ISDIR(info.st_mode) ? ": " + system_reason(EISDIR) : std::string();
+    throw FileError("cannot read " + quoted(path) + link_note(path) + ": it is " + file_kind(info.st_mode) +
+                    ", not a regular file" + reason);
+  }
+  const int flags = fcntl(fd, F_GETFL);
+  if (flags >= 0) fcntl(fd, F_SETFL, flags & ~O_NONBLOCK);
+  FilePtr f(fdopen(fd, "rb"));
+  if (!f) {
+    const int err = errno;
+    ::close(fd);
+    throw FileError("cannot read " + quoted(path) + ": " + system_reason(err));
+  }
   return f;
 }
 
@@ -111,8 +148,9 @@ Int3 parse_raw_header(std::span<const std::uint8_t> head, std::uint64_t total, c
                        std::to_string(kMaxGridExtent));
   }
   const Int3 size{int(dims[0]), int(dims[1]), int(dims[2])};
+  const std::string fields = src + ": header fields nx, ny, nz (bytes 8..19)";
   try {
-    check_grid_size(size, src + ": header fields nx, ny, nz (bytes 8..19)");
+    check_grid_size(size, fields, 0.0);  // extents only: the body's length is checked before memory
   } catch (const InvalidArgument& e) {
     throw ParseError(e.what());
   }
@@ -126,6 +164,7 @@ Int3 parse_raw_header(std::span<const std::uint8_t> head, std::uint64_t total, c
     throw ParseError(src + ": " + std::to_string(body - cells) + " trailing bytes after the last cell: header says " +
                      to_string(size) + " = " + std::to_string(cells) + " cells, so the file should be " +
                      std::to_string(cells + kRawHeaderSize) + " bytes but it is " + std::to_string(total));
+  check_grid_size(size, fields);
   return size;
 }
 
@@ -169,9 +208,15 @@ std::array<std::uint8_t, kRawHeaderSize> raw_header(const Grid& grid, const char
 
 enum class GridFormat { Raw, Vox };
 
-GridFormat format_of(const std::filesystem::path& path, const char* action) {
+/// The extension of `path` in lower case (".raw"), "" when it has none.
+std::string lower_extension(const std::filesystem::path& path) {
   std::string ext = path.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  return ext;
+}
+
+GridFormat format_of(const std::filesystem::path& path, const char* action) {
+  const std::string ext = lower_extension(path);
   if (ext == ".raw") return GridFormat::Raw;
   if (ext == ".vox") return GridFormat::Vox;
   const std::string what =
@@ -180,40 +225,139 @@ GridFormat format_of(const std::filesystem::path& path, const char* action) {
                         "; accepted grid file extensions are .raw and .vox");
 }
 
+/// Symbolic links followed in a row before giving up (the kernel's limit, ELOOP).
+constexpr int kMaxSymlinkHops = 40;
+
+/// Temporary files of atomic writes in progress, for remove_pending_temporaries(), which a signal
+/// handler calls: fixed slots, no allocation, lock-free atomics only.
+constexpr int kSlotFree = 0, kSlotClaimed = 1, kSlotActive = 2;
+constexpr std::size_t kTempPathMax = 4096;
+struct TempSlot {
+  std::atomic<int> state{kSlotFree};
+  char path[kTempPathMax] = {};
+};
+TempSlot g_temp_slots[8];
+static_assert(std::atomic<int>::is_always_lock_free, "signal handlers need lock-free atomics");
+
+/// Registers a temporary path for the lifetime of the object (nothing when every slot is taken or
+/// the path is too long: the write still works, only a signal would leave the file behind).
+class TempRegistration {
+ public:
+  explicit TempRegistration(const std::filesystem::path& tmp) {
+    const std::string& s = tmp.native();
+    if (s.size() >= kTempPathMax) return;
+    for (TempSlot& slot : g_temp_slots) {
+      int expected = kSlotFree;
+      if (!slot.state.compare_exchange_strong(expected, kSlotClaimed, std::memory_order_acq_rel)) continue;
+      std::memcpy(slot.path, s.c_str(), s.size() + 1);
+      slot.state.store(kSlotActive, std::memory_order_release);
+      slot_ = &slot;
+      return;
+    }
+  }
+  ~TempRegistration() {
+    if (slot_) slot_->state.store(kSlotFree, std::memory_order_release);
+  }
+  TempRegistration(const TempRegistration&) = delete;
+  TempRegistration& operator=(const TempRegistration&) = delete;
+
+ private:
+  TempSlot* slot_ = nullptr;
+};
+
 }  // namespace
 
-std::vector<std::uint8_t> read_file_bytes(const std::filesystem::path& path) {
+std::vector<std::uint8_t> read_file_bytes(const std::filesystem::path& path, std::uint64_t max_bytes) {
   struct stat info {};
   FilePtr f = open_for_reading(path, info);
+  const std::uint64_t size = std::uint64_t(info.st_size);
+  if (size > max_bytes)
+    throw FileError("cannot read " + quoted(path) + ": it is " + std::to_string(size) + " bytes (" +
+                    format_bytes(double(size)) + "), more than the " + format_bytes(double(max_bytes)) +
+                    " this reader accepts");
+  const MemoryBudget budget = available_memory();
+  if (!budget.limited_by.empty() && size > budget.bytes)
+    throw OutOfMemory("cannot read " + quoted(path) + ": its " + std::to_string(size) + " bytes (" +
+                      format_bytes(double(size)) + ") exceed the " + format_bytes(double(budget.bytes)) +
+                      " that can be allocated (limited by " + budget.limited_by + ")");
   std::vector<std::uint8_t> bytes;
-  int read_error = 0;
   try {
-    if (S_ISREG(info.st_mode)) bytes.reserve(std::size_t(info.st_size) + 1);
-    constexpr std::size_t kBlock = std::size_t(1) << 20;
-    for (;;) {
-      const std::size_t at = bytes.size();
-      const std::size_t want = bytes.capacity() > at ? bytes.capacity() - at : kBlock;
-      bytes.resize(at + want);
-      const std::size_t got = std::fread(bytes.data() + at, 1, want, f.get());
-      read_error = errno;
-      bytes.resize(at + got);
-      if (got < want) break;
-    }
-  } catch (const std::bad_alloc&) {
-    throw OutOfMemory("cannot read " + quoted(path) + ": not enough memory to hold its " +
-                      std::to_string(std::uint64_t(info.st_size)) + " bytes");
+    bytes.resize(std::size_t(size));
+  } catch (const std::exception&) {
+    throw OutOfMemory("cannot read " + quoted(path) + ": not enough memory to hold its " + std::to_string(size) +
+                      " bytes");
   }
-  if (std::ferror(f.get())) throw FileError("cannot read " + quoted(path) + ": " + system_reason(read_error));
+  read_exactly(f.get(), bytes.data(), bytes.size(), path, 0);
   return bytes;
 }
 
+bool is_grid_file(const std::filesystem::path& path) {
+  const std::string ext = lower_extension(path);
+  return ext == ".raw" || ext == ".vox";
+}
+
+std::filesystem::path resolve_symlinks(const std::filesystem::path& path) {
+  std::filesystem::path p = path;
+  for (int hops = 0; hops <= kMaxSymlinkHops; ++hops) {
+    struct stat info {};
+    if (::lstat(p.c_str(), &info) != 0 || !S_ISLNK(info.st_mode)) return p;
+    std::error_code ec;
+    const std::filesystem::path target = std::filesystem::read_symlink(p, ec);
+    if (ec) throw FileError("cannot resolve the symbolic link " + quoted(p) + ": " + ec.message());
+    p = target.is_absolute() ? target : p.parent_path() / target;
+  }
+  throw FileError("cannot resolve " + quoted(path) + ": more than " + std::to_string(kMaxSymlinkHops) +
+                  " symbolic links in a row (" + system_reason(ELOOP) + ")");
+}
+
+void check_grid_save_path(const std::filesystem::path& path) {
+  format_of(path, "save");
+  const std::filesystem::path target = resolve_symlinks(path);
+  struct stat info {};
+  if (::stat(target.c_str(), &info) == 0 && S_ISDIR(info.st_mode))
+    throw FileError("cannot write " + quoted(path) + ": it is a directory");
+  const std::filesystem::path dir = target.parent_path().empty() ? std::filesystem::path(".") : target.parent_path();
+  struct stat dir_info {};
+  if (::stat(dir.c_str(), &dir_info) != 0) {
+    const int err = errno;
+    throw FileError("cannot write " + quoted(path) + ": its directory " + quoted(dir) + ": " + system_reason(err));
+  }
+  if (!S_ISDIR(dir_info.st_mode))
+    throw FileError("cannot write " + quoted(path) + ": " + quoted(dir) + " is not a directory");
+  if (::access(dir.c_str(), W_OK | X_OK) != 0) {
+    const int err = errno;
+    throw FileError("cannot write " + quoted(path) + ": its directory " + quoted(dir) + " is not writable: " +
+                    system_reason(err));
+  }
+}
+
+void remove_pending_temporaries() noexcept {
+  for (TempSlot& slot : g_temp_slots)
+    if (slot.state.load(std::memory_order_acquire) == kSlotActive) ::unlink(slot.path);
+}
+
 void write_file_atomic(const std::filesystem::path& path, std::initializer_list<std::span<const std::uint8_t>> parts) {
-  std::filesystem::path tmp = path;
+  // Through a symbolic link the link stays and its target is replaced, beside which the temporary lies.
+  const std::filesystem::path target = resolve_symlinks(path);
+  std::filesystem::path tmp = target;
   tmp += ".tmp-" + std::to_string(getpid());
-  std::FILE* f = std::fopen(tmp.c_str(), "wb");
+  struct stat old {};
+  const bool replacing = ::stat(target.c_str(), &old) == 0 && S_ISREG(old.st_mode);
+  const TempRegistration registration(tmp);
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+  if (fd < 0) {
+    const int err = errno;
+    if (err == EEXIST)  // not ours: a leftover of another process; leave it alone
+      throw FileError("cannot write " + quoted(path) + ": the temporary file " + quoted(tmp) +
+                      " already exists (a leftover of an interrupted write? remove it)");
+    fail_atomic_write(path, tmp, "cannot create the temporary file " + quoted(tmp), err);
+  }
+  if (replacing) (void)::fchmod(fd, old.st_mode & 07777);  // keep the replaced file's permissions
+  std::FILE* f = fdopen(fd, "wb");
   if (!f) {
     const int err = errno;
-    fail_atomic_write(path, tmp, "cannot create the temporary file " + quoted(tmp), err);
+    ::close(fd);
+    fail_atomic_write(path, tmp, "cannot open the temporary file " + quoted(tmp), err);
   }
   for (std::span<const std::uint8_t> part : parts) {
     if (part.empty()) continue;
@@ -232,7 +376,7 @@ void write_file_atomic(const std::filesystem::path& path, std::initializer_list<
     const int err = errno;
     fail_atomic_write(path, tmp, "closing the temporary file " + quoted(tmp) + " failed", err);
   }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+  if (std::rename(tmp.c_str(), target.c_str()) != 0) {
     const int err = errno;
     fail_atomic_write(path, tmp, "renaming the temporary file " + quoted(tmp) + " over it failed", err);
   }
@@ -270,10 +414,6 @@ void save_raw(const Grid& grid, const std::filesystem::path& path) {
 Grid load_raw(const std::filesystem::path& path) {
   struct stat info {};
   FilePtr f = open_for_reading(path, info);
-  if (!S_ISREG(info.st_mode)) {
-    f.reset();
-    return decode_raw(read_file_bytes(path), path.string());
-  }
   const std::string src = path.string();
   const std::uint64_t total = std::uint64_t(info.st_size);
   std::array<std::uint8_t, kRawHeaderSize> head{};
@@ -297,12 +437,17 @@ void save_grid(const Grid& grid, const std::filesystem::path& path) {
   }
 }
 
-Grid load_grid(const std::filesystem::path& path) {
+Grid load_grid(const std::filesystem::path& path, std::vector<std::string>* notices) {
   switch (format_of(path, "load")) {
     case GridFormat::Raw:
       return load_raw(path);
-    case GridFormat::Vox:
-      return load_vox(path);
+    case GridFormat::Vox: {
+      VoxImportReport report;
+      Grid grid = load_vox(path, &report);
+      const std::string notice = vox_import_notice(report, path.string());
+      if (notices && !notice.empty()) notices->push_back(notice);
+      return grid;
+    }
   }
   return Grid();
 }

@@ -12,6 +12,7 @@
 
 #include "granular/errors.hpp"
 #include "granular/grid_io.hpp"
+#include "granular/memory_budget.hpp"
 #include "granular/vox_io.hpp"
 
 namespace granular {
@@ -52,6 +53,15 @@ std::string printable(std::span<const std::uint8_t> b) {
       s += kHex[c & 15];
     }
   }
+  return s;
+}
+
+/// A string from the file for messages: at most 40 characters, non-printable bytes escaped.
+std::string excerpt(std::string_view text) {
+  constexpr std::size_t kMax = 40;
+  const auto* b = reinterpret_cast<const std::uint8_t*>(text.data());
+  std::string s = printable(std::span<const std::uint8_t>(b, std::min(text.size(), kMax)));
+  if (text.size() > kMax) s += "... (" + std::to_string(text.size()) + " bytes)";
   return s;
 }
 
@@ -353,14 +363,14 @@ Node read_transform(ChunkReader& r, std::int32_t& id) {
       int v = -1;
       const auto res = std::from_chars(rot->data(), rot->data() + rot->size(), v);
       if (res.ec != std::errc() || res.ptr != rot->data() + rot->size())
-        r.fail(node + ": rotation _r = \"" + *rot + "\" is not an integer");
+        r.fail(node + ": rotation _r = \"" + excerpt(*rot) + "\" is not an integer");
       if (v != kIdentityRotation)
-        r.fail(node + ": rotated models are not supported (_r = " + *rot +
+        r.fail(node + ": rotated models are not supported (_r = " + excerpt(*rot) +
                "; only the identity, _r = " + std::to_string(kIdentityRotation) + ", is)");
     }
     if (const std::string* t = find_key(attrs, "_t")) {
       if (!parse_translation(*t, n.translation))
-        r.fail(node + ": translation _t = \"" + *t + "\" is not three integers \"x y z\"");
+        r.fail(node + ": translation _t = \"" + excerpt(*t) + "\" is not three integers \"x y z\"");
     }
   }
   return n;
@@ -623,13 +633,35 @@ Grid decode_vox(std::span<const std::uint8_t> bytes, const std::string& source_n
                        "); at most " + std::to_string(kMaxGridExtent) + " are supported");
   const Int3 size{int(hi[0] - lo[0]), int(hi[1] - lo[1]), int(hi[2] - lo[2])};
   try {
-    check_grid_size(size, src + ": bounding box of all models");
+    check_grid_size(size, src + ": bounding box of all models", 0.0);  // extents; memory below
   } catch (const InvalidArgument& e) {
     throw ParseError(e.what());
   }
+  std::int64_t model_cells = 0;
+  for (const Instance& inst : instances) {
+    const Int3 s = c.models[inst.model].size;
+    model_cells += std::int64_t(s.x) * s.y * s.z;  // each <= 2^24; at most 2^31 instances
+  }
+  const std::int64_t grid_cells = std::int64_t(size.x) * size.y * size.z;
+  if (grid_cells > kVoxSparseGridCells && grid_cells / kVoxMaxSpread >= model_cells)
+    throw ParseError(src + ": the " + std::to_string(instances.size()) + " placed models (" +
+                     std::to_string(model_cells) + " cells of SIZE in all) span a " + to_string(size) +
+                     " bounding box of " + std::to_string(grid_cells) + " cells (" + format_bytes(double(grid_cells)) +
+                     "), more than " + std::to_string(kVoxMaxSpread) + " times their volume and more than " +
+                     std::to_string(kVoxSparseGridCells) +
+                     " cells: a grid this sparse is refused (is a model translated far away?)");
+  std::int64_t placed_voxels = 0;
+  for (const Instance& inst : instances) placed_voxels += std::int64_t(c.models[inst.model].voxels.size() / 4);
+  if (placed_voxels > kVoxMaxOverlap * grid_cells)
+    throw ParseError(src + ": the " + std::to_string(instances.size()) + " placed models hold " +
+                     std::to_string(placed_voxels) + " voxels for a grid of " + std::to_string(grid_cells) +
+                     " cells, more than " + std::to_string(kVoxMaxOverlap) +
+                     " per cell: models placed on top of each other this often are refused");
+  check_grid_size(size, src + ": bounding box of all models");
 
   Grid grid(size);
   VoxImportReport rep;
+  std::array<bool, 256> unmapped_seen{};
   auto cells = grid.cells();
   for (const Instance& inst : instances) {
     const Model& m = c.models[inst.model];
@@ -642,14 +674,32 @@ Grid decode_vox(std::span<const std::uint8_t> bytes, const std::string& source_n
         mat = Material(index);
       } else {
         ++rep.unmapped_voxels;
+        unmapped_seen[index] = true;
       }
       cells[grid.index({o.x + v[0], o.y + v[1], o.z + v[2]})] = to_cell(mat);
       ++rep.voxels;
     }
   }
   rep.models = int(instances.size());
-  if (report) *report = rep;
+  for (int i = 0; i < 256; ++i)
+    if (unmapped_seen[std::size_t(i)]) rep.unmapped_indices.push_back(i);
+  if (report) *report = std::move(rep);
   return grid;
+}
+
+std::string vox_import_notice(const VoxImportReport& report, const std::string& source_name) {
+  if (report.unmapped_voxels == 0) return {};
+  std::string indices;
+  for (std::size_t i = 0; i < report.unmapped_indices.size(); ++i) {
+    if (i == 8) {
+      indices += ", ...";
+      break;
+    }
+    indices += (i ? ", " : "") + std::to_string(report.unmapped_indices[i]);
+  }
+  return source_name + ": " + std::to_string(report.unmapped_voxels) + " of " + std::to_string(report.voxels) +
+         " voxels have palette indices that are not materials (" + indices +
+         ") and were imported as solid; materials are palette indices 1..7 (docs/FORMATS.md)";
 }
 
 Grid load_vox(const std::filesystem::path& path, VoxImportReport* report) {

@@ -18,9 +18,11 @@ namespace granular {
 inline constexpr int kMaxGridExtent = 65536;
 
 /// Throws InvalidArgument when `size` has a zero, negative or over-large extent, and OutOfMemory
-/// when `bytes_per_cell * cells` exceeds this machine's physical memory. `what` names the caller's
-/// field in the message (e.g. "WorldDef::size", "scene 'bowl' size").
-void check_grid_size(Int3 size, const std::string& what, double bytes_per_cell = 1.0);
+/// when `bytes_per_cell * cells + extra_bytes` exceeds the memory this process may still allocate
+/// (available_memory(): MemAvailable, the cgroup limit, RLIMIT_AS and RLIMIT_DATA); the message
+/// gives the size, the bytes needed and the limit that decides. `what` names the caller's field
+/// (e.g. "WorldDef::size", "scene 'bowl' size").
+void check_grid_size(Int3 size, const std::string& what, double bytes_per_cell = 1.0, double extra_bytes = 0);
 
 /// "NXxNYxNZ" for messages.
 std::string to_string(Int3 size);
@@ -30,8 +32,17 @@ class Grid {
  public:
   /// An empty 0x0x0 grid (only useful as a placeholder to assign into).
   Grid() = default;
-  /// A grid of `size` void cells. Throws InvalidArgument / OutOfMemory (see check_grid_size).
+  /// A grid of `size` void cells. Throws InvalidArgument / OutOfMemory (see check_grid_size); a
+  /// failed allocation is an OutOfMemory naming the size and the bytes.
   explicit Grid(Int3 size);
+  /// A copy of `other`; a failed allocation is an OutOfMemory naming the size and the bytes.
+  Grid(const Grid& other);
+  /// Copies `other` (OutOfMemory as the copy constructor; this grid is unchanged then).
+  Grid& operator=(const Grid& other);
+  /// Takes the cells of `other`, which becomes an empty 0x0x0 grid.
+  Grid(Grid&& other) noexcept;
+  /// Takes the cells of `other`, which becomes an empty 0x0x0 grid.
+  Grid& operator=(Grid&& other) noexcept;
 
   /// Extent per axis.
   Int3 size() const { return size_; }
