@@ -1,5 +1,6 @@
 #include <doctest/doctest.h>
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -11,6 +12,7 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "granular/errors.hpp"
@@ -579,8 +581,81 @@ TEST_CASE("scene: instantiate rejects N below min_n and values that do not resol
       parse_scene(with(kBase, R"("thickness": 0.06)", R"("thickness_cells": 2)"), "thick.json");
   CHECK_NOTHROW(instantiate(thick, 20));
   expect_invalid(thick, 10, "shapes[4]");
-  const Scene huge = parse_scene(with(kBase, R"("default_n": 20)", R"("default_n": 100000)"), "huge.json");
-  expect_invalid(huge, 0, "size");
+  expect_invalid(base, 100000, "size");
+}
+
+TEST_CASE("scene: a default_n whose grid exceeds 256^3 cells is refused with the memory it would need") {
+  expect_parse_error(with(kBase, R"("default_n": 20)", R"("default_n": 1000)"), "default_n",
+                     "1000x1000x1000 grid (1000000000 cells, about 1.86 GiB to run)");
+  expect_parse_error(with(kBase, R"("default_n": 20)", R"("default_n": 100000)"), "default_n", "100000x100000x100000");
+  expect_parse_error(with(kBase, R"("default_n": 20)", R"("default_n": 16000000)"), "default_n", "more than");
+  // 256^3 itself is a valid default, and a flat scene may have a larger N within the same cells.
+  CHECK(parse_scene(with(kBase, R"("default_n": 20)", R"("default_n": 256)"), "d.json").default_n == 256);
+  const std::string flat = with(with(kBase, R"("default_n": 20)", R"("default_n": 512)"), R"("size": [1, 1, 1])",
+                                R"("size": [1, 1, 0.0625])");
+  CHECK(parse_scene(flat, "flat.json").default_n == 512);
+  // Asked for explicitly, a larger N is instantiate's (and check_grid_size's) to judge.
+  CHECK(instantiate(parse_scene(kBase, "base.json"), 300).grid.size() == Int3{300, 300, 300});
+}
+
+TEST_CASE("scene: JSON nested 100,000 levels deep is a ParseError, not a stack overflow") {
+  for (const char* open : {"[", "{\"a\":"}) {
+    std::string deep;
+    for (int i = 0; i < 100000; ++i) deep += open;
+    expect_parse_error(deep, "line 1, column", "deeper than 32 levels");
+    // Valid JSON, deep inside a field: refused before nlohmann builds (or prints) it.
+    std::string closed = deep;
+    closed += "1";
+    for (int i = 0; i < 100000; ++i) closed += open[0] == '[' ? "]" : "}";
+    expect_parse_error(with(kBase, R"("name": "base")", R"("name": )" + closed), "column", "deeper than 32 levels");
+  }
+  // Brackets inside strings do not count.
+  const std::string brackets(1000, '[');
+  CHECK(parse_scene(with(kBase, R"("description": "test scene")", R"("description": ")" + brackets + "\""), "b.json")
+            .description == brackets);
+}
+
+TEST_CASE("scene: messages quote a bounded excerpt of long values and keys") {
+  const std::string long_text(1 << 20, 'x');
+  for (const auto& [from, to] : std::vector<std::pair<std::string, std::string>>{
+           {R"("name": "base")", R"("name": [")" + long_text + R"("])"},
+           {R"("material": "granular")", R"("material": ")" + long_text + "\""},
+           {R"("min_n": 10,)", R"("min_n": 10, ")" + long_text + R"(": 1,)"},
+           {R"("radius": 0.2})", R"("radius": [)" + std::string(100000, '1') + "]}"},
+       }) {
+    bool thrown = false;
+    try {
+      parse_scene(with(kBase, from, to), "long.json");
+    } catch (const ParseError& e) {
+      thrown = true;
+      const std::string message = e.what();
+      CAPTURE(message.substr(0, 400));
+      CHECK(message.size() < 400);
+      CHECK(contains(message, "..."));
+    }
+    CHECK(thrown);
+  }
+  expect_parse_error(with(kBase, R"("name": "base")", R"("name": ")" + std::string(300, 'n') + "\""), "name",
+                     "at most 256 bytes");
+}
+
+TEST_CASE("scene: load_scene reads only regular files of at most 16 MiB") {
+  const auto dir = std::filesystem::temp_directory_path() / ("granular-test-fifo-" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const auto fifo = dir / "pipe.json";
+  REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
+  CHECK_THROWS_WITH_AS(load_scene(fifo), doctest::Contains("FIFO"), FileError);
+  if (std::filesystem::exists("/dev/zero")) {
+    std::filesystem::create_symlink("/dev/zero", dir / "zero.json");
+    CHECK_THROWS_WITH_AS(load_scene(dir / "zero.json"), doctest::Contains("character device"), FileError);
+  }
+  {
+    std::ofstream big(dir / "big.json");
+    big << std::string(std::size_t(kMaxSceneFileBytes) + 1, ' ');
+  }
+  CHECK_THROWS_WITH_AS(load_scene(dir / "big.json"), doctest::Contains("16 MiB"), FileError);
+  std::filesystem::remove_all(dir);
 }
 
 TEST_CASE("scene: find_scene resolves names and paths; unknown names list the available scenes") {
@@ -673,5 +748,31 @@ TEST_CASE("scene: run_emitters pours `rate` cells on each tick in [start, stop) 
     world.step(1);
   }
   CHECK(world.count()[to_cell(Material::Granular)] == 20);
+}
+
+TEST_CASE("scene: run_emitters checks every active emitter first: a failing call changes nothing") {
+  const Scene scene = parse_scene(R"({"name": "e", "description": "d", "size": [1, 1, 1], "default_n": 16, "min_n": 1,
+      "shapes": [], "emitters": [{"center": [0.5, 0.5, 0.75], "radius": 0.2, "rate": 5}]})",
+                                  "emit.json");
+  const SceneInstance s = instantiate(scene);
+  World world(test::test_def(s.grid.size()), s.grid);
+  const std::uint64_t hash = world.hash();
+  const std::uint64_t version = world.change_version();
+  std::vector<Emitter> emitters = s.emitters;
+  Emitter bad = emitters[0];
+  SUBCASE("outside the grid") { bad.center = {500, 500, 500}; }
+  SUBCASE("void") { bad.material = Material::Void; }
+  SUBCASE("negative rate") { bad.rate = -1; }
+  SUBCASE("zero radius") { bad.radius = 0; }
+  SUBCASE("non-finite centre") { bad.center.x = std::numeric_limits<double>::quiet_NaN(); }
+  emitters.push_back(bad);
+  CHECK_THROWS_WITH_AS(run_emitters(world, emitters), doctest::Contains("emitter 1"), InvalidArgument);
+  CHECK(world.hash() == hash);
+  CHECK(world.change_version() == version);
+  CHECK(world.count()[to_cell(Material::Granular)] == 0);
+  // An inactive invalid emitter is not checked: it does not pour.
+  emitters.back().start = 100;
+  run_emitters(world, emitters);
+  CHECK(world.count()[to_cell(Material::Granular)] == 5);
 }
 #endif

@@ -1,17 +1,15 @@
 #include "granular/scene.hpp"
 
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
 #include <cstdlib>
-#include <cstring>
-#include <fstream>
 #include <limits>
-#include <sstream>
 
 #include <nlohmann/json.hpp>
 
 #include "granular/errors.hpp"
+#include "granular/grid_io.hpp"
+#include "granular/memory_budget.hpp"
 #include "scene_json.hpp"
 #include "scene_shapes.hpp"
 
@@ -35,6 +33,10 @@ constexpr std::int64_t kMaxN = 1 << 24;
 /// Largest resolved count (cells per tick, tick numbers) kept exact in a double.
 constexpr double kMaxCount = 9.0e15;
 
+/// Throws ParseError when `text` nests arrays and objects deeper than kMaxSceneDepth, naming the
+/// line and column where it does; checked before parsing, so no deeply nested value is ever built.
+void check_nesting(std::string_view text, const std::string& source);
+
 /// "line L, column C" of the character at 0-based offset `offset` in `text`.
 std::string line_column(std::string_view text, std::size_t offset) {
   offset = std::min(offset, text.size());
@@ -50,13 +52,37 @@ std::string line_column(std::string_view text, std::size_t offset) {
   return "line " + std::to_string(line) + ", column " + std::to_string(column);
 }
 
+void check_nesting(std::string_view text, const std::string& source) {
+  int depth = 0;
+  bool in_string = false, escaped = false;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (in_string) {
+      if (escaped) escaped = false;
+      else if (c == '\\') escaped = true;
+      else if (c == '"') in_string = false;
+      continue;
+    }
+    if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      if (++depth > kMaxSceneDepth)
+        throw ParseError(source + ": malformed JSON at " + line_column(text, i) + ": arrays and objects nest deeper than " +
+                         std::to_string(kMaxSceneDepth) + " levels");
+    } else if ((c == ']' || c == '}') && depth > 0) {
+      --depth;
+    }
+  }
+}
+
 /// nlohmann's message without its "[json.exception...] parse error at line L, column C: " prefix.
+/// Cut to 200 bytes: nlohmann quotes the token at fault, which may be as long as the file.
 std::string parse_detail(const std::string& what) {
   std::string detail = what;
   if (const auto bracket = detail.find("] "); bracket != std::string::npos) detail = detail.substr(bracket + 2);
   if (const auto column = detail.find("column "); column != std::string::npos)
     if (const auto colon = detail.find(": ", column); colon != std::string::npos) detail = detail.substr(colon + 2);
-  return detail;
+  return scene_detail::cut_utf8(detail, 200);
 }
 
 /// Reads a count that may be given absolutely (`abs_key`, an integer >= abs_min) or scaled by
@@ -155,6 +181,27 @@ Emitter resolve_emitter(const EmitterDef& def, int n, Int3 size, const std::stri
   return e;
 }
 
+/// Throws ParseError when the grid at `default_n` holds more than kMaxDefaultGridCells cells,
+/// giving its size and the memory a run of it needs.
+void check_default_grid(const JsonFields& f, const std::array<double, 3>& size, int default_n) {
+  std::int64_t extent[3];
+  try {
+    for (int a = 0; a < 3; ++a)
+      extent[a] = scene_detail::cell_boundary(scene_detail::to_sixteenths(size[a], default_n, "size"));
+  } catch (const InvalidArgument&) {
+    f.fail("default_n", "makes a grid of more than " + std::to_string(std::int64_t(scene_detail::kMaxScaledCells)) +
+                            " cells along an axis with this size");
+  }
+  const double cells = double(extent[0]) * double(extent[1]) * double(extent[2]);
+  if (cells <= double(kMaxDefaultGridCells)) return;
+  const std::string count = cells < 9e18 ? std::to_string(std::uint64_t(cells)) : number_text(cells);
+  f.fail("default_n", "makes a " + std::to_string(extent[0]) + "x" + std::to_string(extent[1]) + "x" +
+                          std::to_string(extent[2]) + " grid (" + count + " cells, about " +
+                          format_bytes(2.0 * cells) + " to run) by default, more than the " +
+                          std::to_string(kMaxDefaultGridCells) +
+                          " cells (256^3) a scene's default may hold; lower default_n and ask for larger N explicitly");
+}
+
 /// The asset folder: $GRANULAR_ASSET_DIR, else the source tree's when present, else the installed one.
 std::filesystem::path asset_root() {
   if (const char* env = std::getenv("GRANULAR_ASSET_DIR"); env && *env) return env;
@@ -167,6 +214,7 @@ std::filesystem::path asset_root() {
 }  // namespace
 
 Scene parse_scene(std::string_view json_text, const std::string& source_name) {
+  check_nesting(json_text, source_name);
   nlohmann::json root;
   try {
     root = nlohmann::json::parse(json_text.begin(), json_text.end());
@@ -185,6 +233,9 @@ Scene parse_scene(std::string_view json_text, const std::string& source_name) {
   scene.source = source_name;
   scene.name = f.text("name", needs);
   if (scene.name.empty()) f.fail("name", "must not be empty");
+  if (scene.name.size() > kMaxSceneName)
+    f.fail("name", "must be at most " + std::to_string(kMaxSceneName) + " bytes long (it is " +
+                       std::to_string(scene.name.size()) + ")");
   scene.description = f.text("description", needs);
   scene.size = f.point<3>("size", needs);
   for (int a = 0; a < 3; ++a)
@@ -193,6 +244,7 @@ Scene parse_scene(std::string_view json_text, const std::string& source_name) {
                 &root.at("size").at(a));
   const std::int64_t default_n = f.integer("default_n", needs, 1);
   if (default_n > kMaxN) f.fail("default_n", "must be at most " + std::to_string(kMaxN));
+  check_default_grid(f, scene.size, int(default_n));
   const std::int64_t min_n = f.integer("min_n", needs, 1);
   if (min_n > default_n) f.fail("min_n", "must not exceed default_n (" + std::to_string(default_n) + ")");
   scene.default_n = int(default_n);
@@ -209,15 +261,8 @@ Scene parse_scene(std::string_view json_text, const std::string& source_name) {
 }
 
 Scene load_scene(const std::filesystem::path& path) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec))
-    throw FileError(path.string() + ": cannot read a scene: it is a directory");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw FileError(path.string() + ": cannot open scene file: " + std::strerror(errno));
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw FileError(path.string() + ": error while reading scene file: " + std::strerror(errno));
-  return parse_scene(text.str(), path.string());
+  const std::vector<std::uint8_t> bytes = read_file_bytes(path, kMaxSceneFileBytes);
+  return parse_scene(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()), path.string());
 }
 
 std::filesystem::path scene_dir() { return asset_root() / "scenes"; }

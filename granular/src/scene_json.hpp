@@ -35,16 +35,74 @@ inline std::string number_text(double v) {
   return std::string(buffer, result.ptr);
 }
 
-/// A JSON value as short text for messages.
+/// Longest excerpt of a file's content that a message quotes, in bytes.
+inline constexpr std::size_t kMaxExcerpt = 60;
+
+/// `text` cut to at most `max` bytes at a UTF-8 character boundary, "..." appended when cut.
+inline std::string cut_utf8(std::string_view text, std::size_t max) {
+  if (text.size() <= max) return std::string(text);
+  std::size_t end = max > 3 ? max - 3 : 0;
+  while (end > 0 && (static_cast<unsigned char>(text[end]) & 0xC0) == 0x80) --end;
+  return std::string(text.substr(0, end)) + "...";
+}
+
+/// Appends the JSON text of `value` to `out` (compact, as nlohmann's dump()), stopping once `out` holds `budget` bytes: never
+/// serialises more of a large string, array or object than a message can show.
+inline void append_excerpt(const nlohmann::json& value, std::string& out, std::size_t budget) {
+  if (out.size() >= budget) return;
+  using Type = nlohmann::json::value_t;
+  switch (value.type()) {
+    case Type::string: {
+      const std::string& s = value.get_ref<const std::string&>();
+      const nlohmann::json head = std::string(s.substr(0, budget - out.size() + 1));
+      out += head.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+      return;
+    }
+    case Type::array: {
+      out += '[';
+      bool first = true;
+      for (const auto& element : value) {
+        if (out.size() >= budget) return;
+        if (!first) out += ',';
+        first = false;
+        append_excerpt(element, out, budget);
+      }
+      out += ']';
+      return;
+    }
+    case Type::object: {
+      out += '{';
+      bool first = true;
+      for (const auto& item : value.items()) {
+        if (out.size() >= budget) return;
+        if (!first) out += ',';
+        first = false;
+        out += nlohmann::json(std::string(item.key().substr(0, budget))).dump(-1, ' ', false,
+                                                                             nlohmann::json::error_handler_t::replace);
+        out += ':';
+        append_excerpt(item.value(), out, budget);
+      }
+      out += '}';
+      return;
+    }
+    default:
+      out += value.dump();
+      return;
+  }
+}
+
+/// A JSON value as short text for messages (at most kMaxExcerpt bytes, "..." when cut).
 inline std::string describe(const nlohmann::json& value) {
-  std::string text = value.dump();
-  if (text.size() > 60) text = text.substr(0, 57) + "...";
-  return text;
+  std::string text;
+  append_excerpt(value, text, kMaxExcerpt + 1);
+  return cut_utf8(text, kMaxExcerpt);
 }
 
 /// Joins a parent path and a key: "" + "size" = "size", "shapes[2]" + "radius" = "shapes[2].radius".
+/// A key longer than 40 bytes is cut ("...").
 inline std::string join_path(const std::string& parent, std::string_view key) {
-  return parent.empty() ? std::string(key) : parent + "." + std::string(key);
+  const std::string k = cut_utf8(key, 40);
+  return parent.empty() ? k : parent + "." + k;
 }
 
 /// Reads the fields of one JSON object at `path` in the scene `source`.

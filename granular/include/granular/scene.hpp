@@ -22,6 +22,20 @@ namespace granular {
 
 class World;
 
+/// Largest scene file load_scene reads, in bytes (the shipped ones are about 2 KB).
+inline constexpr std::uint64_t kMaxSceneFileBytes = std::uint64_t(16) << 20;
+
+/// Deepest nesting of JSON arrays and objects a scene may have (a scene needs 4: the top-level
+/// object, "shapes", a shape, its "center").
+inline constexpr int kMaxSceneDepth = 32;
+
+/// Longest scene "name", in bytes.
+inline constexpr std::size_t kMaxSceneName = 256;
+
+/// Most cells the grid of a scene at its default_n may hold (256^3): the default is for a quick
+/// look; larger grids are asked for explicitly (instantiate(scene, n), `granular run --size`).
+inline constexpr std::int64_t kMaxDefaultGridCells = std::int64_t(256) * 256 * 256;
+
 /// An axis-aligned box between two corners (fractions of N). Its faces are rounded to whole cell
 /// boundaries.
 struct BoxShape {
@@ -124,13 +138,17 @@ struct SceneInstance {
 };
 
 /// Parses a scene from JSON text. `source_name` (usually the file path) is quoted in messages.
-/// Throws ParseError for malformed JSON (with line and column), a missing or unknown field, a value
-/// of the wrong type, an unknown shape type or material, a negative or non-finite length, a box
-/// whose min exceeds its max, or a zero size; the message names the source, the field path
-/// ("shapes[2].radius") and the offending value.
+/// Throws ParseError for malformed JSON (with line and column), nesting deeper than
+/// kMaxSceneDepth (checked before parsing), a missing or unknown field, a value of the wrong type,
+/// an unknown shape type or material, a negative or non-finite length, a box whose min exceeds its
+/// max, a zero size, or a default grid of more than kMaxDefaultGridCells cells; the message names
+/// the source, the field path ("shapes[2].radius") and the offending value (an excerpt of at most
+/// 60 bytes). Only granular::Error subclasses are thrown.
 Scene parse_scene(std::string_view json_text, const std::string& source_name);
 
-/// Reads and parses a scene file. Throws FileError when it cannot be read, ParseError as parse_scene.
+/// Reads and parses a scene file. Throws FileError when it cannot be read, is not a regular file
+/// (after following symbolic links: a FIFO or device is never opened in a way that blocks) or is
+/// larger than kMaxSceneFileBytes; ParseError as parse_scene.
 Scene load_scene(const std::filesystem::path& path);
 
 /// The folder holding the shipped scenes: "<asset dir>/scenes", where the asset dir is
@@ -158,7 +176,10 @@ Int3 scene_size(const Scene& scene, int n);
 SceneInstance instantiate(const Scene& scene, int n = 0);
 
 /// Pours, for every emitter active at world.tick() (start <= tick < stop), up to `rate` cells of its
-/// material into its sphere (World::pour). Call once before each World::step(1).
+/// material into its sphere (World::pour). Call once before each World::step(1). Every active
+/// emitter is checked first (a material that is not void, rate >= 0, a finite centre, a radius > 0,
+/// a sphere that covers a cell of the grid): when one is invalid, InvalidArgument names it and the
+/// world is unchanged.
 void run_emitters(World& world, const std::vector<Emitter>& emitters);
 
 }  // namespace granular
