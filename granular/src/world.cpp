@@ -185,16 +185,24 @@ void World::init(const Grid& initial) {
                     std::to_string(motion.topple_gain) + ", roll_cost = " + std::to_string(motion.roll_cost) +
                     "; substeps must be 1 or a multiple of 8 up to 32 and the chances 0..256");
   [[maybe_unused]] const BackendKind kind = choose_backend(def_.backend);
-  std::string notice;
-  lut_ = shared_lut(*rules_, def_, threads, lut_seconds_, lut_from_cache_, notice);
-  if (!notice.empty()) notices_.push_back(notice);
+  // The table (64 MiB), the backend's cells and its scratch: an allocation that fails is an
+  // OutOfMemory naming the grid, not a bare std::bad_alloc.
+  try {
+    std::string notice;
+    lut_ = shared_lut(*rules_, def_, threads, lut_seconds_, lut_from_cache_, notice);
+    if (!notice.empty()) notices_.push_back(notice);
 #ifdef GRANULAR_HAS_CUDA
-  if (kind == BackendKind::Cuda) {
-    backend_ = make_cuda_backend(initial, lut_, *rules_, def_.seed, def_.sparse, def_.dense_fraction);
-    return;
-  }
+    if (kind == BackendKind::Cuda) {
+      backend_ = make_cuda_backend(initial, lut_, *rules_, def_.seed, def_.sparse, def_.dense_fraction);
+      return;
+    }
 #endif
-  backend_ = std::make_unique<CpuBackend>(initial, lut_, *rules_, def_.seed, threads, def_.sparse);
+    backend_ = std::make_unique<CpuBackend>(initial, lut_, *rules_, def_.seed, threads, def_.sparse);
+  } catch (const std::bad_alloc&) {
+    throw OutOfMemory("World: out of host memory creating the " + std::string(backend_name(kind)) + " backend of the " +
+                      to_string(size_) + " grid (" + std::to_string(initial.cell_count() >> 20) +
+                      " MiB of cells, plus a 64 MiB transition table); use a smaller grid");
+  }
 }
 
 BackendKind World::choose_backend(BackendKind wanted) {
