@@ -74,3 +74,23 @@ TEST_CASE("tools: pausing holds the simulation; a step lets one fixed update thr
   pausable.fixed_update(0.0);
   CHECK(world->tick() == 3);
 }
+
+TEST_CASE("tools: apply_once applies the tool a single time, held or not (a click between two fixed updates)") {
+  granular::WorldDef def;
+  def.backend = granular::BackendKind::Cpu;
+  def.size = {32, 32, 32};
+  granular::World world(def);
+  world.paint(granular::Box{{0, 0, 0}, {32, 32, 8}}, granular::Material::Granular);
+  ToolSubsystem tools(world, {});
+  tools.state().tool = Tool::Dig;
+  tools.state().radius = 3.0;
+  tools.state().target = granular::Vec3{16.5, 16.5, 8.0};
+  const auto before = world.count()[2];
+  tools.apply_once();
+  CHECK(tools.applications() == 1);
+  CHECK_FALSE(tools.state().held);
+  CHECK(tools.cells_changed() > 0);
+  CHECK(world.count()[2] == before - std::uint64_t(tools.cells_changed()));
+  tools.fixed_update(1.0 / 60);  // not held: a fixed update applies nothing
+  CHECK(tools.applications() == 1);
+}

@@ -18,6 +18,45 @@ OrbitCamera OrbitCamera::framing(granular::Int3 size) {
   return camera;
 }
 
+OrbitCamera OrbitCamera::framing(const granular::Box& box, float aspect, float fill) {
+  OrbitCamera camera;
+  const glm::vec3 lo(box.min.x, box.min.y, box.min.z), hi(box.max.x, box.max.y, box.max.z);
+  camera.target = (lo + hi) * 0.5f;
+  const glm::vec3 forward = glm::normalize(camera.target - camera.eye());
+  const glm::vec3 right = glm::normalize(glm::cross(forward, glm::vec3(0, 0, 1)));
+  const glm::vec3 up = glm::cross(right, forward);
+  const float tan_v = std::tan(glm::radians(camera.fov_degrees) * 0.5f);
+  const float tan_h = tan_v * aspect;
+  // In the view's basis (right, up, forward), a corner at v from the target lies inside `fill` of
+  // the frame when |v.right| <= fill * tan_h * depth (and likewise up), depth being distance +
+  // v.forward: each corner and axis bounds the distance from below. Perspective makes the near
+  // corners look larger, so the fitted box is off centre; the target then moves by the offset of
+  // the box's image from the frame's centre and the distance is fitted again.
+  for (int pass = 0; pass < 4; ++pass) {
+    float distance = 1.0f;
+    for (int corner = 0; corner < 8; ++corner) {
+      const glm::vec3 point((corner & 1) ? hi.x : lo.x, (corner & 2) ? hi.y : lo.y, (corner & 4) ? hi.z : lo.z);
+      const glm::vec3 v = point - camera.target;
+      const float depth_offset = glm::dot(v, forward);
+      distance = std::max({distance, std::abs(glm::dot(v, right)) / (fill * tan_h) - depth_offset,
+                           std::abs(glm::dot(v, up)) / (fill * tan_v) - depth_offset, 1.0f - depth_offset});
+    }
+    camera.distance = distance;
+    glm::vec2 image_min(1e30f), image_max(-1e30f);  // the corners' image, in units of the frame's half size
+    for (int corner = 0; corner < 8; ++corner) {
+      const glm::vec3 point((corner & 1) ? hi.x : lo.x, (corner & 2) ? hi.y : lo.y, (corner & 4) ? hi.z : lo.z);
+      const glm::vec3 v = point - camera.target;
+      const float depth = distance + glm::dot(v, forward);
+      const glm::vec2 image(glm::dot(v, right) / (tan_h * depth), glm::dot(v, up) / (tan_v * depth));
+      image_min = glm::min(image_min, image);
+      image_max = glm::max(image_max, image);
+    }
+    const glm::vec2 offset = (image_min + image_max) * 0.5f;
+    camera.target += distance * (offset.x * tan_h * right + offset.y * tan_v * up);
+  }
+  return camera;
+}
+
 OrbitCamera OrbitCamera::parse(const std::string& text, granular::Int3 size) {
   std::vector<float> values;
   std::stringstream stream(text);

@@ -17,8 +17,13 @@ struct OrbitCamera {
   float distance = 100;      ///< from target to eye (cells)
   float fov_degrees = 45;    ///< vertical field of view
 
-  /// A view of a whole grid of `size` cells from above one corner.
+  /// A view of a whole grid of `size` cells from above one corner (the target a little below the
+  /// grid's centre, at 1.9 times its largest extent).
   static OrbitCamera framing(granular::Int3 size);
+  /// A view of the cells of `box` from the default angles, looking at its centre from the
+  /// distance at which its eight corners fill `fill` (0..1) of an image of `aspect` (width /
+  /// height) along its tighter axis.
+  static OrbitCamera framing(const granular::Box& box, float aspect, float fill = 0.9f);
   /// Parses "yaw,pitch,distance[,tx,ty,tz]" (degrees; distance and target as fractions of the
   /// grid's largest extent and extents) over framing(size); throws std::invalid_argument naming the value.
   static OrbitCamera parse(const std::string& text, granular::Int3 size);

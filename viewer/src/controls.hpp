@@ -22,7 +22,7 @@ inline constexpr std::array<Control, 17> kControls{{
     {"Ctrl + wheel, or Z / X", "zoom in / out"},
     {"W A S D", "fly forward / left / back / right"},
     {"Q / E", "fly down / up"},
-    {"F", "frame the whole grid"},
+    {"F", "frame the content (every non-void cell, as at the start)"},
     {"Tab", "switch brush: sand (dig, pour) / solid (erase, place)"},
     {"1 / 2 / 3", "pour material: granular / liquid / gas"},
     {"Space", "pause / resume"},

@@ -6,6 +6,7 @@
 #include <optional>
 
 #include "camera.hpp"
+#include "content_framing.hpp"
 #include "granular/engine/clock.hpp"
 #include "granular/engine/engine_loop.hpp"
 #include "granular/engine/granular_subsystem.hpp"
@@ -14,6 +15,7 @@
 #include "render_subsystem.hpp"
 #include "renderer_factory.hpp"
 #include "sandbox_tools.hpp"
+#include "shader_loader.hpp"
 #include "shared_cells.hpp"
 #include "vulkan_context.hpp"
 
@@ -28,8 +30,7 @@ int run_headless(const SandboxOptions& options) {
   VulkanContext context(interop.value_or(context_options));
   std::unique_ptr<SharedCells> shared;
   if (interop) shared = std::make_unique<SharedCells>(context, world);
-  const OrbitCamera camera =
-      options.camera.empty() ? OrbitCamera::framing(world.size()) : OrbitCamera::parse(options.camera, world.size());
+  const OrbitCamera camera = initial_camera(options.camera, world, float(options.width) / float(options.height));
   OffscreenRenderer offscreen(context, world,
                               {std::uint32_t(options.width), std::uint32_t(options.height)},
                               *parse_renderer_kind(options.renderer), shared.get());
@@ -43,7 +44,8 @@ int run_headless(const SandboxOptions& options) {
   loop.add(tools);
   loop.add(simulation);
   loop.add(render);
-  for (int frame = 0; frame < options.frames; ++frame) {
+  const int frames = headless_frames(options);
+  for (int frame = 0; frame < frames; ++frame) {
     loop.run_frame();
     clock.advance(loop.timestep().tick_seconds());
   }
@@ -54,11 +56,12 @@ int run_headless(const SandboxOptions& options) {
   offscreen.wait_idle();
   const double ms_per_tick = world.tick() ? simulation.total_step_seconds() * 1e3 / double(world.tick()) : 0.0;
   std::printf("device         %s\n", context.device_name().c_str());
+  std::printf("shaders        %s\n", shader_dir().string().c_str());
   std::printf("scene          %s (N=%d), backend %s\n", sandbox.scene_name.c_str(), sandbox.n, world.backend_description().c_str());
   std::printf("renderer       %s, %dx%d\n", options.renderer.c_str(), options.width, options.height);
   std::printf("cells          %s\n", shared ? (shared->dedicated() ? "shared with CUDA (dedicated allocation)" : "shared with CUDA")
                                              : "uploaded through staging (changed bricks)");
-  std::printf("frames         %d, ticks %llu (%.3f ms/tick)\n", options.frames, static_cast<unsigned long long>(world.tick()), ms_per_tick);
+  std::printf("frames         %d, ticks %llu (%.3f ms/tick)\n", frames, static_cast<unsigned long long>(world.tick()), ms_per_tick);
   std::printf("last frame gpu upload %.3f ms, build %.3f ms, draw %.3f ms\n", gpu.upload_ms, gpu.build_ms, gpu.draw_ms);
   if (!options.screenshot.empty()) std::printf("screenshot     %s\n", options.screenshot.c_str());
   std::printf("validation     %s, %llu messages\n", options.validation ? "on" : "off",

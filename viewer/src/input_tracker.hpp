@@ -1,22 +1,48 @@
 #pragma once
 /// @file input_tracker.hpp
-/// Mouse and keyboard state of the window, sampled once a frame: cursor motion, buttons, wheel
-/// steps since the last frame, and keys pressed this frame (edges) or held.
+/// Mouse and keyboard input of the window, from GLFW's callbacks: every key press, typed character
+/// and button press or release between two frames is queued, so a tap shorter than a frame (a press
+/// and its release handled by the same glfwPollEvents) still counts. The cursor position is sampled
+/// once a frame.
 
 #include <array>
+#include <vector>
 
 struct GLFWwindow;
 
 namespace viewer {
 
-/// One frame of input.
+/// A key press or a mouse button press or release, in the order they happened.
+struct InputEvent {
+  /// What happened.
+  enum class Kind {
+    KeyPress,       ///< key `code` (GLFW_KEY_*) went down (key repeats are not events)
+    Character,      ///< character `code` (a Unicode code point) was typed
+    ButtonPress,    ///< mouse button `code` (GLFW_MOUSE_BUTTON_*) went down
+    ButtonRelease,  ///< mouse button `code` went up
+  };
+  Kind kind;  ///< what happened
+  int code;   ///< the key, character or button
+  int mods;   ///< GLFW_MOD_* bits held at the time (0 for characters)
+};
+
+/// One frame of input. Installs key, character, mouse button and scroll callbacks on the window:
+/// create it before Dear ImGui installs its own, which then chain to these.
 class InputTracker {
  public:
-  /// Tracks `window`; installs the scroll callback (install it before ImGui's, which chains to it).
+  /// Tracks `window` (its user pointer is set to this tracker).
   explicit InputTracker(GLFWwindow* window);
-  /// Samples the state; call once a frame after glfwPollEvents().
+  /// Removes its callbacks from the window.
+  ~InputTracker();
+  InputTracker(const InputTracker&) = delete;
+  InputTracker& operator=(const InputTracker&) = delete;
+
+  /// Starts a frame: the events queued since the previous call become this frame's, the cursor is
+  /// sampled. Call once a frame after glfwPollEvents().
   void sample();
 
+  /// This frame's events, oldest first.
+  const std::vector<InputEvent>& events() const { return events_; }
   /// Cursor position in framebuffer pixels.
   double x() const { return x_; }
   /// Cursor position in framebuffer pixels.
@@ -27,20 +53,24 @@ class InputTracker {
   double dy() const { return y_ - previous_y_; }
   /// Wheel steps since the previous sample (positive: away from the user).
   double scroll() const { return scroll_; }
-  /// True while mouse button `button` (GLFW_MOUSE_BUTTON_*) is down.
+  /// True while mouse button `button` (GLFW_MOUSE_BUTTON_*) is down (after this frame's events).
   bool button(int button) const;
-  /// True while key `key` (GLFW_KEY_*) is down.
+  /// True when key `key` (GLFW_KEY_*) is down after this frame's events, or went down during them.
   bool held(int key) const;
-  /// True when key `key` went down since the previous sample.
-  bool pressed(int key) const;
 
  private:
+  static InputTracker& of(GLFWwindow* window);
+  static void on_key(GLFWwindow* window, int key, int scancode, int action, int mods);
+  static void on_char(GLFWwindow* window, unsigned int codepoint);
+  static void on_mouse_button(GLFWwindow* window, int button, int action, int mods);
   static void on_scroll(GLFWwindow* window, double x, double y);
 
   GLFWwindow* window_;
   double x_ = 0, y_ = 0, previous_x_ = 0, previous_y_ = 0;
   double scroll_ = 0, pending_scroll_ = 0;
-  std::array<bool, 512> keys_{}, previous_keys_{};
+  std::vector<InputEvent> events_, pending_events_;
+  std::array<bool, 512> keys_down_{}, keys_pressed_{}, keys_held_{};  // now, pressed since sample, this frame
+  std::array<bool, 8> buttons_down_{}, buttons_held_{};               // now, this frame
 };
 
 }  // namespace viewer

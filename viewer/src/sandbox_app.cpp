@@ -3,7 +3,9 @@
 #include <cstdint>
 #include <algorithm>
 #include <cmath>
+#include <cstdarg>
 #include <cstdio>
+#include <optional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -13,6 +15,7 @@
 #include <imgui.h>
 
 #include "camera.hpp"
+#include "content_framing.hpp"
 #include "controls.hpp"
 #include "granular/engine/clock.hpp"
 #include "granular/engine/engine_loop.hpp"
@@ -47,6 +50,24 @@ struct Session {
 
 enum class Brush { Sand, Solid };
 
+/// Prints one line on stdout for a user action and flushes it, so that whoever started the sandbox
+/// (a user's terminal, a test) sees it at once.
+[[gnu::format(printf, 1, 2)]] void report(const char* format, ...) {
+  va_list args;
+  va_start(args, format);
+  std::vprintf(format, args);
+  va_end(args);
+  std::fputc('\n', stdout);
+  std::fflush(stdout);
+}
+
+/// A mouse button held down with a tool: from its press to its release.
+struct Stroke {
+  int button;                       ///< GLFW_MOUSE_BUTTON_* that started it
+  std::int64_t cells_at_start;      ///< ToolSubsystem::cells_changed() at the press
+  std::int64_t applications_at_start;  ///< ToolSubsystem::applications() at the press
+};
+
 /// The windowed sandbox: an engine subsystem (input and camera in update(), drawing in render())
 /// next to the tools and the simulation.
 class SandboxApp final : public granular::engine::Subsystem {
@@ -62,23 +83,31 @@ class SandboxApp final : public granular::engine::Subsystem {
         kind_(*parse_renderer_kind(options.renderer)),
         requested_extent_(window_.framebuffer_extent()) {
     load(options.world);
-    camera_ = options.camera.empty() ? OrbitCamera::framing(world().size()) : OrbitCamera::parse(options.camera, world().size());
+    camera_ = initial_camera(options.camera, world(), aspect());
   }
 
   int run() {
+    std::printf("device         %s\n", context_.device_name().c_str());
+    std::printf("scene          %s (N=%d), backend %s\n", session_->sandbox.scene_name.c_str(), session_->sandbox.n,
+                world().backend_description().c_str());
+    report("window         %ux%u, renderer %s; Esc or closing the window quits", swapchain_.target().extent().width,
+           swapchain_.target().extent().height, to_string(kind_));
     std::uint64_t frames = 0;
+    const double start = clock_.now_seconds();
     while (!window_.should_close()) {
       glfwPollEvents();
       loop_->run_frame();
       ++frames;
-      if (options_.frames > 0 && frames >= std::uint64_t(options_.frames)) break;
+      if (options_.frames && frames >= std::uint64_t(*options_.frames)) break;
       if (pending_load_) {
         pending_load_ = false;
-        const bool same_size = choice_.scene == session_->sandbox.scene_name && choice_.size == session_->sandbox.n;
+        const bool same_scene = choice_.scene == session_->sandbox.scene_name && choice_.size == session_->sandbox.n;
         load(choice_);
-        if (!same_size) camera_ = OrbitCamera::framing(world().size());
+        report("%s %s (N=%d)", same_scene ? "reset:" : "scene:", session_->sandbox.scene_name.c_str(), session_->sandbox.n);
+        if (!same_scene) camera_ = frame_content(world(), aspect());
       }
     }
+    const double seconds = clock_.now_seconds() - start;
     vkDeviceWaitIdle(context_.device());
     if (!options_.screenshot.empty()) {
       const RenderTarget& target = swapchain_.target();
@@ -86,7 +115,8 @@ class SandboxApp final : public granular::engine::Subsystem {
                 target.read_pixels(context_, swapchain_.last_presented(), VK_IMAGE_LAYOUT_PRESENT_SRC_KHR));
       std::printf("screenshot     %s\n", options_.screenshot.c_str());
     }
-    std::printf("frames         %llu\n", static_cast<unsigned long long>(frames));
+    std::printf("frames         %llu in %.1f s (%.1f FPS)\n", static_cast<unsigned long long>(frames), seconds,
+                seconds > 0 ? double(frames) / seconds : 0.0);
     std::printf("validation     %s, %llu messages\n", options_.validation ? "on" : "off",
                 static_cast<unsigned long long>(context_.validation_messages()));
     return context_.validation_messages() == 0 ? 0 : 1;
@@ -96,9 +126,9 @@ class SandboxApp final : public granular::engine::Subsystem {
     input_.sample();
     frame_seconds_ = frame_seconds;
     if (frame_seconds > 0) fps_ = fps_ * 0.95 + 0.05 / frame_seconds;
-    handle_keys(frame_seconds);
-    handle_mouse();
     pick();
+    handle_events();
+    handle_held_input(frame_seconds);
   }
 
   void render(double) override {
@@ -160,6 +190,7 @@ class SandboxApp final : public granular::engine::Subsystem {
     session->tools = std::make_unique<ToolSubsystem>(*session->sandbox.world, session->sandbox.emitters);
     session->tools->state() = tool_state;
     session->tools->state().held = false;
+    stroke_.reset();
     session->simulation = std::make_unique<granular::engine::GranularSubsystem>(*session->sandbox.world, ticks);
     session->pausable = std::make_unique<PausableSubsystem>(*session->simulation);
     session->pausable->set_paused(paused);
@@ -173,7 +204,9 @@ class SandboxApp final : public granular::engine::Subsystem {
     // for one step per tick), so sand falls at the speed of real sand.
     granular::engine::FixedTimestepConfig timestep;
     timestep.tick_rate_hz = 1.0 / granular::tick_seconds(world().rules());
-    timestep.max_ticks_per_frame = 8;
+    // At most 2 fixed updates a frame: on a machine too slow for real time (lavapipe) the sand slows
+    // down rather than every frame waiting for 8 catch-up steps, so the window stays responsive.
+    timestep.max_ticks_per_frame = 2;
     loop_ = std::make_unique<granular::engine::EngineLoop>(clock_, timestep);
     loop_->add(*session_->tools);
     loop_->add(*session_->pausable);
@@ -192,60 +225,144 @@ class SandboxApp final : public granular::engine::Subsystem {
   void set_renderer(RendererKind kind) {
     kind_ = kind;
     renderer_->set_kind(kind);
+    report("renderer: %s", to_string(kind));
   }
 
-  void handle_keys(double seconds) {
-    if (hud_.wants_keyboard()) return;
+  float aspect() const {
+    const VkExtent2D extent = swapchain_.target().extent();
+    return extent.height ? float(extent.width) / float(extent.height) : 1.0f;
+  }
+
+  /// This frame's key presses, typed characters and button presses and releases, in order: each
+  /// one acts once, however short.
+  void handle_events() {
+    for (const InputEvent& event : input_.events()) {
+      switch (event.kind) {
+        case InputEvent::Kind::KeyPress:
+          if (!hud_.wants_keyboard()) on_key(event.code);
+          break;
+        case InputEvent::Kind::Character:
+          if (!hud_.wants_keyboard()) on_character(event.code);
+          break;
+        case InputEvent::Kind::ButtonPress:
+          if (!hud_.wants_mouse()) on_button_press(event.code, event.mods);
+          break;
+        case InputEvent::Kind::ButtonRelease:
+          if (stroke_ && stroke_->button == event.code) end_stroke();
+          break;
+      }
+    }
+  }
+
+  void on_key(int key) {
     ToolState& tool = session_->tools->state();
-    const float speed = camera_.distance * float(seconds);
-    const float forward = float(input_.held(GLFW_KEY_W) - input_.held(GLFW_KEY_S));
-    const float right = float(input_.held(GLFW_KEY_D) - input_.held(GLFW_KEY_A));
-    const float up = float(input_.held(GLFW_KEY_E) - input_.held(GLFW_KEY_Q));
-    if (forward != 0 || right != 0 || up != 0) camera_.fly(forward * speed, right * speed, up * speed);
-    if (input_.held(GLFW_KEY_Z)) camera_.zoom(float(std::pow(0.4, seconds)));
-    if (input_.held(GLFW_KEY_X)) camera_.zoom(float(std::pow(2.5, seconds)));
-    if (input_.pressed(GLFW_KEY_F)) camera_ = OrbitCamera::framing(world().size());
-    if (input_.pressed(GLFW_KEY_TAB)) brush_ = brush_ == Brush::Sand ? Brush::Solid : Brush::Sand;
-    if (input_.pressed(GLFW_KEY_1)) tool.pour_material = granular::Material::Granular;
-    if (input_.pressed(GLFW_KEY_2)) tool.pour_material = granular::Material::Liquid;
-    if (input_.pressed(GLFW_KEY_3)) tool.pour_material = granular::Material::Gas;
-    if (input_.pressed(GLFW_KEY_SPACE)) session_->pausable->set_paused(!session_->pausable->paused());
-    if (input_.pressed(GLFW_KEY_N)) session_->pausable->step();
-    if (input_.pressed(GLFW_KEY_LEFT_BRACKET)) change_ticks(-1);
-    if (input_.pressed(GLFW_KEY_RIGHT_BRACKET)) change_ticks(+1);
-    if (input_.pressed(GLFW_KEY_C)) set_renderer(RendererKind((int(kind_) + 1) % 3));
-    if (input_.pressed(GLFW_KEY_R)) pending_load_ = true;
-    if (input_.pressed(GLFW_KEY_ESCAPE)) glfwSetWindowShouldClose(window_.handle(), GLFW_TRUE);
+    switch (key) {
+      case GLFW_KEY_F:
+        camera_ = frame_content(world(), aspect());
+        report("camera: framing the content");
+        break;
+      case GLFW_KEY_TAB:
+        brush_ = brush_ == Brush::Sand ? Brush::Solid : Brush::Sand;
+        report("brush: %s", brush_ == Brush::Sand ? "sand (left dig, right pour)" : "solid (left erase, right place)");
+        break;
+      case GLFW_KEY_1:
+      case GLFW_KEY_2:
+      case GLFW_KEY_3:
+        tool.pour_material = key == GLFW_KEY_1 ? granular::Material::Granular
+                             : key == GLFW_KEY_2 ? granular::Material::Liquid
+                                                 : granular::Material::Gas;
+        report("pour material: %s", std::string(granular::material_name(tool.pour_material)).c_str());
+        break;
+      case GLFW_KEY_SPACE:
+        session_->pausable->set_paused(!session_->pausable->paused());
+        report("%s", session_->pausable->paused() ? "paused" : "running");
+        break;
+      case GLFW_KEY_N:
+        if (session_->pausable->paused()) {
+          session_->pausable->step();
+          report("step");
+        }
+        break;
+      case GLFW_KEY_C:
+        set_renderer(RendererKind((int(kind_) + 1) % 3));
+        break;
+      case GLFW_KEY_R: pending_load_ = true; break;
+      case GLFW_KEY_ESCAPE: glfwSetWindowShouldClose(window_.handle(), GLFW_TRUE); break;
+      default: break;
+    }
+  }
+
+  /// Characters rather than keys where the symbol matters more than its place on the keyboard.
+  void on_character(int character) {
+    if (character == '[') change_ticks(-1);
+    if (character == ']') change_ticks(+1);
+  }
+
+  void on_button_press(int button, int mods) {
+    if (stroke_) return;  // one tool at a time
+    ToolState& tool = session_->tools->state();
+    if (button == GLFW_MOUSE_BUTTON_LEFT && !(mods & GLFW_MOD_ALT)) {
+      tool.tool = brush_ == Brush::Sand ? Tool::Dig : Tool::Erase;
+    } else if (button == GLFW_MOUSE_BUTTON_RIGHT) {
+      tool.tool = brush_ == Brush::Sand ? Tool::Pour : Tool::Place;
+    } else {
+      return;
+    }
+    tool.held = true;
+    stroke_ = Stroke{button, session_->tools->cells_changed(), session_->tools->applications()};
+  }
+
+  /// Releases the tool; a click that ended before any fixed update applied it applies it once.
+  void end_stroke() {
+    ToolSubsystem& tools = *session_->tools;
+    tools.state().held = false;
+    if (tools.applications() == stroke_->applications_at_start) tools.apply_once();
+    const long long cells = static_cast<long long>(tools.cells_changed() - stroke_->cells_at_start);
+    stroke_.reset();
+    switch (tools.state().tool) {
+      case Tool::Dig: report("dig: %lld cells removed", cells); break;
+      case Tool::Pour:
+        report("pour: %lld %s cells added", cells, std::string(granular::material_name(tools.state().pour_material)).c_str());
+        break;
+      case Tool::Place: report("place solid: %lld cells placed", cells); break;
+      case Tool::Erase: report("erase: %lld cells erased", cells); break;
+    }
   }
 
   void change_ticks(int delta) {
     const int ticks = std::clamp(session_->simulation->ticks_per_fixed_update() + delta, 1, 64);
     session_->simulation->set_ticks_per_fixed_update(ticks);
+    report("ticks per update: %d", ticks);
   }
 
-  void handle_mouse() {
-    ToolState& tool = session_->tools->state();
-    tool.held = false;
+  /// What acts for as long as it is held: flying, zooming, orbiting, panning, and the wheel.
+  void handle_held_input(double seconds) {
+    if (!hud_.wants_keyboard()) {
+      const float speed = camera_.distance * float(seconds);
+      const float forward = float(input_.held(GLFW_KEY_W) - input_.held(GLFW_KEY_S));
+      const float right = float(input_.held(GLFW_KEY_D) - input_.held(GLFW_KEY_A));
+      const float up = float(input_.held(GLFW_KEY_E) - input_.held(GLFW_KEY_Q));
+      if (forward != 0 || right != 0 || up != 0) camera_.fly(forward * speed, right * speed, up * speed);
+      if (input_.held(GLFW_KEY_Z)) camera_.zoom(float(std::pow(0.4, seconds)));
+      if (input_.held(GLFW_KEY_X)) camera_.zoom(float(std::pow(2.5, seconds)));
+    }
     if (hud_.wants_mouse()) return;
     const bool alt = input_.held(GLFW_KEY_LEFT_ALT) || input_.held(GLFW_KEY_RIGHT_ALT);
     const bool shift = input_.held(GLFW_KEY_LEFT_SHIFT) || input_.held(GLFW_KEY_RIGHT_SHIFT);
     const bool ctrl = input_.held(GLFW_KEY_LEFT_CONTROL) || input_.held(GLFW_KEY_RIGHT_CONTROL);
     const float dx = float(input_.dx()), dy = float(input_.dy());
     const bool middle = input_.button(GLFW_MOUSE_BUTTON_MIDDLE);
-    const bool left = input_.button(GLFW_MOUSE_BUTTON_LEFT);
-    const bool right = input_.button(GLFW_MOUSE_BUTTON_RIGHT);
+    const bool left_orbit = input_.button(GLFW_MOUSE_BUTTON_LEFT) && alt && !stroke_;
     if (middle && shift) camera_.pan(dx, dy);
-    else if (middle || (left && alt)) camera_.orbit(dx, dy);
+    else if (middle || left_orbit) camera_.orbit(dx, dy);
     if (input_.scroll() != 0) {
-      if (ctrl) camera_.zoom(float(std::pow(0.9, input_.scroll())));
-      else tool.radius = std::clamp(tool.radius + input_.scroll(), 1.0, 64.0);
-    }
-    if (left && !alt) {
-      tool.tool = brush_ == Brush::Sand ? Tool::Dig : Tool::Erase;
-      tool.held = true;
-    } else if (right) {
-      tool.tool = brush_ == Brush::Sand ? Tool::Pour : Tool::Place;
-      tool.held = true;
+      ToolState& tool = session_->tools->state();
+      if (ctrl) {
+        camera_.zoom(float(std::pow(0.9, input_.scroll())));
+      } else {
+        tool.radius = std::clamp(tool.radius + input_.scroll(), 1.0, 64.0);
+        report("brush radius: %.0f", tool.radius);
+      }
     }
   }
 
@@ -335,6 +452,7 @@ class SandboxApp final : public granular::engine::Subsystem {
   OrbitCamera camera_;
   WorldChoice choice_;
   bool pending_load_ = false;
+  std::optional<Stroke> stroke_;
   Brush brush_ = Brush::Sand;
   double frame_seconds_ = 0;
   double fps_ = 0;

@@ -17,9 +17,13 @@ void add_sandbox_options(CLI::App& app, SandboxOptions& o) {
   app.add_option("--rules", o.world.rules, "rule-set preset (inertial, inertial-24, isotropic, d4, paper)");
   app.add_option("--threads", o.world.threads, "CPU backend threads (0: all)");
   app.add_flag("--headless", o.headless, "render offscreen, no window, no display needed");
-  app.add_option("--frames", o.frames, "frames to run (headless; windowed: 0 = until the window closes)");
-  app.add_option("--screenshot", o.screenshot, "write the last frame to this PNG (headless, or windowed with --frames)");
-  app.add_option("--camera", o.camera, "yaw,pitch,distance[,tx,ty,tz]: degrees, distance and target as fractions of the grid");
+  app.add_option_function<int>("--frames", [&o](const int& n) { o.frames = n; },
+                               "frames to run (headless: default " + std::to_string(kDefaultHeadlessFrames) +
+                                   "; windowed: default until the window is closed or Esc)");
+  app.add_option("--screenshot", o.screenshot, "write the last frame to this PNG (windowed: the frame before it closes)");
+  app.add_option("--camera", o.camera,
+                 "yaw,pitch,distance[,tx,ty,tz]: degrees, distance and target as fractions of the grid "
+                 "(default: framing the scene's non-void cells)");
   app.add_option("--renderer", o.renderer, "cubes, marching or raymarch");
   app.add_option("--ticks-per-frame", o.ticks_per_frame, "world ticks per fixed update");
   app.add_option("--width", o.width, "image width in pixels");
@@ -29,14 +33,11 @@ void add_sandbox_options(CLI::App& app, SandboxOptions& o) {
 }
 
 void validate(const SandboxOptions& o) {
-  if (o.frames < 0) throw std::invalid_argument("--frames must be >= 0, got " + std::to_string(o.frames));
-  if (o.headless && o.frames < 1) throw std::invalid_argument("--frames must be >= 1 with --headless");
+  if (o.frames && *o.frames < 1) throw std::invalid_argument("--frames must be >= 1, got " + std::to_string(*o.frames));
   if (o.ticks_per_frame < 1) throw std::invalid_argument("--ticks-per-frame must be >= 1, got " + std::to_string(o.ticks_per_frame));
   if (o.width < 16 || o.height < 16 || o.width > 16384 || o.height > 16384)
     throw std::invalid_argument("--width/--height must be in 16..16384, got " + std::to_string(o.width) + "x" + std::to_string(o.height));
   if (!parse_renderer_kind(o.renderer)) throw std::invalid_argument("--renderer '" + o.renderer + "': expected cubes, marching or raymarch");
-  if (!o.screenshot.empty() && !o.headless && o.frames < 1)
-    throw std::invalid_argument("--screenshot in a window needs --frames N (the frame to capture)");
 }
 
 }  // namespace viewer

@@ -44,8 +44,18 @@ ToolSubsystem::ToolSubsystem(granular::World& world, std::vector<granular::Emitt
     : granular::engine::Subsystem("tools"), world_(world), emitters_(std::move(emitters)) {}
 
 void ToolSubsystem::fixed_update(double) {
-  cells_changed_ += apply_tool(world_, state_);
+  if (state_.held) {
+    cells_changed_ += apply_tool(world_, state_);
+    ++applications_;
+  }
   if (!emitters_.empty()) granular::run_emitters(world_, emitters_);
+}
+
+void ToolSubsystem::apply_once() {
+  ToolState once = state_;
+  once.held = true;
+  cells_changed_ += apply_tool(world_, once);
+  ++applications_;
 }
 
 }  // namespace viewer

@@ -45,16 +45,21 @@ class ToolSubsystem final : public granular::engine::Subsystem {
   ToolSubsystem(granular::World& world, std::vector<granular::Emitter> emitters);
   /// Applies the held tool, then the emitters.
   void fixed_update(double dt) override;
+  /// Applies the tool once now at the target, held or not (a click shorter than a fixed update).
+  void apply_once();
   /// The brush (the input code writes it every frame).
   ToolState& state() { return state_; }
   /// Cells changed by tools since construction.
   std::int64_t cells_changed() const { return cells_changed_; }
+  /// Times a tool was applied (by fixed_update while held, or by apply_once) since construction.
+  std::int64_t applications() const { return applications_; }
 
  private:
   granular::World& world_;
   std::vector<granular::Emitter> emitters_;
   ToolState state_;
   std::int64_t cells_changed_ = 0;
+  std::int64_t applications_ = 0;
 };
 
 /// Applies `state`'s tool once to `world` at its target; returns the cells changed (0 when there is

@@ -13,6 +13,13 @@ namespace viewer {
 std::filesystem::path shader_dir() {
   const char* env = std::getenv("GRANULAR_SHADER_DIR");
   if (env && *env) return env;
+  std::error_code ec;
+  const std::filesystem::path executable = std::filesystem::read_symlink("/proc/self/exe", ec);
+  if (!ec) {
+    const std::filesystem::path installed =
+        (executable.parent_path() / GRANULAR_VIEWER_INSTALLED_SHADER_DIR).lexically_normal();
+    if (std::filesystem::is_directory(installed, ec)) return installed;
+  }
   return GRANULAR_VIEWER_SHADER_DIR;
 }
 

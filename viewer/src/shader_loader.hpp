@@ -1,6 +1,7 @@
 #pragma once
 /// @file shader_loader.hpp
-/// Loads the SPIR-V the build compiled (or copied from GRANULAR_SPIRV_DIR) into shader modules.
+/// Loads the SPIR-V the build compiled (or copied from GRANULAR_SPIRV_DIR), or the installed copy,
+/// into shader modules.
 
 #include <vulkan/vulkan.h>
 
@@ -9,7 +10,9 @@
 
 namespace viewer {
 
-/// The SPIR-V folder: $GRANULAR_SHADER_DIR when set, else the build tree's.
+/// The SPIR-V folder: $GRANULAR_SHADER_DIR when set; else, for an installed program, the install
+/// tree's (GRANULAR_VIEWER_INSTALLED_SHADER_DIR relative to the running executable's folder,
+/// <prefix>/share/granular/spirv from <prefix>/bin) when it exists; else the build tree's.
 std::filesystem::path shader_dir();
 
 /// Creates a module from "<shader_dir()>/<name>.spv" (e.g. "cube.vert"). Throws VulkanError naming

@@ -1,0 +1,183 @@
+#!/usr/bin/env python3
+"""A user's first minute with the windowed sandbox, under a virtual display (run it inside
+`xvfb-run -a`): starts LAUNCHER (scripts/launch, what ./scripts/run execs after installing and
+building), checks the window is still open after 10 s, taps C (xdotool's default 12 ms key press)
+and sees the renderer switch, clicks on the sand and sees it dug, keeps the window open for more
+than 60 frames, presses Esc and sees exit status 0.
+The sandbox prints one line per user action on stdout ("renderer: marching", "dig: 137 cells
+removed"); this script reads them. Every wait is bounded; exit status 0 on success, 1 with the
+reason otherwise.
+
+usage: windowed_session.py LAUNCHER [ARGS...]
+"""
+
+import re
+import subprocess
+import sys
+import threading
+import time
+
+WINDOW_TITLE = "granular sandbox"
+FRAMES_TO_OUTLAST = 61  # more frames than the 60 after which the window once closed itself
+SESSION_SECONDS = 85  # every wait ends by then: the whole test ends within 90 s
+
+
+class Sandbox:
+    """The launched process and the lines it printed so far."""
+
+    def __init__(self, command):
+        self.deadline = time.monotonic() + SESSION_SECONDS
+        self.process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, bufsize=1)
+        self.lines = []
+        self.ended = False  # its output closed
+        self.changed = threading.Condition()
+        threading.Thread(target=self._read, daemon=True).start()
+
+    def _read(self):
+        for line in self.process.stdout:
+            sys.stdout.write("  | " + line)
+            sys.stdout.flush()
+            with self.changed:
+                self.lines.append(line.rstrip("\n"))
+                self.changed.notify_all()
+        with self.changed:
+            self.ended = True
+            self.changed.notify_all()
+
+    def wait_for(self, pattern, timeout, after=0):
+        """The first match of `pattern` in a line printed after line `after`, waiting up to `timeout`
+        seconds (and no later than the session's deadline); None when it did not come (or the process
+        ended without it)."""
+        deadline = min(time.monotonic() + timeout, self.deadline)
+        regex = re.compile(pattern)
+        with self.changed:
+            while True:
+                for line in self.lines[after:]:
+                    match = regex.search(line)
+                    if match:
+                        return match
+                left = deadline - time.monotonic()
+                if left <= 0 or self.ended:
+                    return None
+                self.changed.wait(left)
+
+
+def xdotool(*args, timeout=10):
+    """Runs xdotool; returns its stdout (raises on failure or after `timeout` seconds)."""
+    result = subprocess.run(["xdotool", *args], capture_output=True, text=True, timeout=timeout)
+    if result.returncode != 0:
+        raise RuntimeError(f"xdotool {' '.join(args)} failed: {result.stderr.strip()}")
+    return result.stdout
+
+
+def find_window(timeout):
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        result = subprocess.run(["xdotool", "search", "--name", f"^{WINDOW_TITLE}$"], capture_output=True, text=True,
+                                timeout=10)
+        ids = result.stdout.split()
+        if ids:
+            return ids[0]
+        time.sleep(0.2)
+    return None
+
+
+def run(command):
+    started = time.monotonic()
+
+    def step(text):
+        print(f"[{time.monotonic() - started:5.1f} s] {text}", flush=True)
+
+    step("starting " + " ".join(command))
+    sandbox = Sandbox(command)
+    try:
+        if not sandbox.wait_for(r"^window\s+\d+x\d+", timeout=60):
+            return "the sandbox did not open its window within 60 s"
+        window = find_window(timeout=10)
+        if window is None:
+            return f"no X window named '{WINDOW_TITLE}'"
+        step(f"window {window} open; waiting 10 s")
+        time.sleep(10)
+        if sandbox.process.poll() is not None:
+            return f"the sandbox closed by itself within 10 s (exit status {sandbox.process.returncode})"
+        step("still running after 10 s")
+
+        geometry = dict(line.split("=", 1) for line in xdotool("getwindowgeometry", "--shell", window).split())
+        centre_x, centre_y = int(geometry["WIDTH"]) // 2, int(geometry["HEIGHT"]) // 2
+        # Without a window manager the keyboard focus follows the pointer: put it on the window.
+        xdotool("mousemove", "--window", window, str(centre_x), str(centre_y))
+        time.sleep(0.5)
+
+        mark = len(sandbox.lines)
+        step("tapping C (12 ms)")
+        xdotool("key", "c")
+        if not sandbox.wait_for(r"^renderer: marching$", timeout=20, after=mark):
+            return "a C tap did not switch the renderer to marching within 20 s"
+        step("the renderer switched")
+
+        mark = len(sandbox.lines)
+        step(f"clicking at the window's centre ({centre_x}, {centre_y}), on the sand")
+        xdotool("mousemove", "--window", window, str(centre_x), str(centre_y), "click", "1")
+        dug = sandbox.wait_for(r"^dig: (\d+) cells removed$", timeout=20, after=mark)
+        if not dug:
+            return "a click did not dig within 20 s"
+        if int(dug.group(1)) <= 0:
+            return "a click on the sand removed no cell"
+        step(f"the click dug {dug.group(1)} cells")
+
+        # More than 60 frames with the window open, counted by the sandbox's own acknowledgements:
+        # each tap of 1 is sent after the previous one was acknowledged, so each acknowledgement is
+        # printed by a later frame. Paused and ray marched, a frame costs little even on lavapipe.
+        for key, reply in (("c", "renderer: raymarch"), ("space", "paused")):
+            mark = len(sandbox.lines)
+            xdotool("key", key)
+            if not sandbox.wait_for(f"^{reply}$", timeout=20, after=mark):
+                return f"a tap of {key} did not print '{reply}' within 20 s"
+        step(f"tapping 1 until {FRAMES_TO_OUTLAST} frames have acknowledged a tap each")
+        for frame in range(FRAMES_TO_OUTLAST):
+            mark = len(sandbox.lines)
+            xdotool("key", "1")
+            if not sandbox.wait_for(r"^pour material: granular$", timeout=10, after=mark):
+                if sandbox.process.poll() is not None:
+                    return (f"the sandbox closed by itself after {frame} acknowledged taps "
+                            f"(exit status {sandbox.process.returncode})")
+                return f"tap {frame + 1} of 1 was not acknowledged within 10 s"
+        if sandbox.process.poll() is not None:
+            return f"the sandbox closed by itself (exit status {sandbox.process.returncode}) before Esc"
+        step(f"still open after {FRAMES_TO_OUTLAST} frames")
+
+        step("pressing Esc")
+        xdotool("key", "Escape")
+        try:
+            status = sandbox.process.wait(timeout=30)
+        except subprocess.TimeoutExpired:
+            return "the sandbox did not close within 30 s of Esc"
+        if status != 0:
+            return f"the sandbox exited with status {status}"
+        summary = sandbox.wait_for(r"^frames\s+(\d+)", timeout=5)
+        if not summary:
+            return "the sandbox did not print its summary"
+        if int(summary.group(1)) <= FRAMES_TO_OUTLAST:
+            return f"the summary counts {summary.group(1)} frames, expected more than {FRAMES_TO_OUTLAST}"
+        step("closed with exit status 0")
+        return None
+    finally:
+        if sandbox.process.poll() is None:
+            sandbox.process.kill()
+            sandbox.process.wait(timeout=10)
+
+
+def main():
+    if len(sys.argv) < 2:
+        print(__doc__, file=sys.stderr)
+        return 2
+    failure = run(sys.argv[1:])
+    if failure:
+        print("FAILED: " + failure, flush=True)
+        return 1
+    print("PASSED", flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
