@@ -7,7 +7,7 @@
 #include <cstdio>
 
 int main() {
-  granular::WorldDef def;                 // defaults: auto backend, inertial rules, seed 0
+  granular::WorldDef def;                 // defaults: auto backend, inertial-24 rules, seed 0
   def.size = {64, 64, 64};
   granular::World world(def);
   world.paint(granular::Box{{0, 0, 0}, {64, 64, 2}}, granular::Material::Solid);         // a floor
@@ -18,7 +18,8 @@ int main() {
   for (int frame = 0; frame < 240; ++frame) {  // the game's loop: one fixed tick per frame
     world.step(1);
     if (frame == 120) dug = std::uint64_t(world.dig({{32, 32, 8}, 6.0}).cells_changed);
-    if (frame >= 150 && frame < 170) poured += std::uint64_t(world.pour({32, 32, 50}, 3.0, granular::Material::Granular, 20).cells_changed);
+    if (frame >= 150 && frame < 170)
+      poured += std::uint64_t(world.pour({32, 32, 50}, 3.0, granular::Material::Granular, 20).cells_changed);
   }
 
   const auto after = world.count();
