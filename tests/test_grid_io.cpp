@@ -252,12 +252,35 @@ TEST_CASE("memory_budget takes the least of MemAvailable, the cgroup limit and t
   s.data_limit = 2ull << 30;
   CHECK(memory_budget(s).bytes == 2ull << 30);
   check_has(memory_budget(s).limited_by, {"ulimit -d (RLIMIT_DATA)"});
+  s.user_limit = 1ull << 30;
+  CHECK(memory_budget(s).bytes == 1ull << 30);
+  check_has(memory_budget(s).limited_by, {"$GRANULAR_MEMORY_LIMIT = 1 GiB"});
   s.data_used = 3ull << 30;  // more in use than the limit: nothing left
   CHECK(memory_budget(s).bytes == 0);
   // This process: the budget is known (at least MemAvailable or the physical memory) and positive.
   const MemoryBudget here = available_memory();
   CHECK_FALSE(here.limited_by.empty());
   CHECK(here.bytes > 0);
+}
+
+TEST_CASE("parse_byte_count reads bytes with binary suffixes; $GRANULAR_MEMORY_LIMIT caps the budget") {
+  CHECK(parse_byte_count("0") == 0u);
+  CHECK(parse_byte_count("4096") == 4096u);
+  CHECK(parse_byte_count("64K") == 65536u);
+  CHECK(parse_byte_count("512m") == 512ull << 20);
+  CHECK(parse_byte_count("2G") == 2ull << 30);
+  CHECK(parse_byte_count("1T") == 1ull << 40);
+  for (const char* bad : {"", "G", "-1", "1.5G", "1GB", "1 G", "99999999999999999999", "20000000000T"})
+    CHECK_FALSE(parse_byte_count(bad).has_value());
+  const char* old = std::getenv("GRANULAR_MEMORY_LIMIT");
+  const std::string saved = old ? old : "";
+  setenv("GRANULAR_MEMORY_LIMIT", "1M", 1);
+  CHECK(available_memory().bytes <= (1u << 20));
+  check_has(error_of<OutOfMemory>([] { Grid({128, 128, 128}); }), {"2 MiB", "$GRANULAR_MEMORY_LIMIT = 1 MiB"});
+  setenv("GRANULAR_MEMORY_LIMIT", "lots", 1);
+  check_has(error_of<InvalidArgument>([] { check_grid_size({1, 1, 1}, "x"); }), {"GRANULAR_MEMORY_LIMIT='lots'"});
+  if (old) setenv("GRANULAR_MEMORY_LIMIT", saved.c_str(), 1);
+  else unsetenv("GRANULAR_MEMORY_LIMIT");
 }
 
 TEST_CASE("check_grid_size counts every byte per cell and the extra bytes against the budget") {
@@ -279,7 +302,7 @@ TEST_CASE("check_grid_size counts every byte per cell and the extra bytes agains
   const std::string m = error_of<OutOfMemory>([&] { check_grid_size(size, "twice", 2.0); });
   check_has(m, {"twice", to_string(size), "2 bytes per cell"});
   const std::string e = error_of<OutOfMemory>([&] { check_grid_size({1, 1, 1}, "extra", 1.0, double(here.bytes) * 2); });
-  check_has(e, {"extra", "1x1x1", "bytes per cell + "});
+  check_has(e, {"extra", "1x1x1", "1 byte per cell + "});
 }
 
 TEST_CASE("raw: a failed save leaves an existing file untouched") {

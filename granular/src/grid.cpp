@@ -33,7 +33,7 @@ void check_grid_size(Int3 size, const std::string& what, double bytes_per_cell, 
   std::ostringstream per_cell;
   per_cell << bytes_per_cell;
   throw OutOfMemory(what + ": size " + to_string(size) + " (" + std::to_string(std::int64_t(cells)) + " cells) needs " +
-                    format_bytes(need) + " (" + per_cell.str() + " bytes per cell" +
+                    format_bytes(need) + " (" + per_cell.str() + (bytes_per_cell == 1.0 ? " byte" : " bytes") + " per cell" +
                     (extra_bytes > 0 ? " + " + format_bytes(extra_bytes) : std::string()) + ") but only " +
                     format_bytes(double(have.bytes)) + " can be allocated (limited by " + have.limited_by + ")");
 }

@@ -5,10 +5,13 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string_view>
+
+#include "granular/errors.hpp"
 
 namespace granular {
 
@@ -100,6 +103,9 @@ void read_cgroup(MemorySources& s) {
   }
 }
 
+/// The name of the variable that caps the budget.
+constexpr const char* kLimitVariable = "GRANULAR_MEMORY_LIMIT";
+
 std::optional<std::uint64_t> rlimit_of(int resource) {
   rlimit r{};
   if (getrlimit(resource, &r) != 0 || r.rlim_cur == RLIM_INFINITY) return std::nullopt;
@@ -145,7 +151,27 @@ MemoryBudget memory_budget(const MemorySources& s) {
   if (s.data_limit)
     consider(room(*s.data_limit, s.data_used),
              "ulimit -d (RLIMIT_DATA) of " + format_bytes(double(*s.data_limit)) + in_use(s.data_used));
+  if (s.user_limit) consider(*s.user_limit, "$" + std::string(kLimitVariable) + " = " + format_bytes(double(*s.user_limit)));
   return best;
+}
+
+std::optional<std::uint64_t> parse_byte_count(std::string_view text) {
+  std::uint64_t shift = 0;
+  if (!text.empty()) {
+    switch (text.back()) {
+      case 'K': case 'k': shift = 10; break;
+      case 'M': case 'm': shift = 20; break;
+      case 'G': case 'g': shift = 30; break;
+      case 'T': case 't': shift = 40; break;
+      default: break;
+    }
+    if (shift) text.remove_suffix(1);
+  }
+  if (text.empty() || text.find_first_not_of("0123456789") != std::string_view::npos) return std::nullopt;
+  std::uint64_t v = 0;
+  const auto r = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (r.ec != std::errc() || v > (UINT64_MAX >> shift)) return std::nullopt;
+  return v << shift;
 }
 
 MemorySources read_memory_sources() {
@@ -159,6 +185,12 @@ MemorySources read_memory_sources() {
   if (s.address_space_limit) s.address_space_used = proc_kib_field("/proc/self/status", "VmSize");
   s.data_limit = rlimit_of(RLIMIT_DATA);
   if (s.data_limit) s.data_used = proc_kib_field("/proc/self/status", "VmData");
+  if (const char* env = std::getenv(kLimitVariable); env && *env) {
+    s.user_limit = parse_byte_count(env);
+    if (!s.user_limit)
+      throw InvalidArgument(std::string(kLimitVariable) + "='" + std::string(env).substr(0, 40) +
+                            "' is not a byte count; use a number of bytes with an optional K, M, G or T suffix");
+  }
   return s;
 }
 

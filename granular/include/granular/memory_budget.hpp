@@ -2,12 +2,14 @@
 /// @file memory_budget.hpp
 /// How many bytes this process may still allocate: the least of the system's available memory
 /// (MemAvailable), the cgroup's memory limit (v2 memory.max, v1 memory.limit_in_bytes, minus what
-/// the cgroup uses) and the process's RLIMIT_AS and RLIMIT_DATA (minus what it has mapped). Grid
-/// sizes are checked against it before anything is allocated (check_grid_size).
+/// the cgroup uses), the process's RLIMIT_AS and RLIMIT_DATA (minus what it has mapped) and
+/// $GRANULAR_MEMORY_LIMIT (a cap a user or test sets without ulimit, which sanitizers cannot
+/// run under). Grid sizes are checked against it before anything is allocated (check_grid_size).
 
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <string_view>
 
 namespace granular {
 
@@ -21,6 +23,7 @@ struct MemorySources {
   std::optional<std::uint64_t> address_space_used; ///< this process's mapped address space (VmSize)
   std::optional<std::uint64_t> data_limit;          ///< RLIMIT_DATA (ulimit -d)
   std::optional<std::uint64_t> data_used;           ///< this process's data mappings (VmData)
+  std::optional<std::uint64_t> user_limit;          ///< $GRANULAR_MEMORY_LIMIT
 };
 
 /// The bytes that may still be allocated, and which limit decides it.
@@ -30,11 +33,16 @@ struct MemoryBudget {
 };
 
 /// The least of: mem_available (else physical), cgroup_limit - cgroup_usage, address_space_limit -
-/// address_space_used, data_limit - data_used (each floored at 0). A limit whose usage is unknown
-/// counts as fully available.
+/// address_space_used, data_limit - data_used (each floored at 0), user_limit. A limit whose usage
+/// is unknown counts as fully available.
 MemoryBudget memory_budget(const MemorySources& sources);
 
-/// Reads the sources of this process from sysconf, /proc and /sys/fs/cgroup, and getrlimit.
+/// Parses a byte count: decimal digits with an optional binary suffix K, M, G or T ("512M" is
+/// 512 MiB); nullopt when malformed or too large.
+std::optional<std::uint64_t> parse_byte_count(std::string_view text);
+
+/// Reads the sources of this process from sysconf, /proc and /sys/fs/cgroup, getrlimit and
+/// $GRANULAR_MEMORY_LIMIT. Throws InvalidArgument when that variable is set but not a byte count.
 MemorySources read_memory_sources();
 
 /// memory_budget(read_memory_sources()).

@@ -166,7 +166,7 @@ std::vector<std::string> list_scenes();
 
 /// The grid extent of `scene` at size parameter `n` (>= 1): each size fraction times n, rounded
 /// to the nearest whole cell (halves up). Throws InvalidArgument when an extent rounds to zero or
-/// the grid is too large (see check_grid_size).
+/// exceeds kMaxGridExtent; memory is checked where the grid is allocated (instantiate).
 Int3 scene_size(const Scene& scene, int n);
 
 /// Builds the scene at size parameter `n` (0: scene.default_n): draws every shape into a grid of
