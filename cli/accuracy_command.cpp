@@ -1,5 +1,6 @@
 #include "accuracy_command.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -13,6 +14,7 @@
 #include "accuracy/suite.hpp"
 #include "granular/errors.hpp"
 #include "granular/rule_presets.hpp"
+#include "number_option.hpp"
 
 namespace granular::cli {
 
@@ -74,8 +76,15 @@ void write_file(const std::filesystem::path& path, const std::string& text) {
 }
 
 void run(const AccuracyOptions& o) {
-  if (o.threads < 0) throw InvalidArgument("--threads " + std::to_string(o.threads) + " must be >= 0 (0 = all)");
   if (o.rules.empty()) throw InvalidArgument("--rules needs at least one rule set");
+  // Every argument is checked before the suite prints or runs anything.
+  const std::vector<std::string> known = accuracy::suite_test_names();
+  for (const auto& t : o.tests)
+    if (std::find(known.begin(), known.end(), t) == known.end()) {
+      std::string list;
+      for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
+      throw InvalidArgument("--tests: unknown test '" + t + "'; valid tests: " + list);
+    }
   for (const auto& r : o.rules) make_rule_set(r);  // throws naming the valid presets
   accuracy::SuiteOptions base;
   base.backend = parse_backend(o.backend);
@@ -132,14 +141,14 @@ void run(const AccuracyOptions& o) {
 
 void add_accuracy_command(CLI::App& app) {
   auto o = std::make_shared<AccuracyOptions>();
-  CLI::App* cmd = app.add_subcommand("accuracy", "measure the simulation against physical references (issue 5)");
+  CLI::App* cmd = app.add_subcommand("accuracy", "measure the simulation against physical references");
   cmd->add_option("--rules", o->rules, "rule sets to compare, comma-separated")->delimiter(',')->capture_default_str();
   cmd->add_option("--tests", o->tests, "tests to run, comma-separated: cone, hysteresis, silo, collapse, fall, conservation")
       ->delimiter(',')
       ->capture_default_str();
   cmd->add_option("--backend", o->backend, "compute backend: cpu, cuda or auto")->capture_default_str();
-  cmd->add_option("-j,--threads", o->threads, "CPU threads (0 = all)")->capture_default_str();
-  cmd->add_option("--seed", o->seed, "world seed")->capture_default_str();
+  add_number_option(*cmd, "-j,--threads", o->threads, threads_range(), "CPU threads (0 = all)");
+  add_number_option(*cmd, "--seed", o->seed, {}, "world seed");
   cmd->add_option("--material", o->material, "target material for the repose angle: sand (33 deg) or glass (24 deg)")
       ->capture_default_str();
   cmd->add_flag("--quick", o->quick, "reduced sizes (CI; under 2 minutes on 2 cores); default: full size, for a GPU");

@@ -18,7 +18,9 @@ struct ExportOptions {
 };
 
 void run(const ExportOptions& o) {
-  PreparedWorld p = prepare_world(o.world);
+  // Everything about the output that can be wrong is found before any tick is run.
+  check_grid_save_path(o.out);
+  PreparedWorld p = prepare_world(o.world, kExportBytesPerCell);
   run_ticks(p, o.ticks, !o.no_progress);
   const Grid grid = p.world->snapshot();
   save_grid(grid, o.out);
@@ -36,7 +38,7 @@ void add_export_command(CLI::App& app) {
   auto options = std::make_shared<ExportOptions>();
   CLI::App* cmd = app.add_subcommand("export", "run a scene for N ticks and write the grid to .raw or .vox");
   add_world_options(*cmd, options->world);
-  cmd->add_option("-t,--ticks", options->ticks, "ticks to run before writing")->capture_default_str();
+  add_ticks_option(*cmd, options->ticks, "ticks to run before writing");
   cmd->add_option("-o,--out", options->out, "output file: .raw (granular raw grid) or .vox (MagicaVoxel)")->required();
   cmd->add_flag("--no-progress", options->no_progress, "do not draw the progress bar");
   cmd->callback([options] { run(*options); });

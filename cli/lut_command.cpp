@@ -10,6 +10,7 @@
 #include "granular/lut.hpp"
 #include "granular/rule_presets.hpp"
 #include "granular/world_def.hpp"
+#include "number_option.hpp"
 
 namespace granular::cli {
 
@@ -82,7 +83,8 @@ void add_lut_command(CLI::App& app) {
   cmd->add_option("--rules", options->rules, "rule set: inertial, inertial-24, isotropic, d4 or paper")->capture_default_str();
   cmd->add_option("--cache-dir", options->cache_dir, "cache folder (default: $GRANULAR_CACHE_DIR or ~/.cache/granular)");
   cmd->add_flag("--rebuild", options->rebuild, "build even when cached, and time the build");
-  cmd->add_option("-j,--threads", options->threads, "threads for the build (0 = all)")->capture_default_str();
+  add_number_option(*cmd, "-j,--threads", options->threads, threads_range(),
+                    "threads for the build (0 = all)");
   cmd->add_flag("--json", options->json, "print as JSON");
   cmd->callback([options] { run(*options); });
 }

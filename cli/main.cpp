@@ -1,16 +1,20 @@
 /// @file main.cpp
-/// `granular`: the headless command-line front end of the granular module.
+/// `granular`: the headless command-line front end of the granular module. Every failure, a bad
+/// command line included, is one `error:` line on stderr and exit status 1; --help exits 0.
 
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <new>
 
 #include "accuracy_command.hpp"
 #include "export_command.hpp"
 #include "granular/errors.hpp"
 #include "lut_command.hpp"
 #include "run_command.hpp"
+#include "signal_cleanup.hpp"
 
 int main(int argc, char** argv) {
+  granular::cli::install_signal_cleanup();
   CLI::App app{"granular: a block-cellular-automaton sand simulator"};
   app.require_subcommand(1);
   // A later option wins, so scripts can pass defaults and users override them.
@@ -22,9 +26,14 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    if (e.get_exit_code() == static_cast<int>(CLI::ExitCodes::Success)) return app.exit(e);  // --help
+    std::fprintf(stderr, "error: %s (see granular --help)\n", e.what());
+    return 1;
   } catch (const granular::Error& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
+    return 1;
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "error: out of memory (an allocation failed outside the checked grid allocations)\n");
     return 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "error: %s\n", e.what());

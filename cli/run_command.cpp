@@ -30,7 +30,7 @@ nlohmann::json counts_json(const MaterialCounts& c) {
 }
 
 void run(const RunOptions& o) {
-  PreparedWorld p = prepare_world(o.world);
+  PreparedWorld p = prepare_world(o.world, kRunBytesPerCell);
   World& w = *p.world;
   const MaterialCounts before = w.count();
   const double seconds = run_ticks(p, o.ticks, !o.no_progress);
@@ -39,7 +39,7 @@ void run(const RunOptions& o) {
   const double rate = seconds > 0 ? cells * double(o.ticks) / seconds : 0;
   nlohmann::json s;
   s["scene"] = p.scene_name;
-  s["n"] = p.n;
+  s["n"] = p.n ? nlohmann::json(*p.n) : nlohmann::json(nullptr);  // null: a grid file has no N
   s["size"] = {w.size().x, w.size().y, w.size().z};
   s["cells"] = std::int64_t(cells);
   s["rules"] = w.rules().name;
@@ -70,8 +70,9 @@ void run(const RunOptions& o) {
     std::cout << s.dump(2) << "\n";
     return;
   }
-  std::printf("scene          %s (N=%d, %dx%dx%d = %.0f cells)\n", p.scene_name.c_str(), p.n, w.size().x, w.size().y,
-              w.size().z, cells);
+  const std::string n_text = p.n ? "N=" + std::to_string(*p.n) : std::string("grid file");
+  std::printf("scene          %s (%s, %dx%dx%d = %.0f cells)\n", p.scene_name.c_str(), n_text.c_str(), w.size().x,
+              w.size().y, w.size().z, cells);
   std::printf("rules          %s (seed %llu)\n", w.rules().name.c_str(), static_cast<unsigned long long>(w.def().seed));
   std::printf("backend        %s\n", w.backend_description().c_str());
   std::printf("table          %s in %.3f s, hash %s\n", w.lut_from_cache() ? "loaded" : "built", w.lut_seconds(),
@@ -98,7 +99,7 @@ void add_run_command(CLI::App& app) {
   auto options = std::make_shared<RunOptions>();
   CLI::App* cmd = app.add_subcommand("run", "run a scene headless and print a summary");
   add_world_options(*cmd, options->world);
-  cmd->add_option("-t,--ticks", options->ticks, "ticks to run")->capture_default_str();
+  add_ticks_option(*cmd, options->ticks, "ticks to run");
   cmd->add_flag("--json", options->json, "print the summary as JSON");
   cmd->add_flag("--no-progress", options->no_progress, "do not draw the progress bar");
   cmd->callback([options] { run(*options); });

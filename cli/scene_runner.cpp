@@ -1,29 +1,57 @@
 #include "scene_runner.hpp"
 
+#include <algorithm>
 #include <chrono>
+#include <climits>
 #include <cstdio>
+#include <new>
 
 #include "granular/errors.hpp"
 #include "granular/grid_io.hpp"
+#include "granular/memory_budget.hpp"
+#include "number_option.hpp"
 #include "progress_bar.hpp"
 
 namespace granular::cli {
 
+namespace {
+
+/// Creates the world, turning an allocation failure into OutOfMemory naming the grid.
+std::unique_ptr<World> make_world(const WorldDef& def, const Grid& initial, const std::string& what) {
+  try {
+    return std::make_unique<World>(def, initial);
+  } catch (const std::bad_alloc&) {
+    throw OutOfMemory(what + ": out of memory while creating the world of " + to_string(initial.size()) + " (" +
+                      std::to_string(initial.cell_count()) + " cells, " +
+                      format_bytes(double(initial.cell_count())) + " per copy of the grid)");
+  }
+}
+
+}  // namespace
+
 void add_world_options(CLI::App& command, WorldOptions& o) {
   command.add_option("-s,--scene", o.scene, "scene name (see assets/scenes), scene .json, or a .raw/.vox grid file")
       ->capture_default_str();
-  command.add_option("-n,--size", o.size, "scene size N (0 = the scene's default)")->capture_default_str();
+  add_number_option(command, "-n,--size", o.size,
+                    {1, std::uint64_t(kMaxGridExtent), "omit --size for the scene's default N"},
+                    "scene size N (omit it for the scene's default_n)")
+      ->default_str("the scene's default");
   command.add_option("--rules", o.rules, "rule set: inertial, inertial-24, isotropic, d4 or paper")->capture_default_str();
   command.add_option("--backend", o.backend, "compute backend")
       ->check(CLI::IsMember({"auto", "cpu", "cuda"}))
       ->capture_default_str();
-  command.add_option("-j,--threads", o.threads, "CPU threads (0 = all hardware threads)")->capture_default_str();
-  command.add_option("--seed", o.seed, "seed of every random choice")->capture_default_str();
+  add_number_option(command, "-j,--threads", o.threads, threads_range(),
+                    "CPU threads (0 = all hardware threads)");
+  add_number_option(command, "--seed", o.seed, {}, "seed of every random choice");
   command.add_flag("--no-lut-cache", o.no_lut_cache, "build the transition table even when it is cached");
   command.add_flag("--dense", o.dense, "step every block every tick (no sleeping bricks; same result, for comparison)");
 }
 
-PreparedWorld prepare_world(const WorldOptions& o) {
+void add_ticks_option(CLI::App& command, std::uint64_t& ticks, const std::string& description) {
+  add_number_option(command, "-t,--ticks", ticks, {0, kMaxTicks, ""}, description);
+}
+
+PreparedWorld prepare_world(const WorldOptions& o, double bytes_per_cell) {
   WorldDef def;
   def.rules = o.rules;
   def.seed = o.seed;
@@ -33,30 +61,41 @@ PreparedWorld prepare_world(const WorldOptions& o) {
   def.backend = o.backend == "cpu" ? BackendKind::Cpu : o.backend == "cuda" ? BackendKind::Cuda : BackendKind::Auto;
   PreparedWorld p;
   const std::filesystem::path as_path(o.scene);
-  const auto ext = as_path.extension().string();
-  if (ext == ".raw" || ext == ".vox") {
+  if (is_grid_file(as_path)) {
     if (o.size != 0) throw InvalidArgument("--size applies to scenes, not to the grid file " + o.scene);
     p.scene_name = o.scene;
-    p.world = std::make_unique<World>(def, load_grid(as_path));
+    std::vector<std::string> notices;
+    const Grid grid = load_grid(as_path, &notices);
+    for (const auto& notice : notices) std::fprintf(stderr, "notice: %s\n", notice.c_str());
+    // The file's grid is allocated already: what is left to allocate is the rest of the need.
+    check_grid_size(grid.size(), o.scene, bytes_per_cell - 1.0, kWorldOverheadBytes);
+    p.world = make_world(def, grid, o.scene);
   } else {
     const Scene scene = load_scene(find_scene(o.scene));
-    SceneInstance instance = instantiate(scene, o.size);
+    const int n = o.size != 0 ? o.size : scene.default_n;
+    const std::string what = "scene '" + scene.name + "' at N=" + std::to_string(n);
+    if (n >= scene.min_n) check_grid_size(scene_size(scene, n), what, bytes_per_cell, kWorldOverheadBytes);
+    SceneInstance instance = instantiate(scene, n);
     p.scene_name = scene.name;
     p.n = instance.n;
     p.emitters = std::move(instance.emitters);
-    p.world = std::make_unique<World>(def, instance.grid);
+    p.world = make_world(def, instance.grid, what);
   }
   for (const auto& notice : p.world->notices()) std::fprintf(stderr, "notice: %s\n", notice.c_str());
   return p;
 }
 
+int tick_chunk(std::uint64_t total, std::uint64_t done, bool per_tick) {
+  if (done >= total) return 0;
+  const std::uint64_t chunk = per_tick ? 1 : std::max<std::uint64_t>(1, total / 200);
+  return int(std::min({chunk, total - done, std::uint64_t(INT_MAX)}));
+}
+
 double run_ticks(PreparedWorld& p, std::uint64_t ticks, bool progress) {
   ProgressBar bar("ticks", ticks, progress);
-  // Without emitters, step in chunks so the per-call overhead vanishes; with them, one tick per call.
-  const std::uint64_t chunk = p.emitters.empty() ? std::max<std::uint64_t>(1, ticks / 200) : 1;
   double seconds = 0;
   for (std::uint64_t done = 0; done < ticks;) {
-    const int n = int(std::min<std::uint64_t>(chunk, ticks - done));
+    const int n = tick_chunk(ticks, done, !p.emitters.empty());
     if (!p.emitters.empty()) run_emitters(*p.world, p.emitters);
     const auto start = std::chrono::steady_clock::now();
     p.world->step(n);

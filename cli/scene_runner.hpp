@@ -6,6 +6,7 @@
 #include <CLI/CLI.hpp>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -14,10 +15,24 @@
 
 namespace granular::cli {
 
+/// Largest --ticks: a million million ticks (far beyond any run that ends; a cap keeps the tick
+/// arithmetic and progress figures exact).
+inline constexpr std::uint64_t kMaxTicks = 1'000'000'000'000ull;
+
+/// Bytes per cell a `run` holds at its peak: the scene's grid and the world's copy.
+inline constexpr double kRunBytesPerCell = 2.0;
+
+/// Bytes per cell an `export` holds: a run's, plus the snapshot it writes.
+inline constexpr double kExportBytesPerCell = 3.0;
+
+/// Memory a world needs besides its cells: the transition tables (about 130 MiB) and the worker
+/// threads' stacks and allocation arenas.
+inline constexpr double kWorldOverheadBytes = 256.0 * 1024 * 1024;
+
 /// Options that define the world.
 struct WorldOptions {
   std::string scene = "bowl";  ///< scene name, scene .json path, or a .raw/.vox grid file
-  int size = 0;                ///< scene size parameter N (0 = the scene's default)
+  int size = 0;                ///< scene size parameter N (0: not given, the scene's default_n)
   std::string rules = WorldDef{}.rules; ///< rule-set preset
   std::string backend = "auto";///< auto, cpu or cuda
   int threads = 0;             ///< CPU threads (0 = all)
@@ -29,10 +44,13 @@ struct WorldOptions {
 /// Registers the world options on a subcommand.
 void add_world_options(CLI::App& command, WorldOptions& options);
 
+/// Registers `-t,--ticks` (0..kMaxTicks) on a subcommand.
+void add_ticks_option(CLI::App& command, std::uint64_t& ticks, const std::string& description);
+
 /// A world made from the options, with the scene's emitters.
 struct PreparedWorld {
   std::string scene_name;                ///< scene name or grid file
-  int n = 0;                             ///< the size parameter used (0 for grid files)
+  std::optional<int> n;                  ///< the size parameter used; none for a grid file
   std::vector<Emitter> emitters;         ///< the scene's emitters, in cells
   std::unique_ptr<World> world;          ///< the world
   std::uint64_t brick_ticks = 0;         ///< bricks stepped, summed over every tick run_ticks ran
@@ -40,7 +58,15 @@ struct PreparedWorld {
 };
 
 /// Builds the world (throws granular::Error on bad input) and prints its notices to stderr.
-PreparedWorld prepare_world(const WorldOptions& options);
+/// Before any grid is allocated, the grid's size is checked against the memory this process may
+/// allocate at `bytes_per_cell` (kRunBytesPerCell, kExportBytesPerCell) plus kWorldOverheadBytes,
+/// and a failed allocation is an OutOfMemory naming the size.
+PreparedWorld prepare_world(const WorldOptions& options, double bytes_per_cell);
+
+/// The ticks of the next World::step call when `done` of `total` ticks are done: 1 when
+/// `per_tick` (emitters pour before every tick), else about total / 200 (so the per-call overhead
+/// vanishes), never more than what is left nor more than an int holds; 0 when done == total.
+int tick_chunk(std::uint64_t total, std::uint64_t done, bool per_tick);
 
 /// Runs `ticks` ticks (feeding emitters before each tick when the scene has any), drawing a
 /// progress bar when `progress`; returns the wall seconds spent stepping.

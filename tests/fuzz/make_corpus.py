@@ -1,0 +1,108 @@
+#!/usr/bin/env python3
+"""Writes the seed corpus of granular_fuzz into tests/fuzz/corpus: the shipped scenes, a scene
+using every shape and emitter field, and small valid .raw and .vox files (one model, a scene
+graph of translated models, extra chunks, version 200). Deterministic; rerun after a format
+change: python3 tests/fuzz/make_corpus.py"""
+
+import random
+import shutil
+import struct
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+OUT = HERE / "corpus"
+SCENES = HERE.parent.parent / "assets" / "scenes"
+
+
+def raw(nx, ny, nz, cells):
+    return b"GRAW" + struct.pack("<IIII", 1, nx, ny, nz) + bytes(cells)
+
+
+def chunk(cid, content=b"", children=b""):
+    return cid + struct.pack("<ii", len(content), len(children)) + content + children
+
+
+def text(s):
+    b = s.encode()
+    return struct.pack("<i", len(b)) + b
+
+
+def dictionary(pairs):
+    return struct.pack("<i", len(pairs)) + b"".join(text(k) + text(v) for k, v in pairs)
+
+
+def model(size, voxels):
+    return chunk(b"SIZE", struct.pack("<iii", *size)) + chunk(
+        b"XYZI", struct.pack("<i", len(voxels)) + b"".join(bytes(v) for v in voxels))
+
+
+def ntrn(node, child, frame):
+    return chunk(b"nTRN", struct.pack("<i", node) + dictionary([]) + struct.pack("<iiii", child, -1, 0, 1) +
+                 dictionary(frame))
+
+
+def ngrp(node, children):
+    return chunk(b"nGRP", struct.pack("<i", node) + dictionary([]) + struct.pack("<i", len(children)) +
+                 b"".join(struct.pack("<i", c) for c in children))
+
+
+def nshp(node, model_id):
+    return chunk(b"nSHP", struct.pack("<i", node) + dictionary([]) + struct.pack("<ii", 1, model_id) + dictionary([]))
+
+
+def vox(children, version=150):
+    return b"VOX " + struct.pack("<i", version) + chunk(b"MAIN", b"", children)
+
+
+def main():
+    if OUT.exists():
+        shutil.rmtree(OUT)
+    OUT.mkdir()
+    for scene in sorted(SCENES.glob("*.json")):
+        shutil.copy(scene, OUT / ("scene-" + scene.name))
+    (OUT / "scene-every-field.json").write_text("""{
+  "name": "every-field", "description": "every shape and emitter field", "comment": "ignored",
+  "size": [1, 0.75, 0.5], "default_n": 32, "min_n": 8,
+  "shapes": [
+    {"type": "box", "material": "solid", "min": [0, 0, 0], "max": [1, 0.75, 0.0625]},
+    {"type": "sphere", "material": "sand", "center": [0.5, 0.4, 0.3], "radius": 0.1, "only": "void"},
+    {"type": "cylinder", "material": "liquid", "center": [0.25, 0.25], "radius": 0.1, "z0": 0.1, "z1": 0.2},
+    {"type": "frustum", "material": "void", "center": [0.7, 0.5], "z0": 0.1, "z1": 0.3, "r0": 0.1, "r1": 0},
+    {"type": "bowl", "material": "state5", "center": [0.5, 0.4, 0.4], "radius": 0.2, "thickness_cells": 2},
+    {"type": "bowl", "material": "gas", "center": [0.5, 0.4, 0.45], "radius": 0.1, "thickness": 0.05}
+  ],
+  "emitters": [
+    {"center": [0.5, 0.4, 0.45], "radius": 0.05, "material": "granular", "rate_per_n2": 0.01, "start_per_n": 1, "stop_per_n": 2},
+    {"center": [0.2, 0.2, 0.4], "radius": 0.03, "rate": 2, "start": 5, "stop": 50}
+  ]
+}
+""")
+    (OUT / "scene-minimal.json").write_text(
+        '{"name":"m","description":"","size":[1,1,1],"default_n":4,"min_n":1,"shapes":[]}\n')
+
+    rng = random.Random(7)
+    (OUT / "grid-1x1x1.raw").write_bytes(raw(1, 1, 1, [2]))
+    (OUT / "grid-all-states.raw").write_bytes(raw(4, 3, 2, [i % 8 for i in range(24)]))
+    (OUT / "grid-16x16x8.raw").write_bytes(raw(16, 16, 8, [rng.choice([0, 0, 0, 1, 2]) for _ in range(16 * 16 * 8)]))
+
+    palette = chunk(b"RGBA", bytes(range(256)) * 4)
+    (OUT / "vox-one-model.vox").write_bytes(vox(model((4, 4, 4), [(0, 0, 0, 1), (1, 2, 3, 2), (3, 3, 3, 7)]) + palette))
+    graph = (model((3, 3, 3), [(0, 0, 0, 1), (2, 2, 2, 2)]) + model((2, 5, 1), [(1, 4, 0, 3)]) +
+             ntrn(0, 1, []) + ngrp(1, [2, 4]) + ntrn(2, 3, [("_t", "10 0 -2"), ("_r", "4")]) + nshp(3, 0) +
+             ntrn(4, 5, [("_t", "-3 7 1")]) + nshp(5, 1) + chunk(b"LAYR", struct.pack("<i", 0) + dictionary([]) +
+                                                                  struct.pack("<i", -1)))
+    (OUT / "vox-scene-graph.vox").write_bytes(vox(graph, 200))
+    extra = (chunk(b"PACK", struct.pack("<i", 1)) + model((2, 2, 2), [(1, 1, 1, 9), (0, 0, 0, 0)]) +
+             chunk(b"MATL", struct.pack("<i", 1) + dictionary([("_type", "_diffuse")])) +
+             chunk(b"ZZZZ", b"\x01\x02", chunk(b"YYYY", b"\x03")))
+    (OUT / "vox-extra-chunks.vox").write_bytes(vox(extra))
+    tiles = b""
+    for k in range(2):
+        tiles += model((256 if k == 0 else 44, 4, 3), [(k, 1, 2, 2)])
+    tiles += ntrn(0, 1, []) + ngrp(1, [2, 4]) + ntrn(2, 3, [("_t", "-22 0 1")]) + nshp(3, 0) + \
+        ntrn(4, 5, [("_t", "128 0 1")]) + nshp(5, 1)
+    (OUT / "vox-two-tiles.vox").write_bytes(vox(tiles))
+
+
+if __name__ == "__main__":
+    main()
