@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""A user's first minute with the windowed sandbox, under a virtual display (run it inside
-`xvfb-run -a`): starts LAUNCHER (scripts/launch, what ./scripts/run execs after installing and
+"""A user's first minute with the windowed sandbox, on a virtual display (run it inside
+with_xvfb.py, as ctest viewer.windowed_session does, or `xvfb-run -a`): starts LAUNCHER (scripts/launch, what ./scripts/run execs after installing and
 building), checks the window is still open after 10 s, taps C (xdotool's default 12 ms key press)
 and sees the renderer switch, clicks on the sand and sees it dug, keeps the window open for more
 than 60 frames, presses Esc and sees exit status 0.
