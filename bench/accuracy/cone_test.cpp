@@ -37,7 +37,7 @@ TestReport run_cone_test(const SuiteOptions& o) {
   r.cell_updates = double(floor) * floor * height * double(p.ticks);
   r.conserved = p.after[to_cell(Material::Granular)] == p.before[to_cell(Material::Granular)] + p.poured &&
                 p.after[to_cell(Material::Solid)] == p.before[to_cell(Material::Solid)];
-  const std::string round = "ideal: a poured cone of dry grains is round (target r_max/r_min <= 1.05, issue 5)";
+  const std::string round = "ideal: a poured cone of dry grains is round (target r_max/r_min <= 1.05)";
   r.metrics.push_back({"angle_of_repose", "deg", m.angle_deg, o.material.repose_deg, 2.0,
                        o.material.name + " (dry sand 30-35 deg, glass beads 22-25 deg: e.g. Al-Hashemi & Al-Amoudi, Powder Technol. 330 (2018) 397)"});
   r.metrics.push_back({"r_max_over_r_min", "", m.r_half_ratio, 1.0, kRatioTarget - 1, round});

@@ -155,7 +155,7 @@ TestReport run_silo_test(const SuiteOptions& o) {
                          "Beverloo et al. 1961 with C = 0.58, k = 1.5 grain diameters (a cell = a grain), the calibration's rho_b, g, dt"});
   }
   r.metrics.push_back({"fill_dependence", "", worst_fill_spread, 0.0, 0.05,
-                       "Beverloo et al. 1961 / Janssen screening: W does not depend on the fill height (target < 5%, issue 5)"});
+                       "Beverloo et al. 1961 / Janssen screening: W does not depend on the fill height (target < 5%)"});
   r.series.push_back(w_d);
   if (fit.ok) {
     Series curve{"fit C (D - k)^n", "orifice D (cells)", "W (grains per tick)", {}, {}, true};
@@ -187,7 +187,7 @@ TestReport run_silo_test(const SuiteOptions& o) {
   r.cell_updates += hg.cell_updates;
   r.conserved = r.conserved && hg.conserved;
   r.metrics.push_back({"hourglass_flow_spread", "", hg.drained ? hg.spread : std::nan(""), 0.0, 0.05,
-                       "an hourglass flows at a constant rate while it empties (issue 5: 20% to 80% emptied)"});
+                       "an hourglass flows at a constant rate while it empties (from 20% to 80% emptied)"});
   Series hourglass{"hourglass", "fraction of the upper chamber emptied", "W / W_mean (hourglass)", hg.emptied, {}, false};
   for (double v : hg.rate) hourglass.y.push_back(hg.mean_rate > 0 ? v / hg.mean_rate : 0);
   r.series.push_back(hourglass);
