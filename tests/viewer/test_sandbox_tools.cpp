@@ -3,7 +3,6 @@
 #include <memory>
 
 #include "granular/raycast.hpp"
-#include "pausable_subsystem.hpp"
 #include "sandbox_tools.hpp"
 #include "granular/world.hpp"
 #include "viewer_test_support.hpp"
@@ -51,28 +50,6 @@ TEST_CASE("tools: a held brush acts once per fixed update at the picked point; r
   tools.fixed_update(1.0 / 60);
   CHECK(world->count()[1] < placed[1]);
   CHECK(tools.cells_changed() > 0);
-}
-
-TEST_CASE("tools: pausing holds the simulation; a step lets one fixed update through") {
-  auto world = test::bowl_world(48);
-  struct Stepper final : granular::engine::Subsystem {
-    explicit Stepper(granular::World& w) : granular::engine::Subsystem("stepper"), world(w) {}
-    void fixed_update(double) override { world.step(1); }
-    granular::World& world;
-  } stepper(*world);
-  PausableSubsystem pausable(stepper);
-  pausable.fixed_update(0.0);
-  CHECK(world->tick() == 1);
-  pausable.set_paused(true);
-  pausable.fixed_update(0.0);
-  CHECK(world->tick() == 1);
-  pausable.step();
-  pausable.fixed_update(0.0);
-  pausable.fixed_update(0.0);
-  CHECK(world->tick() == 2);
-  pausable.set_paused(false);
-  pausable.fixed_update(0.0);
-  CHECK(world->tick() == 3);
 }
 
 TEST_CASE("tools: apply_once applies the tool a single time, held or not (a click between two fixed updates)") {

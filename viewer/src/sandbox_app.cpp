@@ -26,7 +26,6 @@
 #include "granular/time_scale.hpp"
 #include "hud.hpp"
 #include "input_tracker.hpp"
-#include "pausable_subsystem.hpp"
 #include "png_writer.hpp"
 #include "renderer_factory.hpp"
 #include "sandbox_tools.hpp"
@@ -45,7 +44,6 @@ struct Session {
   SandboxWorld sandbox;
   std::unique_ptr<ToolSubsystem> tools;
   std::unique_ptr<granular::engine::GranularSubsystem> simulation;
-  std::unique_ptr<PausableSubsystem> pausable;
 };
 
 enum class Brush { Sand, Solid };
@@ -180,7 +178,7 @@ class SandboxApp final : public granular::engine::Subsystem {
     loop_.reset();
     renderer_.reset();
     const int ticks = session_ ? session_->simulation->ticks_per_fixed_update() : options_.ticks_per_frame;
-    const bool paused = session_ && session_->pausable->paused();
+    const bool paused = session_ && session_->simulation->paused();
     const ToolState tool_state = session_ ? session_->tools->state() : ToolState{};
     session_.reset();
     auto session = std::make_unique<Session>();
@@ -192,8 +190,7 @@ class SandboxApp final : public granular::engine::Subsystem {
     session->tools->state().held = false;
     stroke_.reset();
     session->simulation = std::make_unique<granular::engine::GranularSubsystem>(*session->sandbox.world, ticks);
-    session->pausable = std::make_unique<PausableSubsystem>(*session->simulation);
-    session->pausable->set_paused(paused);
+    session->simulation->set_paused(paused);
     session_ = std::move(session);
     choice_ = choice;
     choice_.scene = session_->sandbox.scene_name;
@@ -209,7 +206,7 @@ class SandboxApp final : public granular::engine::Subsystem {
     timestep.max_ticks_per_frame = 2;
     loop_ = std::make_unique<granular::engine::EngineLoop>(clock_, timestep);
     loop_->add(*session_->tools);
-    loop_->add(*session_->pausable);
+    loop_->add(*session_->simulation);
     loop_->add(*this);
     counts_age_ = 1e9;
   }
@@ -274,12 +271,12 @@ class SandboxApp final : public granular::engine::Subsystem {
         report("pour material: %s", std::string(granular::material_name(tool.pour_material)).c_str());
         break;
       case GLFW_KEY_SPACE:
-        session_->pausable->set_paused(!session_->pausable->paused());
-        report("%s", session_->pausable->paused() ? "paused" : "running");
+        session_->simulation->set_paused(!session_->simulation->paused());
+        report("%s", session_->simulation->paused() ? "paused" : "running");
         break;
       case GLFW_KEY_N:
-        if (session_->pausable->paused()) {
-          session_->pausable->step();
+        if (session_->simulation->paused()) {
+          session_->simulation->request_step(session_->simulation->ticks_per_fixed_update());
           report("step");
         }
         break;
@@ -414,10 +411,10 @@ class SandboxApp final : public granular::engine::Subsystem {
       ImGui::SameLine();
       if (ImGui::RadioButton(to_string(k), kind == int(k))) set_renderer(k);
     }
-    bool paused = session_->pausable->paused();
-    if (ImGui::Checkbox("paused", &paused)) session_->pausable->set_paused(paused);
+    bool paused = session_->simulation->paused();
+    if (ImGui::Checkbox("paused", &paused)) session_->simulation->set_paused(paused);
     ImGui::SameLine();
-    if (ImGui::Button("step")) session_->pausable->step();
+    if (ImGui::Button("step")) session_->simulation->request_step(session_->simulation->ticks_per_fixed_update());
     int ticks_value = ticks;
     if (ImGui::SliderInt("ticks/update", &ticks_value, 1, 64)) session_->simulation->set_ticks_per_fixed_update(ticks_value);
     const std::vector<std::string> scenes = granular::list_scenes();
