@@ -294,7 +294,7 @@ void mutate_once(Bytes& b, const std::vector<Bytes>& corpus, Rng& rng) {
       break;
     default: {  // repeat a bracket or a range many times (nesting, long values)
       const std::string_view t = kTokens[rng.below(7)];
-      const std::size_t times = 1 + rng.below(200);
+      const std::size_t times = 1 + rng.below(rng.one_in(16) ? 100000 : 200);  // sometimes past any stack
       const std::size_t at = rng.below(b.size() + 1);
       std::string run;
       for (std::size_t i = 0; i < times; ++i) run += t;
