@@ -208,6 +208,13 @@ std::filesystem::path asset_root() {
   std::error_code ec;
   const std::filesystem::path source_dir = GRANULAR_SOURCE_ASSET_DIR;
   if (!source_dir.empty() && std::filesystem::is_directory(source_dir, ec)) return source_dir;
+  // An install moved to another prefix: the assets beside the program (<prefix>/bin/program,
+  // <prefix>/share/granular/assets).
+  const std::filesystem::path program = std::filesystem::read_symlink("/proc/self/exe", ec);
+  if (!ec) {
+    const std::filesystem::path beside = (program.parent_path() / "../share/granular/assets").lexically_normal();
+    if (std::filesystem::is_directory(beside, ec)) return beside;
+  }
   return GRANULAR_INSTALL_ASSET_DIR;
 }
 

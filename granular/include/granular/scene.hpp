@@ -153,7 +153,8 @@ Scene load_scene(const std::filesystem::path& path);
 
 /// The folder holding the shipped scenes: "<asset dir>/scenes", where the asset dir is
 /// $GRANULAR_ASSET_DIR when set and non-empty, else the source tree's assets folder when it exists
-/// (a build tree), else the installed one.
+/// (a build tree), else "../share/granular/assets" beside the running program when it exists (an
+/// install, wherever its prefix was moved), else the configured install prefix's.
 std::filesystem::path scene_dir();
 
 /// Resolves a scene argument: `name_or_path` itself when it names an existing file, else
