@@ -71,7 +71,7 @@ TEST_CASE("run_suite and target_material reject bad names with the valid ones") 
 }
 
 // The quick cone, fall and conservation tests on the default rule set (inertial-24), asserting the
-// issue's targets where the model reaches them (fall distance exponent 2 +- 0.2) and what it
+// suite's targets where the model reaches them (fall distance exponent 2 +- 0.2) and what it
 // reaches where it does not (repose angle and r_max/r_min; docs/ACCURACY.md shows the gaps). The paper's rules fail the footprint checks (ratio 1.3,
 // 2-fold 0.033) and the one-step rules pile at 39 deg and fall at constant speed.
 TEST_CASE("accuracy suite, quick, default rules: grains conserved, hashes agree, repose angle and free fall on target") {

@@ -11,7 +11,7 @@ namespace granular::accuracy {
 
 namespace {
 
-/// A footprint r(phi) = r0 (1 + A cos(m phi)) has r_max / r_min = (1 + A) / (1 - A); the issue's
+/// A footprint r(phi) = r0 (1 + A cos(m phi)) has r_max / r_min = (1 + A) / (1 - A); the suite's
 /// target r_max / r_min <= 1.05 thus bounds each Fourier amplitude by A = 0.05 / 2.05.
 constexpr double kRatioTarget = 1.05;
 constexpr double kAmplitudeTarget = (kRatioTarget - 1) / (kRatioTarget + 1);

@@ -17,7 +17,7 @@ struct Metric {
   std::string unit;         ///< unit of measured/reference ("deg", "", "cells/tick"...)
   double measured = 0;      ///< the value measured from the grid
   double reference = 0;     ///< the physical reference (or the ideal, e.g. 1 for a round footprint)
-  double tolerance = 0;     ///< the issue's target: |measured - reference| <= tolerance (> 0)
+  double tolerance = 0;     ///< the suite's target: |measured - reference| <= tolerance (> 0)
   std::string source;       ///< where the reference comes from (paper, book, or "ideal")
   /// measured - reference.
   double error() const { return measured - reference; }
