@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <climits>
+#include <cstdlib>
 #include <cstdio>
 #include <fstream>
 #include <utility>
@@ -153,4 +154,16 @@ TEST_CASE("bad input: a moved-from World throws StateError instead of crashing")
   CHECK_THROWS_AS(world.bricks_changed_since(0), StateError);
   world = std::move(moved);  // assignment brings it back
   CHECK(world.count()[to_cell(Material::Granular)] == 16 * 16 * 4);
+}
+
+TEST_CASE("bad input: a World is checked for the memory its backend copy needs, not the grid alone") {
+  struct MemoryLimit {
+    explicit MemoryLimit(const char* bytes) { setenv("GRANULAR_MEMORY_LIMIT", bytes, 1); }
+    ~MemoryLimit() { unsetenv("GRANULAR_MEMORY_LIMIT"); }
+  } limit("300M");
+  // 2 x 128 MiB of cells + the table fit no 300 MiB budget, though the grid alone would.
+  CHECK_THROWS_WITH_AS(World{test_def({512, 512, 512})}, doctest::Contains("WorldDef::size"), OutOfMemory);
+  const Grid grid({64, 64, 64});
+  World small(test_def({64, 64, 64}), grid);
+  CHECK(small.count()[to_cell(Material::Void)] == 64 * 64 * 64);
 }

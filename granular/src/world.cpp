@@ -146,13 +146,23 @@ void check_cells(std::span<const std::uint8_t> cells, Int3 size, const char* wha
 
 }  // namespace
 
+namespace {
+
+/// Host memory a world needs beside its cells: the transition table (64 MiB) and the backend's
+/// scratch, with room to spare.
+constexpr double kWorldExtraBytes = 128.0 * 1024 * 1024;
+
+}  // namespace
+
 World::World(const WorldDef& def) : def_(def) {
-  check_grid_size(def.size, "WorldDef::size");
+  // The initial grid and the backend's copy of it.
+  check_grid_size(def.size, "WorldDef::size", 2.0, kWorldExtraBytes);
   init(Grid(def.size));
 }
 
 World::World(const WorldDef& def, const Grid& initial) : def_(def) {
   if (initial.cell_count() == 0) throw InvalidArgument("World: the initial grid is empty (0 cells)");
+  check_grid_size(initial.size(), "World: the backend's copy of the initial grid", 1.0, kWorldExtraBytes);
   check_cells(initial.cells(), initial.size(), "World: initial grid");
   init(initial);
 }
