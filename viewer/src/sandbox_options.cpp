@@ -12,7 +12,15 @@ void add_sandbox_options(CLI::App& app, SandboxOptions& o) {
   o.validation = true;
 #endif
   app.add_option("--scene", o.world.scene, "scene name from assets/scenes, a scene .json, or a .raw/.vox grid");
-  app.add_option("--size", o.world.size, "scene size parameter N (0: the scene's default)");
+  app.add_option_function<int>(
+      "--size",
+      [&o](const int& n) {
+        if (n < 1)
+          throw std::invalid_argument("--size " + std::to_string(n) +
+                                      ": must be at least 1 (omit --size for the scene's default N)");
+        o.world.size = n;
+      },
+      "scene size parameter N (default: the scene's own)");
   app.add_option("--backend", o.world.backend, "auto, cpu or cuda");
   app.add_option("--rules", o.world.rules, "rule-set preset (inertial, inertial-24, isotropic, d4, paper)");
   app.add_option("--threads", o.world.threads, "CPU backend threads (0: all)");
