@@ -13,6 +13,7 @@
 #include "granular/rule_presets.hpp"
 #include "granular/rule_set.hpp"
 #include "granular/threads.hpp"
+#include "tool_region.hpp"
 
 #ifdef GRANULAR_HAS_CUDA
 #include "granular_cuda/cuda_backend_factory.hpp"
@@ -71,42 +72,6 @@ std::shared_ptr<const Lut> shared_lut(const RuleSet& rules, const WorldDef& def,
   notice = got.notice;
   live[fingerprint] = got.lut;
   return got.lut;
-}
-
-std::string format_vec(const Vec3& v) {
-  return "(" + std::to_string(v.x) + ", " + std::to_string(v.y) + ", " + std::to_string(v.z) + ")";
-}
-
-void check_material(Material m, const char* tool) {
-  if (!is_valid_material_value(to_cell(m)))
-    throw InvalidArgument(std::string(tool) + ": material value " + std::to_string(unsigned(to_cell(m))) +
-                          " is not a valid state (0..7)");
-}
-
-/// The in-grid box of cells a sphere can touch; throws when it misses the grid entirely. Works in
-/// doubles until the box is known to lie inside the grid, so no centre or radius overflows an int.
-Box sphere_region(const Sphere& s, Int3 size, const char* tool, bool& clipped) {
-  const Vec3& c = s.center;
-  if (!std::isfinite(c.x) || !std::isfinite(c.y) || !std::isfinite(c.z))
-    throw InvalidArgument(std::string(tool) + ": sphere centre " + format_vec(c) + " is not finite");
-  if (!std::isfinite(s.radius) || s.radius <= 0)
-    throw InvalidArgument(std::string(tool) + ": sphere radius " + std::to_string(s.radius) + " must be > 0");
-  const double centre[3] = {c.x, c.y, c.z};
-  const int n[3] = {size.x, size.y, size.z};
-  int bmin[3], bmax[3];
-  clipped = false;
-  for (int a = 0; a < 3; ++a) {
-    // Cells whose centre k + 0.5 lies within [centre - r, centre + r].
-    const double lo = std::ceil(centre[a] - s.radius - 0.5), hi = std::floor(centre[a] + s.radius - 0.5) + 1;
-    if (lo < 0 || hi > n[a]) clipped = true;
-    const double first = std::max(lo, 0.0), last = std::min(hi, double(n[a]));
-    if (!(first < last))
-      throw InvalidArgument(std::string(tool) + ": sphere at " + format_vec(c) + " with radius " +
-                            std::to_string(s.radius) + " covers no cell of the " + to_string(size) + " grid");
-    bmin[a] = int(first);
-    bmax[a] = int(last);
-  }
-  return {{bmin[0], bmin[1], bmin[2]}, {bmax[0], bmax[1], bmax[2]}};
 }
 
 template <class Fn>
@@ -422,12 +387,9 @@ ChangeReport World::dig(const Sphere& sphere) {
 }
 
 ChangeReport World::pour(Vec3 center, double radius, Material material, std::int64_t amount) {
-  check_material(material, "pour");
-  if (material == Material::Void) throw InvalidArgument("pour: material is void; pour a material (dig removes grains)");
-  if (amount < 0) throw InvalidArgument("pour: amount = " + std::to_string(amount) + " must be >= 0");
   const Sphere sphere{center, radius};
   bool clipped = false;
-  const Box region = sphere_region(sphere, size_, "pour", clipped);
+  const Box region = check_pour(sphere, material, amount, size_, clipped);
   const auto before = read_region(region);
   auto after = before;
   // Pick `amount` of the sphere's void cells by a hash of (seed, tick, call, position): a spray
@@ -447,7 +409,7 @@ ChangeReport World::pour(Vec3 center, double radius, Material material, std::int
 }
 
 ChangeReport World::paint(const Box& box, Material material) {
-  check_material(material, "paint");
+  check_tool_material(material, "paint");
   if (box.empty()) throw InvalidArgument("paint: box " + box_string(box) + " is empty");
   const Box region = intersect(box, Box{{0, 0, 0}, size_});
   if (region.empty())
@@ -458,7 +420,7 @@ ChangeReport World::paint(const Box& box, Material material) {
 }
 
 ChangeReport World::paint(const Sphere& sphere, Material material) {
-  check_material(material, "paint");
+  check_tool_material(material, "paint");
   bool clipped = false;
   const Box region = sphere_region(sphere, size_, "paint", clipped);
   const auto before = read_region(region);

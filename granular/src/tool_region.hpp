@@ -1,0 +1,27 @@
+#pragma once
+/// @file tool_region.hpp
+/// The argument checks of the tools (World::dig, pour, paint) and the region of cells a sphere
+/// touches: one implementation for the tools and for the scene emitters, which check every pour
+/// before making any.
+
+#include <cstdint>
+
+#include "granular/geometry.hpp"
+#include "granular/material.hpp"
+
+namespace granular {
+
+/// Throws InvalidArgument naming `tool` when `m` is not one of the 8 states.
+void check_tool_material(Material m, const char* tool);
+
+/// The in-grid box of cells whose centres lie in `sphere`, computed in doubles until it is known to
+/// lie inside the grid, so no centre or radius overflows an int. Sets `clipped` when the sphere
+/// reaches past the grid. Throws InvalidArgument naming `tool` for a non-finite centre, a radius
+/// that is not finite and > 0, or a sphere that covers no cell of a grid of `size`.
+Box sphere_region(const Sphere& sphere, Int3 size, const char* tool, bool& clipped);
+
+/// The checks of World::pour (material valid and not void, amount >= 0, a sphere covering a cell
+/// of a grid of `size`): throws InvalidArgument as pour does, else returns the sphere's region.
+Box check_pour(const Sphere& sphere, Material material, std::int64_t amount, Int3 size, bool& clipped);
+
+}  // namespace granular
