@@ -15,7 +15,7 @@ std::string to_string(Int3 size) {
   return std::to_string(size.x) + "x" + std::to_string(size.y) + "x" + std::to_string(size.z);
 }
 
-void check_grid_size(Int3 size, const std::string& what, double bytes_per_cell, double extra_bytes) {
+void check_grid_extents(Int3 size, const std::string& what) {
   const int extents[3] = {size.x, size.y, size.z};
   const char* axes[3] = {"x", "y", "z"};
   for (int a = 0; a < 3; ++a) {
@@ -26,6 +26,10 @@ void check_grid_size(Int3 size, const std::string& what, double bytes_per_cell, 
       throw InvalidArgument(what + ": size " + to_string(size) + " exceeds the maximum extent " +
                             std::to_string(kMaxGridExtent) + " along " + axes[a]);
   }
+}
+
+void check_grid_size(Int3 size, const std::string& what, double bytes_per_cell, double extra_bytes) {
+  check_grid_extents(size, what);
   const double cells = double(size.x) * size.y * size.z;
   const double need = cells * bytes_per_cell + extra_bytes;
   const MemoryBudget have = available_memory();

@@ -150,7 +150,7 @@ Int3 parse_raw_header(std::span<const std::uint8_t> head, std::uint64_t total, c
   const Int3 size{int(dims[0]), int(dims[1]), int(dims[2])};
   const std::string fields = src + ": header fields nx, ny, nz (bytes 8..19)";
   try {
-    check_grid_size(size, fields, 0.0);  // extents only: the body's length is checked before memory
+    check_grid_extents(size, fields);  // the body's length is checked before the memory
   } catch (const InvalidArgument& e) {
     throw ParseError(e.what());
   }

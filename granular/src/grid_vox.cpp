@@ -633,7 +633,7 @@ Grid decode_vox(std::span<const std::uint8_t> bytes, const std::string& source_n
                        "); at most " + std::to_string(kMaxGridExtent) + " are supported");
   const Int3 size{int(hi[0] - lo[0]), int(hi[1] - lo[1]), int(hi[2] - lo[2])};
   try {
-    check_grid_size(size, src + ": bounding box of all models", 0.0);  // extents; memory below
+    check_grid_extents(size, src + ": bounding box of all models");  // the memory below
   } catch (const InvalidArgument& e) {
     throw ParseError(e.what());
   }

@@ -315,7 +315,7 @@ Int3 scene_size(const Scene& scene, int n) {
   }
   const Int3 size{int(extent[0]), int(extent[1]), int(extent[2])};
   // Extents only: the memory is checked where the grid is allocated, for what the caller needs.
-  check_grid_size(size, scene.source + ": scene '" + scene.name + "' size at N=" + std::to_string(n), 0.0);
+  check_grid_extents(size, scene.source + ": scene '" + scene.name + "' size at N=" + std::to_string(n));
   return size;
 }
 

@@ -17,10 +17,13 @@ namespace granular {
 /// Largest extent allowed along one axis.
 inline constexpr int kMaxGridExtent = 65536;
 
-/// Throws InvalidArgument when `size` has a zero, negative or over-large extent, and OutOfMemory
-/// when `bytes_per_cell * cells + extra_bytes` exceeds the memory this process may still allocate
-/// (available_memory(): MemAvailable, the cgroup limit, RLIMIT_AS and RLIMIT_DATA); the message
-/// gives the size, the bytes needed and the limit that decides. `what` names the caller's field
+/// Throws InvalidArgument naming `what` when `size` has a zero, negative or over-large extent.
+void check_grid_extents(Int3 size, const std::string& what);
+
+/// check_grid_extents, then throws OutOfMemory when `bytes_per_cell * cells + extra_bytes` exceeds
+/// the memory this process may still allocate (available_memory(): MemAvailable, the cgroup limit,
+/// RLIMIT_AS and RLIMIT_DATA); the message gives the size, the bytes needed and the limit that
+/// decides. `what` names the caller's field
 /// (e.g. "WorldDef::size", "scene 'bowl' size").
 void check_grid_size(Int3 size, const std::string& what, double bytes_per_cell = 1.0, double extra_bytes = 0);
 
