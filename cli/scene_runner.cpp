@@ -4,30 +4,13 @@
 #include <chrono>
 #include <climits>
 #include <cstdio>
-#include <new>
 
 #include "granular/errors.hpp"
 #include "granular/grid_io.hpp"
-#include "granular/memory_budget.hpp"
 #include "number_option.hpp"
 #include "progress_bar.hpp"
 
 namespace granular::cli {
-
-namespace {
-
-/// Creates the world, turning an allocation failure into OutOfMemory naming the grid.
-std::unique_ptr<World> make_world(const WorldDef& def, const Grid& initial, const std::string& what) {
-  try {
-    return std::make_unique<World>(def, initial);
-  } catch (const std::bad_alloc&) {
-    throw OutOfMemory(what + ": out of memory while creating the world of " + to_string(initial.size()) + " (" +
-                      std::to_string(initial.cell_count()) + " cells, " +
-                      format_bytes(double(initial.cell_count())) + " per copy of the grid)");
-  }
-}
-
-}  // namespace
 
 void add_world_options(CLI::App& command, WorldOptions& o) {
   command.add_option("-s,--scene", o.scene, "scene name (see assets/scenes), scene .json, or a .raw/.vox grid file")
@@ -69,7 +52,7 @@ PreparedWorld prepare_world(const WorldOptions& o, double bytes_per_cell) {
     for (const auto& notice : notices) std::fprintf(stderr, "notice: %s\n", notice.c_str());
     // The file's grid is allocated already: what is left to allocate is the rest of the need.
     check_grid_size(grid.size(), o.scene, bytes_per_cell - 1.0, kWorldOverheadBytes);
-    p.world = make_world(def, grid, o.scene);
+    p.world = std::make_unique<World>(def, grid);
   } else {
     const Scene scene = load_scene(find_scene(o.scene));
     const int n = o.size != 0 ? o.size : scene.default_n;
@@ -79,7 +62,7 @@ PreparedWorld prepare_world(const WorldOptions& o, double bytes_per_cell) {
     p.scene_name = scene.name;
     p.n = instance.n;
     p.emitters = std::move(instance.emitters);
-    p.world = make_world(def, instance.grid, what);
+    p.world = std::make_unique<World>(def, instance.grid);
   }
   for (const auto& notice : p.world->notices()) std::fprintf(stderr, "notice: %s\n", notice.c_str());
   return p;
