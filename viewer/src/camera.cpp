@@ -21,6 +21,9 @@ OrbitCamera OrbitCamera::framing(granular::Int3 size) {
 OrbitCamera OrbitCamera::framing(const granular::Box& box, float aspect, float fill) {
   OrbitCamera camera;
   const glm::vec3 lo(box.min.x, box.min.y, box.min.z), hi(box.max.x, box.max.y, box.max.z);
+  auto corner_point = [&](int corner) {
+    return glm::vec3((corner & 1) ? hi.x : lo.x, (corner & 2) ? hi.y : lo.y, (corner & 4) ? hi.z : lo.z);
+  };
   camera.target = (lo + hi) * 0.5f;
   const glm::vec3 forward = glm::normalize(camera.target - camera.eye());
   const glm::vec3 right = glm::normalize(glm::cross(forward, glm::vec3(0, 0, 1)));
@@ -35,8 +38,7 @@ OrbitCamera OrbitCamera::framing(const granular::Box& box, float aspect, float f
   for (int pass = 0; pass < 4; ++pass) {
     float distance = 1.0f;
     for (int corner = 0; corner < 8; ++corner) {
-      const glm::vec3 point((corner & 1) ? hi.x : lo.x, (corner & 2) ? hi.y : lo.y, (corner & 4) ? hi.z : lo.z);
-      const glm::vec3 v = point - camera.target;
+      const glm::vec3 v = corner_point(corner) - camera.target;
       const float depth_offset = glm::dot(v, forward);
       distance = std::max({distance, std::abs(glm::dot(v, right)) / (fill * tan_h) - depth_offset,
                            std::abs(glm::dot(v, up)) / (fill * tan_v) - depth_offset, 1.0f - depth_offset});
@@ -44,8 +46,7 @@ OrbitCamera OrbitCamera::framing(const granular::Box& box, float aspect, float f
     camera.distance = distance;
     glm::vec2 image_min(1e30f), image_max(-1e30f);  // the corners' image, in units of the frame's half size
     for (int corner = 0; corner < 8; ++corner) {
-      const glm::vec3 point((corner & 1) ? hi.x : lo.x, (corner & 2) ? hi.y : lo.y, (corner & 4) ? hi.z : lo.z);
-      const glm::vec3 v = point - camera.target;
+      const glm::vec3 v = corner_point(corner) - camera.target;
       const float depth = distance + glm::dot(v, forward);
       const glm::vec2 image(glm::dot(v, right) / (tan_h * depth), glm::dot(v, up) / (tan_v * depth));
       image_min = glm::min(image_min, image);
