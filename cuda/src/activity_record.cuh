@@ -16,7 +16,7 @@
 
 #include <cstdint>
 
-#include "brick_grid.hpp"
+#include "step/brick_grid.hpp"
 #include "granular/block.hpp"
 #include "granular/geometry.hpp"
 

@@ -33,7 +33,7 @@
 #include "granular/block.hpp"
 #include "granular/geometry.hpp"
 #include "granular/motion.hpp"
-#include "motion_block.hpp"
+#include "step/motion_block.hpp"
 #include "step_kernel.cuh"
 
 namespace granular::cuda {

@@ -23,11 +23,11 @@
 
 #include <cstdint>
 
-#include "brick_grid.hpp"
+#include "step/brick_grid.hpp"
 #include "cuda_check.cuh"
 #include "granular/block.hpp"
 #include "granular/motion.hpp"
-#include "motion_block.hpp"
+#include "step/motion_block.hpp"
 #include "motion_step_kernel.cuh"
 #include "sparse_step_kernel.cuh"
 

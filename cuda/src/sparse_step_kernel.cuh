@@ -21,10 +21,10 @@
 
 #include <cstdint>
 
-#include "brick_grid.hpp"
+#include "step/brick_grid.hpp"
 #include "cuda_check.cuh"
 #include "granular/block.hpp"
-#include "inert_keys.hpp"
+#include "step/inert_keys.hpp"
 #include "step_kernel.cuh"
 
 namespace granular::cuda {

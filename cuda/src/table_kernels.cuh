@@ -10,8 +10,8 @@
 
 #include "cuda_check.cuh"
 #include "granular/block.hpp"
-#include "motion_block.hpp"
-#include "paper_rule.hpp"
+#include "step/motion_block.hpp"
+#include "step/paper_rule.hpp"
 
 namespace granular::cuda {
 

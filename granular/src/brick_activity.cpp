@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "brick_grid.hpp"
+#include "step/brick_grid.hpp"
 
 namespace granular {
 

@@ -7,7 +7,7 @@
 
 #include "cpu_sparse_step.hpp"
 #include "cpu_step.hpp"
-#include "inert_keys.hpp"
+#include "step/inert_keys.hpp"
 
 namespace granular {
 

@@ -3,9 +3,9 @@
 #include <array>
 #include <atomic>
 
-#include "brick_grid.hpp"
+#include "step/brick_grid.hpp"
 #include "cpu_block_ops.hpp"
-#include "inert_keys.hpp"
+#include "step/inert_keys.hpp"
 
 namespace granular {
 

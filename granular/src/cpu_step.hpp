@@ -8,7 +8,7 @@
 
 #include "granular/block.hpp"
 #include "granular/geometry.hpp"
-#include "motion_block.hpp"
+#include "step/motion_block.hpp"
 
 namespace granular {
 

@@ -1,4 +1,4 @@
-#include "inert_keys.hpp"
+#include "step/inert_keys.hpp"
 
 #include "thread_pool.hpp"
 

@@ -4,8 +4,8 @@
 
 #include "granular/errors.hpp"
 #include "granular/material.hpp"
-#include "motion_block.hpp"
-#include "paper_rule.hpp"
+#include "step/motion_block.hpp"
+#include "step/paper_rule.hpp"
 
 namespace granular {
 

@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "brick_grid.hpp"
+#include "step/brick_grid.hpp"
 #include "granular/errors.hpp"
 #include "granular/lut.hpp"
 #include "granular/motion.hpp"
@@ -24,7 +24,7 @@
 #include "granular/rule_set.hpp"
 #include "granular/world.hpp"
 #include "granular_cuda/cuda_backend_factory.hpp"
-#include "motion_block.hpp"
+#include "step/motion_block.hpp"
 
 using namespace granular;
 

@@ -35,7 +35,7 @@
 
 #include "granular/block.hpp"
 #include "granular/motion.hpp"
-#include "paper_rule.hpp"
+#include "step/paper_rule.hpp"
 
 namespace granular::motion {
 
