@@ -10,8 +10,9 @@
 #include <string>
 #include <vector>
 
-#include "accuracy/report_io.hpp"
-#include "accuracy/suite.hpp"
+#include "accuracy_plot_script.hpp"
+#include "granular/accuracy/report_io.hpp"
+#include "granular/accuracy/suite.hpp"
 #include "granular/errors.hpp"
 #include "granular/rule_presets.hpp"
 #include "number_option.hpp"
@@ -113,13 +114,17 @@ void run(const AccuracyOptions& o) {
     std::filesystem::create_directories(o.out);
     const auto json_path = std::filesystem::path(o.out) / "accuracy.json";
     write_file(json_path, json);
-    const std::string python = plotting_python();
-    if (python.empty()) {
-      std::fprintf(stderr, "notice: no python3 with matplotlib found (set $GRANULAR_PYTHON); %s is written, no plots\n",
+    const std::filesystem::path script = accuracy_plot_script();
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(script, ec)) {
+      std::fprintf(stderr, "notice: the plot script %s is missing; %s is written, no plots\n", script.c_str(),
                    json_path.c_str());
+    } else if (const std::string python = plotting_python(); python.empty()) {
+      std::fprintf(stderr, "notice: no python3 with matplotlib found (set $GRANULAR_PYTHON) to run %s; %s is written, no plots\n",
+                   script.c_str(), json_path.c_str());
     } else {
-      const std::string command = python + " '" + std::string(GRANULAR_ACCURACY_PLOT_SCRIPT) + "' --out '" + o.out + "' '" +
-                                  json_path.string() + "'";
+      const std::string command =
+          python + " '" + script.string() + "' --out '" + o.out + "' '" + json_path.string() + "'";
       std::fprintf(stderr, "plots: %s\n", command.c_str());
       if (std::system(command.c_str()) != 0)
         std::fprintf(stderr, "notice: the plot script failed; %s is written\n", json_path.c_str());

@@ -1,6 +1,6 @@
 #pragma once
 /// @file accuracy_command.hpp
-/// `granular accuracy`: the accuracy suite against physical references (bench/accuracy/).
+/// `granular accuracy`: the accuracy suite against physical references (accuracy/).
 
 #include <CLI/CLI.hpp>
 

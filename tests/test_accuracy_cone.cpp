@@ -6,8 +6,8 @@
 #include <numbers>
 #include <string>
 
-#include "accuracy/cone_metrics.hpp"
-#include "accuracy/pour_cone.hpp"
+#include "granular/accuracy/cone_metrics.hpp"
+#include "granular/accuracy/pour_cone.hpp"
 #include "test_support.hpp"
 
 using namespace granular;

@@ -4,9 +4,9 @@
 #include <string>
 #include <vector>
 
-#include "accuracy/fit.hpp"
-#include "accuracy/report.hpp"
-#include "accuracy/suite.hpp"
+#include "granular/accuracy/fit.hpp"
+#include "granular/accuracy/report.hpp"
+#include "granular/accuracy/suite.hpp"
 #include "granular/errors.hpp"
 #include "test_support.hpp"
 

@@ -5,7 +5,7 @@
 
 #include <cstdint>
 
-#include "accuracy/cone_metrics.hpp"
+#include "granular/accuracy/cone_metrics.hpp"
 #include "granular/grid.hpp"
 #include "granular/material.hpp"
 #include "granular/world_def.hpp"

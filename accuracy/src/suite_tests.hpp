@@ -6,8 +6,8 @@
 
 #include <vector>
 
-#include "accuracy/report.hpp"
-#include "accuracy/suite_options.hpp"
+#include "granular/accuracy/report.hpp"
+#include "granular/accuracy/suite_options.hpp"
 
 namespace granular::accuracy {
 

@@ -1,4 +1,4 @@
-#include "accuracy/pour_cone.hpp"
+#include "granular/accuracy/pour_cone.hpp"
 
 #include <chrono>
 #include <string>

@@ -1,4 +1,4 @@
-#include "accuracy/suite_options.hpp"
+#include "granular/accuracy/suite_options.hpp"
 
 #include "granular/errors.hpp"
 

@@ -4,10 +4,10 @@
 #include <string>
 #include <vector>
 
-#include "accuracy/fit.hpp"
-#include "accuracy/settle.hpp"
-#include "accuracy/suite_tests.hpp"
+#include "granular/accuracy/fit.hpp"
 #include "granular/world.hpp"
+#include "settle.hpp"
+#include "suite_tests.hpp"
 
 namespace granular::accuracy {
 

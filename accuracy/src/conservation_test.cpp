@@ -4,10 +4,10 @@
 #include <string>
 #include <vector>
 
-#include "accuracy/suite_tests.hpp"
 #include "granular/hex.hpp"
 #include "granular/rule_presets.hpp"
 #include "granular/world.hpp"
+#include "suite_tests.hpp"
 
 namespace granular::accuracy {
 

@@ -1,4 +1,4 @@
-#include "accuracy/report_io.hpp"
+#include "granular/accuracy/report_io.hpp"
 
 #include <cmath>
 #include <cstdio>

@@ -4,10 +4,10 @@
 #include <string>
 #include <vector>
 
-#include "accuracy/fit.hpp"
-#include "accuracy/hourglass.hpp"
-#include "accuracy/suite_tests.hpp"
+#include "granular/accuracy/fit.hpp"
 #include "granular/world.hpp"
+#include "hourglass.hpp"
+#include "suite_tests.hpp"
 
 namespace granular::accuracy {
 

@@ -1,4 +1,4 @@
-#include "accuracy/settle.hpp"
+#include "settle.hpp"
 
 namespace granular::accuracy {
 

@@ -1,4 +1,4 @@
-#include "accuracy/fit.hpp"
+#include "granular/accuracy/fit.hpp"
 
 #include <algorithm>
 #include <cmath>

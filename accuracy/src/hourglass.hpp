@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "accuracy/suite_options.hpp"
+#include "granular/accuracy/suite_options.hpp"
 
 namespace granular::accuracy {
 

@@ -1,4 +1,4 @@
-#include "accuracy/calibration.hpp"
+#include "granular/accuracy/calibration.hpp"
 
 #include <cmath>
 #include <cstdio>

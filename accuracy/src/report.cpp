@@ -1,4 +1,4 @@
-#include "accuracy/report.hpp"
+#include "granular/accuracy/report.hpp"
 
 #include <cmath>
 #include <limits>

@@ -1,4 +1,4 @@
-#include "accuracy/hourglass.hpp"
+#include "hourglass.hpp"
 
 #include <algorithm>
 #include <chrono>

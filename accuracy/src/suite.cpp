@@ -1,10 +1,10 @@
-#include "accuracy/suite.hpp"
+#include "granular/accuracy/suite.hpp"
 
 #include <algorithm>
 
-#include "accuracy/suite_tests.hpp"
 #include "granular/errors.hpp"
 #include "granular/world.hpp"
+#include "suite_tests.hpp"
 
 namespace granular::accuracy {
 

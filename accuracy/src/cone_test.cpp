@@ -4,8 +4,8 @@
 #include <numbers>
 #include <string>
 
-#include "accuracy/pour_cone.hpp"
-#include "accuracy/suite_tests.hpp"
+#include "granular/accuracy/pour_cone.hpp"
+#include "suite_tests.hpp"
 
 namespace granular::accuracy {
 

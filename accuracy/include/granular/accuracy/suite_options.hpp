@@ -7,7 +7,7 @@
 #include <functional>
 #include <string>
 
-#include "accuracy/calibration.hpp"
+#include "granular/accuracy/calibration.hpp"
 #include "granular/geometry.hpp"
 #include "granular/world_def.hpp"
 

@@ -1,4 +1,4 @@
-#include "accuracy/cone_metrics.hpp"
+#include "granular/accuracy/cone_metrics.hpp"
 
 #include <algorithm>
 #include <array>

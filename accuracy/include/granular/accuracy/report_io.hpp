@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "accuracy/calibration.hpp"
-#include "accuracy/report.hpp"
+#include "granular/accuracy/calibration.hpp"
+#include "granular/accuracy/report.hpp"
 
 namespace granular::accuracy {
 

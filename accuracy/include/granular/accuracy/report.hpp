@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "accuracy/calibration.hpp"
+#include "granular/accuracy/calibration.hpp"
 
 namespace granular::accuracy {
 

@@ -3,10 +3,10 @@
 #include <string>
 #include <vector>
 
-#include "accuracy/fit.hpp"
-#include "accuracy/suite_tests.hpp"
+#include "granular/accuracy/fit.hpp"
 #include "granular/rule_presets.hpp"
 #include "granular/world.hpp"
+#include "suite_tests.hpp"
 
 namespace granular::accuracy {
 

@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "accuracy/report.hpp"
-#include "accuracy/suite_options.hpp"
+#include "granular/accuracy/report.hpp"
+#include "granular/accuracy/suite_options.hpp"
 
 namespace granular::accuracy {
 
