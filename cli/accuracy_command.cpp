@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "accuracy_plot_script.hpp"
+#include "choices_text.hpp"
 #include "granular/accuracy/report_io.hpp"
 #include "granular/accuracy/suite.hpp"
 #include "granular/errors.hpp"
@@ -22,7 +23,7 @@ namespace granular::cli {
 namespace {
 
 struct AccuracyOptions {
-  std::vector<std::string> rules{"paper", "d4", "isotropic", "inertial", "inertial-24"};
+  std::vector<std::string> rules = rule_preset_names();
   std::vector<std::string> tests = accuracy::suite_test_names();
   std::string backend = "cpu";
   int threads = 0;
@@ -147,8 +148,10 @@ void run(const AccuracyOptions& o) {
 void add_accuracy_command(CLI::App& app) {
   auto o = std::make_shared<AccuracyOptions>();
   CLI::App* cmd = app.add_subcommand("accuracy", "measure the simulation against physical references");
-  cmd->add_option("--rules", o->rules, "rule sets to compare, comma-separated")->delimiter(',')->capture_default_str();
-  cmd->add_option("--tests", o->tests, "tests to run, comma-separated: cone, hysteresis, silo, collapse, fall, conservation")
+  cmd->add_option("--rules", o->rules, "rule sets to compare, comma-separated; each one of " + rule_preset_choices())
+      ->delimiter(',')
+      ->capture_default_str();
+  cmd->add_option("--tests", o->tests, "tests to run, comma-separated; each one of " + choices_text(accuracy::suite_test_names()))
       ->delimiter(',')
       ->capture_default_str();
   cmd->add_option("--backend", o->backend, "compute backend: cpu, cuda or auto")->capture_default_str();

@@ -6,6 +6,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
+#include "choices_text.hpp"
 #include "granular/hex.hpp"
 #include "granular/lut.hpp"
 #include "granular/rule_presets.hpp"
@@ -80,7 +81,7 @@ void run(const LutOptions& o) {
 void add_lut_command(CLI::App& app) {
   auto options = std::make_shared<LutOptions>();
   CLI::App* cmd = app.add_subcommand("lut", "build, validate and cache a rule set's transition table");
-  cmd->add_option("--rules", options->rules, "rule set: inertial, inertial-24, isotropic, d4 or paper")->capture_default_str();
+  cmd->add_option("--rules", options->rules, "rule set: " + rule_preset_choices())->capture_default_str();
   cmd->add_option("--cache-dir", options->cache_dir, "cache folder (default: $GRANULAR_CACHE_DIR or ~/.cache/granular)");
   cmd->add_flag("--rebuild", options->rebuild, "build even when cached, and time the build");
   add_number_option(*cmd, "-j,--threads", options->threads, threads_range(),

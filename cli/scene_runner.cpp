@@ -5,6 +5,7 @@
 #include <climits>
 #include <cstdio>
 
+#include "choices_text.hpp"
 #include "granular/errors.hpp"
 #include "granular/grid_io.hpp"
 #include "number_option.hpp"
@@ -19,7 +20,7 @@ void add_world_options(CLI::App& command, WorldOptions& o) {
                     {1, std::uint64_t(kMaxGridExtent), "omit --size for the scene's default N"},
                     "scene size N (omit it for the scene's default_n)")
       ->default_str("the scene's default");
-  command.add_option("--rules", o.rules, "rule set: inertial, inertial-24, isotropic, d4 or paper")->capture_default_str();
+  command.add_option("--rules", o.rules, "rule set: " + rule_preset_choices())->capture_default_str();
   command.add_option("--backend", o.backend, "compute backend")
       ->check(CLI::IsMember({"auto", "cpu", "cuda"}))
       ->capture_default_str();

@@ -2,7 +2,9 @@
 
 #include <CLI/CLI.hpp>
 #include <stdexcept>
+#include <string>
 
+#include "granular/rule_presets.hpp"
 #include "renderer_factory.hpp"
 
 namespace viewer {
@@ -22,7 +24,9 @@ void add_sandbox_options(CLI::App& app, SandboxOptions& o) {
       },
       "scene size parameter N (default: the scene's own)");
   app.add_option("--backend", o.world.backend, "auto, cpu or cuda");
-  app.add_option("--rules", o.world.rules, "rule-set preset (inertial, inertial-24, isotropic, d4, paper)");
+  std::string presets;
+  for (const auto& name : granular::rule_preset_names()) presets += (presets.empty() ? "" : ", ") + name;
+  app.add_option("--rules", o.world.rules, "rule-set preset (" + presets + ")");
   app.add_option("--threads", o.world.threads, "CPU backend threads (0: all)");
   app.add_flag("--headless", o.headless, "render offscreen, no window, no display needed");
   app.add_option_function<int>("--frames", [&o](const int& n) { o.frames = n; },
