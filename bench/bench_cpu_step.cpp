@@ -72,13 +72,15 @@ void BM_Backend(benchmark::State& state) {
 void BM_PlainLoop(benchmark::State& state) {
   const int start = int(state.range(0)), threads = int(state.range(1));
   const Grid& g = bowl_at(start);
-  const auto lut = obtain_lut(*make_rule_set("paper")).lut;
+  const auto rules = make_rule_set("paper");
+  const auto lut = obtain_lut(*rules).lut;
+  const reference::PlainRules plain = reference::plain_rules(*rules, *lut, 0);
   for (auto _ : state) {
     state.PauseTiming();
     Grid work = g;
     state.ResumeTiming();
     for (int t = 0; t < kTicksPerIteration; ++t)
-      bench::plain_step(work.cells().data(), work.size(), lut->entries().data(), std::uint64_t(start + t), threads);
+      reference::plain_step(work.cells(), work.size(), plain, std::uint64_t(start + t), threads);
     benchmark::DoNotOptimize(work.cells().data());
   }
   report(state, g);

@@ -6,12 +6,16 @@
 #include <doctest/doctest.h>
 
 #include <cstdint>
+#include <cstdio>
 #include <initializer_list>
 #include <random>
+#include <span>
 #include <string>
 #include <string_view>
 
 #include "granular/grid.hpp"
+#include "granular/material.hpp"
+#include "granular/motion.hpp"
 #include "granular/world.hpp"
 
 namespace granular::test {
@@ -74,6 +78,36 @@ std::string error_of(F&& f) {
 inline void check_has(const std::string& msg, std::initializer_list<std::string_view> parts) {
   for (std::string_view p : parts)
     CHECK_MESSAGE(msg.find(p) != std::string::npos, "expected '" << p << "' in: " << msg);
+}
+
+/// A cell byte for messages: "0x92 (granular, motion level 2, phase 1)".
+inline std::string describe_cell(std::uint8_t byte) {
+  char hex[8];
+  std::snprintf(hex, sizeof hex, "0x%02x", unsigned(byte));
+  return std::string(hex) + " (" + std::string(material_name(Material(cell_material(byte)))) + ", motion level " +
+         std::to_string(cell_motion(byte)) + ", phase " + ((byte & kMotionPhaseBit) ? "1" : "0") + ")";
+}
+
+/// "" when `expected` and `actual`, the cells of two grids of extent `size` (x fastest), are equal;
+/// else a message naming the first differing cell (x, y, z) in memory order and both of its bytes
+/// (describe_cell), each side called by its name.
+inline std::string first_differing_cell(Int3 size, std::span<const std::uint8_t> expected,
+                                        std::span<const std::uint8_t> actual, std::string_view expected_name = "expected",
+                                        std::string_view actual_name = "actual") {
+  const std::size_t cells = std::size_t(size.x) * std::size_t(size.y) * std::size_t(size.z);
+  if (expected.size() != cells || actual.size() != cells)
+    return "cannot compare: " + std::string(expected_name) + " holds " + std::to_string(expected.size()) + " cells, " +
+           std::string(actual_name) + " " + std::to_string(actual.size()) + ", a " + to_string(size) + " grid " +
+           std::to_string(cells);
+  for (std::size_t i = 0; i < cells; ++i) {
+    if (expected[i] == actual[i]) continue;
+    const std::size_t x = i % std::size_t(size.x), y = (i / std::size_t(size.x)) % std::size_t(size.y),
+                      z = i / (std::size_t(size.x) * std::size_t(size.y));
+    return "first differing cell (" + std::to_string(x) + ", " + std::to_string(y) + ", " + std::to_string(z) +
+           ") of the " + to_string(size) + " grid: " + std::string(expected_name) + " " + describe_cell(expected[i]) +
+           ", " + std::string(actual_name) + " " + describe_cell(actual[i]);
+  }
+  return {};
 }
 
 }  // namespace granular::test

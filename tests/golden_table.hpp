@@ -1,0 +1,83 @@
+#pragma once
+/// @file golden_table.hpp
+/// Fixed points of the simulation (Box2D's EXPECTED_HASH): for every preset and several shipped
+/// scenes, the World::hash() of the grid (every cell byte, grains' motion bits included) after a
+/// fixed number of ticks from the scene's initial grid, with a fixed seed. Every backend and
+/// stepping mode (CPU and CUDA, sparse and dense, any thread count) must reach exactly these values.
+///
+/// A pinned value changes only with an intended change of behaviour: a rule, a preset's parameters,
+/// the random draws, the offset cycle, the hash itself, or a shipped scene used here. Then the new
+/// value is pasted here (the failure message prints the entry) and the commit says why it changed.
+/// A refactoring, a new fast path or a new backend never changes one.
+
+#include <cstdint>
+#include <cstdio>
+#include <string>
+#include <string_view>
+
+#include "granular/grid.hpp"
+#include "granular/scene.hpp"
+#include "granular/world_def.hpp"
+
+namespace granular::test {
+
+/// One fixed point: `preset` run `ticks` ticks on scene `scene` at size parameter `n` gives `hash`.
+struct GoldenCase {
+  std::string_view preset;  ///< rule-set preset name
+  std::string_view scene;   ///< shipped scene name (assets/scenes)
+  int n = 0;                ///< the scene's size parameter N
+  int ticks = 0;            ///< ticks stepped from the initial grid
+  std::uint64_t hash = 0;   ///< World::hash() after them
+};
+
+/// The seed of every golden run (WorldDef::seed).
+inline constexpr std::uint64_t kGoldenSeed = 20240611;
+
+/// The pinned hashes.
+inline constexpr GoldenCase kGoldenCases[] = {
+    {"paper", "bowl", 32, 64, 0x045de1826a9c4857ull},
+    {"paper", "hourglass", 48, 64, 0x2cf2a8991bd7b342ull},
+    {"paper", "silo", 32, 64, 0xf9a14cfef23b9cd6ull},
+    {"paper", "column", 32, 64, 0x9b35d014d2350503ull},
+    {"isotropic", "bowl", 32, 64, 0xac9009cd7298f0cbull},
+    {"isotropic", "hourglass", 48, 64, 0x337653942c48fa50ull},
+    {"isotropic", "silo", 32, 64, 0x3104cf6862ebb73bull},
+    {"isotropic", "column", 32, 64, 0xefddf2afa2d222e8ull},
+    {"d4", "bowl", 32, 64, 0xcaf274c1b28f1fc0ull},
+    {"d4", "hourglass", 48, 64, 0x51a47f90e3bc833full},
+    {"d4", "silo", 32, 64, 0xc70aaf149d621d75ull},
+    {"d4", "column", 32, 64, 0xdc32a2bc73893593ull},
+    {"inertial", "bowl", 32, 64, 0x162ebb90451842d2ull},
+    {"inertial", "hourglass", 48, 64, 0x8291fe42209f8d43ull},
+    {"inertial", "silo", 32, 64, 0x74371f6ff6fb978aull},
+    {"inertial", "column", 32, 64, 0x9204b48c4fc868c1ull},
+    {"inertial-24", "bowl", 32, 64, 0x706364cf37fe7cfaull},
+    {"inertial-24", "hourglass", 48, 64, 0xb08b704bab29288full},
+    {"inertial-24", "silo", 32, 64, 0xf6a204e1d1dff6a1ull},
+    {"inertial-24", "column", 32, 64, 0x859b206d9050e052ull},
+};
+
+/// The initial grid of a golden case: its shipped scene built at its N.
+inline Grid golden_initial(const GoldenCase& c) { return instantiate(load_scene(find_scene(c.scene)), c.n).grid; }
+
+/// The WorldDef of a golden run on `backend`, sparse or dense, with 2 CPU threads and the table
+/// cache from the environment.
+inline WorldDef golden_def(const GoldenCase& c, BackendKind backend, bool sparse) {
+  WorldDef def;
+  def.rules = std::string(c.preset);
+  def.seed = kGoldenSeed;
+  def.backend = backend;
+  def.threads = 2;
+  def.sparse = sparse;
+  return def;
+}
+
+/// The table entry of a case with hash `hash`, as it is written above.
+inline std::string golden_entry(const GoldenCase& c, std::uint64_t hash) {
+  char h[24];
+  std::snprintf(h, sizeof h, "0x%016llxull", static_cast<unsigned long long>(hash));
+  return "{\"" + std::string(c.preset) + "\", \"" + std::string(c.scene) + "\", " + std::to_string(c.n) + ", " +
+         std::to_string(c.ticks) + ", " + h + "}";
+}
+
+}  // namespace granular::test
