@@ -78,7 +78,7 @@ BlockCells motion_block(const PlainRules& r, BlockCells cells, const BlockAt& b)
       if ((cells[i] & kMaterialMask) == kGrainCell)
         cells[i] = std::uint8_t((cells[i] & ~kMotionPhaseBit) | (i < 4 ? kMotionPhaseBit : 0));
   const std::uint64_t random =
-      block_random(r.seed, b.tick * std::uint64_t(r.motion.substeps) + std::uint64_t(s), b.x0, b.y0, b.z0);
+      block_random(r.seed, b.tick * std::uint64_t(r.substeps) + std::uint64_t(s), b.x0, b.y0, b.z0);
   // The level draw of top cell i (out of 256, in steps of 4) and its roll draw.
   auto level_draw = [&](int i) { return int((random >> (40 + 6 * (i - 4))) & 63u) * 4; };
   auto roll_draw = [&](int i) { return int((random >> (8 * (i - 3))) & 0xFFu); };
@@ -102,7 +102,7 @@ BlockCells motion_block(const PlainRules& r, BlockCells cells, const BlockAt& b)
         code[i] = kCodeObstacle;  // too slow to move in this sub-step
       } else {
         moving[i] = any_moving = true;
-        code[i] = level > 0 && roll_draw(i) < r.motion.roll_chance ? kCodeRoller : kCodeGrain;
+        code[i] = level > 0 && roll_draw(i) < r.roll_chance ? kCodeRoller : kCodeGrain;
       }
     }
   }
@@ -119,6 +119,7 @@ BlockCells motion_block(const PlainRules& r, BlockCells cells, const BlockAt& b)
       if (map[j] == viewed_destination) destination_of[i] = j;
   }
 
+  const int max_level = MotionParams{.substeps = r.substeps}.max_level();
   BlockCells out{};
   for (int i = 0; i < 8; ++i) {
     std::uint8_t cell = cells[i];
@@ -130,11 +131,11 @@ BlockCells motion_block(const PlainRules& r, BlockCells cells, const BlockAt& b)
         const bool straight_down = (to & 3) == (i & 3);
         if (straight_down) {
           if (s == (phase ? 1 : 0) && alone_in_top_layer(cells, i)) ++level;
-        } else if (level_draw(i) < r.motion.topple_gain) {
+        } else if (level_draw(i) < r.topple_gain) {
           ++level;
         }
-        if (level > r.motion.max_level()) level = r.motion.max_level();
-      } else if (level > 0 && level_draw(i) < (to != i ? r.motion.roll_cost : kPlainStuckCost)) {
+        if (level > max_level) level = max_level;
+      } else if (level > 0 && level_draw(i) < (to != i ? r.roll_cost : kPlainStuckCost)) {
         --level;
       }
       cell = std::uint8_t(kGrainCell | (level << kMotionShift) | phase);
@@ -173,7 +174,7 @@ void plain_layer(std::span<std::uint8_t> grid, Int3 n, const PlainRules& r, Bloc
                  int substep, int layer) {
   const int z0 = 2 * layer - o.z;
   const std::size_t sy = std::size_t(n.x), sz = sy * std::size_t(n.y);
-  const bool plain_rule = !r.motion.enabled() && !r.random_symmetry;
+  const bool plain_rule = !r.motion() && !r.random_symmetry;
   for (int by = 0; by < block_count(n.y, o.y); ++by) {
     const int y0 = 2 * by - o.y;
     for (int bx = 0; bx < block_count(n.x, o.x); ++bx) {
@@ -185,7 +186,7 @@ void plain_layer(std::span<std::uint8_t> grid, Int3 n, const PlainRules& r, Bloc
       }
       const BlockAt at{x0, y0, z0, tick, substep};
       const Gathered g = gather(grid, n, at);
-      scatter(grid, g, r.motion.enabled() ? motion_block(r, g.cells, at) : one_step_block(r, g.cells, at));
+      scatter(grid, g, r.motion() ? motion_block(r, g.cells, at) : one_step_block(r, g.cells, at));
     }
   }
 }
@@ -210,15 +211,24 @@ void plain_pass(std::span<std::uint8_t> grid, Int3 n, const PlainRules& r, Block
 }  // namespace
 
 PlainRules plain_rules(const RuleSet& rules, const Lut& lut, std::uint64_t seed) {
-  return PlainRules{&lut, rules.random_symmetry, rules.random_axis_order, rules.motion, seed};
+  PlainRules plain;
+  plain.lut = &lut;
+  plain.random_symmetry = rules.random_symmetry;
+  plain.random_axis_order = rules.random_axis_order;
+  plain.substeps = rules.motion.substeps;
+  plain.topple_gain = rules.motion.topple_gain;
+  plain.roll_cost = rules.motion.roll_cost;
+  plain.roll_chance = rules.motion.roll_chance;
+  plain.seed = seed;
+  return plain;
 }
 
 void plain_step(std::span<std::uint8_t> cells, Int3 size, const PlainRules& rules, std::uint64_t tick, int threads) {
-  if (!rules.motion.enabled()) {
+  if (!rules.motion()) {
     plain_pass(cells, size, rules, block_offset(tick, rules.seed, rules.random_axis_order), tick, 0, threads);
     return;
   }
-  for (int s = 0; s < rules.motion.substeps; ++s)
+  for (int s = 0; s < rules.substeps; ++s)
     plain_pass(cells, size, rules, motion_pass_offset(rules, tick, s), tick, s, threads);
 }
 

@@ -19,17 +19,23 @@
 
 namespace granular::reference {
 
-/// What the plain loop reads of a world: its table, the rule set's random variants and motion
-/// model, and the seed of its random draws.
+/// What the plain loop reads of a world: its table, the rule set's random variants, the motion
+/// model's parameters (those of the granular material), and the seed of its random draws.
 struct PlainRules {
   const Lut* lut = nullptr;        ///< the transition table of the rule set
-  bool random_symmetry = false;    ///< RuleSet::random_symmetry
-  bool random_axis_order = false;  ///< RuleSet::random_axis_order
-  MotionParams motion;             ///< RuleSet::motion
+  bool random_symmetry = false;    ///< draw a horizontal symmetry per block (RuleSet::random_symmetry)
+  bool random_axis_order = false;  ///< draw the offset order per cycle (RuleSet::random_axis_order)
+  int substeps = 1;                ///< Margolus sub-steps per tick; above 1 the motion model is on
+  int topple_gain = 0;             ///< out of 256: chance that a grain toppling down a step gains a level
+  int roll_cost = 0;               ///< out of 256: chance that a roll costs a level
+  int roll_chance = 0;             ///< out of 256: chance that a moving grain blocked from below may roll
   std::uint64_t seed = 0;          ///< WorldDef::seed
+  /// True when the motion model is on.
+  bool motion() const { return substeps > 1; }
 };
 
-/// The PlainRules of a world with rule set `rules`, table `lut` (which must outlive the result) and `seed`.
+/// The PlainRules of a world with rule set `rules`, table `lut` (which must outlive the result) and
+/// `seed`: the only place that knows where a RuleSet keeps what the plain loop reads.
 PlainRules plain_rules(const RuleSet& rules, const Lut& lut, std::uint64_t seed);
 
 /// Chance out of 256 that a moving grain blocked from below with no room in its block loses a
