@@ -14,7 +14,7 @@
 ///
 ///   bench_activity [--backend cpu|cuda] [--n N] [--max-ticks T] [--window W] [--threads J]
 ///                  [--series-seconds S] [--pour-ticks P] [--dense-fraction F] [--rules R] [--out DIR]
-/// --dense-fraction sets the sparse worlds' WorldDef::dense_fraction (CUDA: above this awake
+/// --dense-fraction sets the sparse worlds' WorldDef::cuda.dense_fraction (CUDA: above this awake
 /// fraction a step uses dense-recording ticks; 1 = sparse ticks only, as before that existed).
 /// Prints a short table last.
 
@@ -44,7 +44,7 @@ struct Options {
   int pour_ticks = 512;         ///< ticks of the pour measurement (0 = none)
   int cup = 64;                 ///< edge of the pour's cup and of the world alone
   double series_seconds = 1e9;  ///< stepping time after which the side-by-side series stops
-  double dense_fraction = WorldDef{}.dense_fraction;  ///< the sparse worlds' WorldDef::dense_fraction
+  double dense_fraction = CudaOptions{}.dense_fraction;  ///< the sparse worlds' WorldDef::cuda.dense_fraction
   std::string out = ".";        ///< folder of the CSV
   std::string rules = WorldDef{}.rules;  ///< rule-set preset
 };
@@ -77,7 +77,7 @@ WorldDef def_for(const Options& o, bool sparse) {
   def.backend = o.backend == "cuda" ? BackendKind::Cuda : BackendKind::Cpu;
   def.threads = o.threads;
   def.sparse = sparse;
-  def.dense_fraction = o.dense_fraction;
+  def.cuda.dense_fraction = o.dense_fraction;
   def.rules = o.rules;
   return def;
 }

@@ -6,12 +6,13 @@
 #include <string>
 #include <vector>
 
-#include "backend.hpp"
 #include "cuda_check.cuh"
 #include "cuda_device.cuh"
 #include "cuda_stream.cuh"
 #include "device_buffer.cuh"
 #include "external_interop.cuh"
+#include "granular/backend.hpp"
+#include "granular/backend_factory.hpp"
 #include "granular/block.hpp"
 #include "granular/errors.hpp"
 #include "granular/grid.hpp"
@@ -55,26 +56,26 @@ cuda::DeviceInfo prepare_device(Int3 size) {
 /// unchanged.
 class CudaBackend final : public Backend {
  public:
-  /// Uploads `initial` and derives the result table from `lut` on the device (keeping `lut` there
-  /// too when `motion` is enabled). `dense_fraction` (0..1) is the awake fraction above which sparse
-  /// stepping uses dense-recording ticks (0: always, 1: never).
-  CudaBackend(const Grid& initial, const Lut& lut, bool random_symmetry, bool random_axis_order, MotionParams motion,
-              std::uint64_t seed, bool sparse, double dense_fraction)
-      : device_(prepare_device(initial.size())),
-        size_(initial.size()),
-        cell_count_(std::uint64_t(initial.cell_count())),
-        random_symmetry_(random_symmetry),
-        random_axis_order_(random_axis_order),
-        motion_(motion),
-        seed_(seed),
-        shape_(cuda::step_shape(initial.size())),
+  /// Uploads info.initial and derives the result table from info.lut on the device (keeping the
+  /// table there too when the rule set's motion model is enabled). info.cuda.dense_fraction (0..1)
+  /// is the awake fraction above which sparse stepping uses dense-recording ticks (0: always, 1:
+  /// never). The checks are make_cuda_backend's.
+  explicit CudaBackend(const BackendCreateInfo& info)
+      : device_(prepare_device(info.initial.size())),
+        size_(info.initial.size()),
+        cell_count_(std::uint64_t(info.initial.cell_count())),
+        random_symmetry_(info.rules->random_symmetry),
+        random_axis_order_(info.rules->random_axis_order),
+        motion_(info.rules->motion),
+        seed_(info.seed),
+        shape_(cuda::step_shape(info.initial.size())),
         owned_cells_(cuda::cell_buffer_bytes(cell_count_), "the grid's cells"),
         cells_(owned_cells_.data()),
         result_(kBlockKeyCount, "the result table"),
         scratch_(kMaterialCount, "reduction counters"),
-        sparse_(sparse),
-        dense_fraction_(dense_fraction),
-        bricks_(brick_counts(initial.size())),
+        sparse_(info.sparse),
+        dense_fraction_(info.cuda.dense_fraction),
+        bricks_(brick_counts(info.initial.size())),
         total_bricks_(std::uint32_t(std::uint64_t(bricks_.x) * std::uint64_t(bricks_.y) * std::uint64_t(bricks_.z))),
         known_awake_(total_bricks_) {
     cudaStream_t s = stream_.get();
@@ -82,10 +83,10 @@ class CudaBackend final : public Backend {
     if (owned_cells_.bytes() > cell_count_)  // the tail of the last word, read (masked) by the reductions
       cuda::check(cudaMemsetAsync(cells_ + cell_count_, 0, owned_cells_.bytes() - cell_count_, s),
                   "cudaMemsetAsync (cells)");
-    cuda::check(cudaMemcpyAsync(cells_, initial.cells().data(), cell_count_, cudaMemcpyHostToDevice, s),
+    cuda::check(cudaMemcpyAsync(cells_, info.initial.cells().data(), cell_count_, cudaMemcpyHostToDevice, s),
                 "cudaMemcpyAsync (upload cells)");
     cuda::DeviceBuffer<Transition> table(kBlockKeyCount, "the transition table");
-    cuda::check(cudaMemcpyAsync(table.data(), lut.entries().data(), table.bytes(), cudaMemcpyHostToDevice, s),
+    cuda::check(cudaMemcpyAsync(table.data(), info.lut->entries().data(), table.bytes(), cudaMemcpyHostToDevice, s),
                 "cudaMemcpyAsync (upload transition table)");
     cuda::launch_result_table(table.data(), result_.data(), s);
     if (sparse_) init_sparse(s);
@@ -560,15 +561,15 @@ class CudaBackend final : public Backend {
 
 }  // namespace
 
-std::unique_ptr<Backend> make_cuda_backend(const Grid& initial, std::shared_ptr<const Lut> lut, const RuleSet& rules,
-                                           std::uint64_t seed, bool sparse, double dense_fraction) {
-  if (initial.cell_count() == 0) throw InvalidArgument("cuda backend: the initial grid is empty (0 cells)");
-  if (!lut || lut->entries().size() != kBlockKeyCount)
-    throw InvalidArgument("cuda backend: a full transition table (16,777,216 entries) is required");
-  if (!(dense_fraction >= 0.0 && dense_fraction <= 1.0))
-    throw InvalidArgument("cuda backend: dense_fraction = " + std::to_string(dense_fraction) + " must lie in 0..1");
-  return std::make_unique<CudaBackend>(initial, *lut, rules.random_symmetry, rules.random_axis_order, rules.motion,
-                                       seed, sparse, dense_fraction);
+std::unique_ptr<Backend> make_cuda_backend(const BackendCreateInfo& info) {
+  if (info.initial.cell_count() == 0) throw InvalidArgument("cuda backend: the initial grid is empty (0 cells)");
+  if (!info.lut || info.lut->entries().size() != kBlockKeyCount)
+    throw InvalidArgument("cuda backend: BackendCreateInfo::lut must be a full transition table (16,777,216 entries)");
+  if (!info.rules) throw InvalidArgument("cuda backend: BackendCreateInfo::rules is null");
+  if (!(info.cuda.dense_fraction >= 0.0 && info.cuda.dense_fraction <= 1.0))
+    throw InvalidArgument("cuda backend: BackendCreateInfo::cuda.dense_fraction = " +
+                          std::to_string(info.cuda.dense_fraction) + " must lie in 0..1");
+  return std::make_unique<CudaBackend>(info);
 }
 
 }  // namespace granular

@@ -7,7 +7,10 @@
 
 #include "cpu_sparse_step.hpp"
 #include "cpu_step.hpp"
+#include "granular/errors.hpp"
+#include "granular/threads.hpp"
 #include "step/inert_keys.hpp"
+#include "thread_pool.hpp"
 
 namespace granular {
 
@@ -40,27 +43,27 @@ std::shared_ptr<const std::vector<std::uint64_t>> shared_inert_table(const Lut& 
 
 }  // namespace
 
-CpuBackend::CpuBackend(const Grid& initial, std::shared_ptr<const Lut> lut, const RuleSet& rules, std::uint64_t seed,
-                       int threads, bool sparse)
-    : grid_(initial),
-      lut_(std::move(lut)),
-      result_(shared_result_table(*lut_, threads)),
-      random_symmetry_(rules.random_symmetry),
-      random_axis_order_(rules.random_axis_order),
-      motion_(rules.motion),
-      seed_(seed),
-      sparse_(sparse),
-      inert_(sparse && (rules.random_symmetry || rules.motion.enabled())
-                 ? shared_inert_table(*lut_, *result_, rules.random_symmetry, threads)
+CpuBackend::CpuBackend(const BackendCreateInfo& info)
+    : grid_(info.initial),
+      lut_(info.lut),
+      result_(shared_result_table(*lut_, info.threads)),
+      random_symmetry_(info.rules->random_symmetry),
+      random_axis_order_(info.rules->random_axis_order),
+      motion_(info.rules->motion),
+      seed_(info.seed),
+      sparse_(info.sparse),
+      inert_(info.sparse && (info.rules->random_symmetry || info.rules->motion.enabled())
+                 ? shared_inert_table(*lut_, *result_, info.rules->random_symmetry, info.threads)
                  : nullptr),
-      activity_(initial.size()),
-      pool_(threads) {
+      activity_(info.initial.size()),
+      task_system_(info.task_system ? info.task_system : std::make_shared<ThreadPool>(info.threads)),
+      pool_(*task_system_) {
   const Int3 b = activity_.bricks();
   last_.total_bricks = std::uint64_t(b.x) * std::uint64_t(b.y) * std::uint64_t(b.z);
 }
 
 std::string CpuBackend::description() const {
-  return "cpu (" + std::to_string(pool_.size()) + (pool_.size() == 1 ? " thread)" : " threads)");
+  return "cpu (" + std::to_string(pool_.thread_count()) + (pool_.thread_count() == 1 ? " thread)" : " threads)");
 }
 
 void CpuBackend::step(std::uint64_t first_tick, int ticks) {
@@ -116,7 +119,7 @@ void CpuBackend::step_pass_sparse(const StepContext& c) {
   const BrickRecord record = activity_.record(inert_ ? inert_->data() : nullptr);
   const auto& runs = activity_.runs();
   const int count = int(runs.size());
-  const int tasks = std::min(count, pool_.size() == 1 ? 1 : pool_.size() * 8);
+  const int tasks = std::min(count, pool_.thread_count() == 1 ? 1 : pool_.thread_count() * 8);
   if (tasks > 0)
     pool_.run(tasks, [&](int task) {
       const int first = int(std::int64_t(count) * task / tasks);
@@ -139,7 +142,7 @@ void CpuBackend::take_changed_bricks(std::span<std::uint8_t> flags) {
 void CpuBackend::step_pass(const StepContext& c) {
   const int layers = block_layers(c);
   // Several layer ranges per thread so that uneven layers (sand vs. air) still balance.
-  const int tasks = std::min(layers, pool_.size() == 1 ? 1 : pool_.size() * 8);
+  const int tasks = std::min(layers, pool_.thread_count() == 1 ? 1 : pool_.thread_count() * 8);
   pool_.run(tasks, [&](int task) {
     const int first = int(std::int64_t(layers) * task / tasks);
     const int last = int(std::int64_t(layers) * (task + 1) / tasks);
@@ -165,7 +168,7 @@ void CpuBackend::write(const Box& box, std::span<const std::uint8_t> in) {
 
 MaterialCounts CpuBackend::count() const {
   const auto cells = grid_.cells();
-  const int tasks = pool_.size();
+  const int tasks = pool_.thread_count();
   std::vector<std::array<std::uint64_t, 256>> hist(std::size_t(tasks), std::array<std::uint64_t, 256>{});
   pool_.run(tasks, [&](int t) {
     const std::size_t first = cells.size() * std::size_t(t) / std::size_t(tasks);
@@ -183,7 +186,7 @@ MaterialCounts CpuBackend::count() const {
 std::uint64_t CpuBackend::hash() const {
   const auto cells = grid_.cells();
   const std::size_t words = (cells.size() + 7) / 8;
-  const int tasks = pool_.size() * 4;
+  const int tasks = pool_.thread_count() * 4;
   std::vector<std::uint64_t> partial(std::size_t(tasks), 0);
   pool_.run(tasks, [&](int t) {
     const std::size_t first = words * std::size_t(t) / std::size_t(tasks);
@@ -193,6 +196,21 @@ std::uint64_t CpuBackend::hash() const {
   std::uint64_t sum = 0;
   for (auto p : partial) sum += p;
   return finish_hash(grid_.size(), sum);
+}
+
+std::unique_ptr<Backend> make_cpu_backend(const BackendCreateInfo& info) {
+  if (info.initial.cell_count() == 0) throw InvalidArgument("cpu backend: the initial grid is empty (0 cells)");
+  if (!info.lut || info.lut->entries().size() != kBlockKeyCount)
+    throw InvalidArgument("cpu backend: BackendCreateInfo::lut must be a full transition table (16,777,216 entries)");
+  if (!info.rules) throw InvalidArgument("cpu backend: BackendCreateInfo::rules is null");
+  if (info.threads < 1 || info.threads > max_threads())
+    throw InvalidArgument("cpu backend: BackendCreateInfo::threads = " + std::to_string(info.threads) + "; use 1.." +
+                          std::to_string(max_threads()) + " (4 times the hardware threads)");
+  if (info.task_system && (info.task_system->thread_count() < 1 || info.task_system->thread_count() > max_threads()))
+    throw InvalidArgument("cpu backend: BackendCreateInfo::task_system->thread_count() = " +
+                          std::to_string(info.task_system->thread_count()) + "; use 1.." +
+                          std::to_string(max_threads()) + " (4 times the hardware threads)");
+  return std::make_unique<CpuBackend>(info);
 }
 
 }  // namespace granular

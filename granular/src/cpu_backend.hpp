@@ -4,11 +4,12 @@
 
 #include <memory>
 
-#include "backend.hpp"
 #include "brick_activity.hpp"
+#include "granular/backend.hpp"
+#include "granular/backend_factory.hpp"
 #include "granular/grid.hpp"
 #include "granular/lut.hpp"
-#include "thread_pool.hpp"
+#include "granular/task_system.hpp"
 
 namespace granular {
 
@@ -16,10 +17,11 @@ namespace granular {
 /// are shared out among threads freely: the result never depends on the thread count.
 class CpuBackend final : public Backend {
  public:
-  /// Takes a copy of `initial`; `threads` >= 1. `rules` is the rule set `lut` was built from (its
-  /// random flags and motion model); `sparse` steps only the awake bricks.
-  CpuBackend(const Grid& initial, std::shared_ptr<const Lut> lut, const RuleSet& rules, std::uint64_t seed, int threads,
-             bool sparse);
+  /// Takes a copy of info.initial and steps it with info.lut, the table of info.rules (its random
+  /// flags and motion model); info.sparse steps only the awake bricks. Every parallel loop runs on
+  /// info.task_system, or on a ThreadPool of info.threads (>= 1) threads when that is null. The
+  /// checks are make_cpu_backend's.
+  explicit CpuBackend(const BackendCreateInfo& info);
 
   BackendKind kind() const override { return BackendKind::Cpu; }
   std::string description() const override;
@@ -48,7 +50,8 @@ class CpuBackend final : public Backend {
   std::shared_ptr<const std::vector<std::uint64_t>> inert_;  ///< inert-key bits (sparse, random symmetry or motion)
   BrickActivity activity_;
   ActivityStats last_{};
-  mutable ThreadPool pool_;
+  std::shared_ptr<TaskSystem> task_system_;  ///< info.task_system, or the backend's own ThreadPool
+  TaskSystem& pool_;                         ///< *task_system_: runs every parallel loop
 };
 
 }  // namespace granular

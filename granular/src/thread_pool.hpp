@@ -1,6 +1,7 @@
 #pragma once
 /// @file thread_pool.hpp
-/// A fixed set of worker threads that run index-parallel jobs; the calling thread takes part.
+/// granular's own task system (task_system.hpp): a fixed set of worker threads that run
+/// index-parallel jobs, the calling thread taking part.
 
 #include <condition_variable>
 #include <cstdint>
@@ -10,27 +11,28 @@
 #include <vector>
 #include <atomic>
 
+#include "granular/task_system.hpp"
 #include "granular/threads.hpp"
 
 namespace granular {
 
-/// Runs `fn(task)` for task in [0, tasks) across `size()` threads (workers plus the caller) and
-/// returns when all are done. Tasks must be independent; which thread runs which task is not
-/// fixed, so results must not depend on it.
-class ThreadPool {
+/// Runs `fn(task)` for task in [0, tasks) across `thread_count()` threads (workers plus the
+/// caller) and returns when all are done. Tasks must be independent; which thread runs which task
+/// is not fixed, so results must not depend on it.
+class ThreadPool final : public TaskSystem {
  public:
   /// A pool of `threads` threads in total (>= 1); `threads - 1` workers are started. Throws
   /// BackendError naming the thread when the system refuses to start one (the workers already
   /// started are stopped and joined first).
   explicit ThreadPool(int threads);
-  ~ThreadPool();
+  ~ThreadPool() override;
   ThreadPool(const ThreadPool&) = delete;
   ThreadPool& operator=(const ThreadPool&) = delete;
 
   /// Total threads, the caller included.
-  int size() const { return int(workers_.size()) + 1; }
+  int thread_count() const override { return int(workers_.size()) + 1; }
   /// Runs the tasks and waits. An exception from a task is rethrown here (the first one).
-  void run(int tasks, const std::function<void(int)>& fn);
+  void run(int tasks, const std::function<void(int)>& fn) override;
 
  private:
   void worker_loop();

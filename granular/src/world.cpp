@@ -5,32 +5,17 @@
 #include <map>
 #include <mutex>
 
-#include "backend.hpp"
-#include "cpu_backend.hpp"
+#include "granular/backend.hpp"
+#include "granular/backend_factory.hpp"
+#include "granular/backend_registry.hpp"
 #include "granular/errors.hpp"
 #include "granular/lut.hpp"
 #include "granular/motion.hpp"
 #include "granular/rule_presets.hpp"
 #include "granular/rule_set.hpp"
+#include "granular/task_system.hpp"
 #include "granular/threads.hpp"
 #include "tool_region.hpp"
-
-#ifdef GRANULAR_HAS_CUDA
-#include "granular_cuda/cuda_backend_factory.hpp"
-#endif
-
-namespace granular {
-
-std::optional<std::array<std::uint8_t, 16>> cuda_device_uuid() {
-#ifdef GRANULAR_HAS_CUDA
-  if (!cuda_device_available()) return std::nullopt;
-  return cuda_device_uuid_of_current();
-#else
-  return std::nullopt;
-#endif
-}
-
-}  // namespace granular
 
 namespace granular {
 
@@ -137,12 +122,18 @@ World::World(World&&) noexcept = default;
 World& World::operator=(World&&) noexcept = default;
 
 void World::init(const Grid& initial) {
-  const int threads = resolve_threads(def_.threads, "WorldDef::threads");
+  int threads = resolve_threads(def_.threads, "WorldDef::threads");
+  if (def_.task_system) {
+    threads = def_.task_system->thread_count();
+    if (threads < 1 || threads > max_threads())
+      throw InvalidArgument("WorldDef::task_system->thread_count() = " + std::to_string(threads) + "; use 1.." +
+                            std::to_string(max_threads()) + " (4 times the hardware threads)");
+  }
   if (def_.backend != BackendKind::Auto && def_.backend != BackendKind::Cpu && def_.backend != BackendKind::Cuda)
     throw InvalidArgument("WorldDef::backend = " + std::to_string(int(def_.backend)) +
                           " is not a BackendKind; use Auto, Cpu or Cuda");
-  if (!(def_.dense_fraction >= 0.0 && def_.dense_fraction <= 1.0))
-    throw InvalidArgument("WorldDef::dense_fraction = " + std::to_string(def_.dense_fraction) +
+  if (!(def_.cuda.dense_fraction >= 0.0 && def_.cuda.dense_fraction <= 1.0))
+    throw InvalidArgument("WorldDef::cuda.dense_fraction = " + std::to_string(def_.cuda.dense_fraction) +
                           "; use a fraction of the bricks in 0..1 (0: always dense-recording, 1: never)");
   size_ = initial.size();
   def_.size = size_;
@@ -159,42 +150,46 @@ void World::init(const Grid& initial) {
                     ", roll_chance = " + std::to_string(motion.roll_chance) + ", topple_gain = " +
                     std::to_string(motion.topple_gain) + ", roll_cost = " + std::to_string(motion.roll_cost) +
                     "; substeps must be 1 or a multiple of 8 up to 32 and the chances 0..256");
-  [[maybe_unused]] const BackendKind kind = choose_backend(def_.backend);
+  const BackendFactory factory = choose_backend(def_.backend);
   // The table (64 MiB), the backend's cells and its scratch: an allocation that fails is an
   // OutOfMemory naming the grid, not a bare std::bad_alloc.
   try {
     std::string notice;
     lut_ = shared_lut(*rules_, def_, threads, lut_seconds_, lut_from_cache_, notice);
     if (!notice.empty()) notices_.push_back(notice);
-#ifdef GRANULAR_HAS_CUDA
-    if (kind == BackendKind::Cuda) {
-      backend_ = make_cuda_backend(initial, lut_, *rules_, def_.seed, def_.sparse, def_.dense_fraction);
-      return;
-    }
-#endif
-    backend_ = std::make_unique<CpuBackend>(initial, lut_, *rules_, def_.seed, threads, def_.sparse);
+    backend_ = factory(BackendCreateInfo{.initial = initial,
+                                         .lut = lut_,
+                                         .rules = rules_,
+                                         .seed = def_.seed,
+                                         .sparse = def_.sparse,
+                                         .threads = threads,
+                                         .task_system = def_.task_system,
+                                         .cuda = def_.cuda});
   } catch (const std::bad_alloc&) {
-    throw OutOfMemory("World: out of host memory creating the " + std::string(backend_name(kind)) + " backend of the " +
-                      to_string(size_) + " grid (" + std::to_string(initial.cell_count() >> 20) +
+    throw OutOfMemory("World: out of host memory creating the backend of the " + to_string(size_) + " grid (" +
+                      std::to_string(initial.cell_count() >> 20) +
                       " MiB of cells, plus a 64 MiB transition table); use a smaller grid");
   }
+  if (!backend_) throw BackendError("WorldDef::backend_factory returned no backend (a null pointer)");
 }
 
-BackendKind World::choose_backend(BackendKind wanted) {
-#ifdef GRANULAR_HAS_CUDA
-  std::string why;
-  if (wanted == BackendKind::Cpu) return BackendKind::Cpu;
-  if (cuda_device_available(&why)) return BackendKind::Cuda;
+BackendFactory World::choose_backend(BackendKind wanted) {
+  if (def_.backend_factory) return def_.backend_factory;
+  if (wanted == BackendKind::Cpu) return make_cpu_backend;
+  const std::optional<BackendProvider> cuda = registered_backend(BackendKind::Cuda);
+  if (!cuda) {
+    if (wanted == BackendKind::Cuda)
+      throw BackendError("WorldDef::backend = cuda, but this program links no CUDA backend (link granular::granular "
+                         "from a build with CUDA, not granular::core alone); use cpu or auto");
+    notices_.push_back("backend auto: no CUDA backend linked into this program; using the CPU");
+    return make_cpu_backend;
+  }
+  const std::string why = cuda->unusable_reason();
+  if (why.empty()) return cuda->create;
   if (wanted == BackendKind::Cuda)
     throw BackendError("WorldDef::backend = cuda, but no CUDA device is usable: " + why + "; use cpu or auto");
   notices_.push_back("backend auto: no usable CUDA device (" + why + "); using the CPU");
-  return BackendKind::Cpu;
-#else
-  if (wanted == BackendKind::Cuda)
-    throw BackendError("WorldDef::backend = cuda, but this build of granular has no CUDA backend; use cpu or auto");
-  if (wanted == BackendKind::Auto) notices_.push_back("backend auto: no CUDA backend in this build; using the CPU");
-  return BackendKind::Cpu;
-#endif
+  return make_cpu_backend;
 }
 
 void World::step(int ticks) {

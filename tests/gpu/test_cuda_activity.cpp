@@ -3,7 +3,7 @@
 /// size, seed, rule set, step lengths and tools between ticks; and the same bookkeeping as the
 /// CPU's sparse stepping (active bricks and cells per tick, changed bricks), which follows the same
 /// sleep/wake rules, so every figure must agree exactly. Every case runs the GPU world with
-/// several WorldDef::dense_fraction values: 0 (every step() uses dense-recording ticks: the dense
+/// several WorldDef::cuda.dense_fraction values: 0 (every step() uses dense-recording ticks: the dense
 /// kernels, fused pairs included, recording the sparse state), 1 (never: sparse ticks only), the
 /// default (the backend switches by the awake fraction, so both kinds mix within cycles) and 0.5.
 
@@ -27,20 +27,20 @@ using granular::test::random_size;
 
 namespace {
 
-/// The GPU worlds' WorldDef::dense_fraction values: always dense-recording, never, the default, half.
-const std::array<double, 4> kFractions = {0.0, 1.0, WorldDef{}.dense_fraction, 0.5};
+/// The GPU worlds' WorldDef::cuda.dense_fraction values: always dense-recording, never, the default, half.
+const std::array<double, 4> kFractions = {0.0, 1.0, CudaOptions{}.dense_fraction, 0.5};
 
 /// A WorldDef for `backend` (the CPU with 2 threads), sparse or dense, with the build tree's table
 /// cache and the given dense_fraction.
 WorldDef activity_def(BackendKind backend, bool sparse, const char* rules, std::uint64_t seed,
-                      double dense_fraction = WorldDef{}.dense_fraction) {
+                      double dense_fraction = CudaOptions{}.dense_fraction) {
   WorldDef def;
   def.rules = rules;
   def.seed = seed;
   def.backend = backend;
   def.threads = 2;
   def.sparse = sparse;
-  def.dense_fraction = dense_fraction;
+  def.cuda.dense_fraction = dense_fraction;
   return def;
 }
 

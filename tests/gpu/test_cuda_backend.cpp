@@ -115,7 +115,7 @@ TEST_CASE("cuda: make_cuda_backend holds an exact copy of the grid") {
     CAPTURE(size.y);
     CAPTURE(size.z);
     const Grid g = random_grid(size, 11, 20, 40);
-    const auto backend = make_cuda_backend(g, lut, *rules, 5);
+    const auto backend = make_cuda_backend({.initial = g, .lut = lut, .rules = rules, .seed = 5});
     CHECK(backend->kind() == BackendKind::Cuda);
     CHECK(backend->hash() == g.hash());
     CHECK(backend->count() == g.count());
@@ -123,7 +123,7 @@ TEST_CASE("cuda: make_cuda_backend holds an exact copy of the grid") {
     backend->read(g.bounds(), back.cells());
     CHECK(back.hash() == g.hash());
   }
-  CHECK_THROWS_AS(make_cuda_backend(Grid({4, 4, 4}), nullptr, *rules, 0), InvalidArgument);
+  CHECK_THROWS_AS(make_cuda_backend({.initial = Grid({4, 4, 4}), .lut = nullptr, .rules = rules}), InvalidArgument);
 }
 
 TEST_CASE("cuda: same hash as the CPU after 1, 7, 8, 100 and 1000 ticks on 20 random scenes") {

@@ -164,8 +164,10 @@ TEST_CASE("cuda motion: dense and sparse motion kernels equal a host stepping of
         }
       std::vector<std::uint8_t> reference(initial.cells().begin(), initial.cells().end());
       const MaterialCounts counts = count_materials(reference);
-      const auto dense = make_cuda_backend(initial, lut, *rules, seed, false);
-      const auto sparse = make_cuda_backend(initial, lut, *rules, seed, true);
+      const auto dense =
+          make_cuda_backend({.initial = initial, .lut = lut, .rules = rules, .seed = seed, .sparse = false});
+      const auto sparse =
+          make_cuda_backend({.initial = initial, .lut = lut, .rules = rules, .seed = seed, .sparse = true});
       std::uint64_t tick = 0;
       for (const int ticks : {1, 2, 5, 8, 13, 40, 3, 100}) {
         CAPTURE(ticks);

@@ -1,7 +1,9 @@
 #pragma once
 /// @file cuda_backend_factory.hpp
-/// The CUDA backend's entry points, as plain C++ (no CUDA types): the library's World and the tests
-/// include this with an ordinary C++ compiler and link the granular_cuda library.
+/// The CUDA backend's entry points, as plain C++ (no CUDA types): the registration of the backend
+/// (cuda_backend_registration.cpp) and the GPU tests include this with an ordinary C++ compiler and
+/// link the granular_cuda library. A World finds the backend through the core's registry
+/// (granular/backend_registry.hpp), never through this header.
 
 #include <array>
 #include <cstdint>
@@ -9,13 +11,13 @@
 #include <string>
 #include <vector>
 
-#include "backend.hpp"
+#include "granular/backend.hpp"
+#include "granular/backend_factory.hpp"
 #include "granular/block.hpp"
 #include "granular/geometry.hpp"
 #include "granular/grid.hpp"
 #include "granular/lut.hpp"
 #include "granular/rule_set.hpp"
-#include "granular/world_def.hpp"
 
 namespace granular {
 
@@ -37,15 +39,14 @@ std::uint64_t cuda_bytes_needed(Int3 size);
 /// InvalidArgument for a non-positive extent. Allocates nothing.
 void check_cuda_fits(Int3 size);
 
-/// Creates the CUDA backend holding a copy of `initial`; `sparse` steps only awake bricks (the same
-/// result as dense stepping); with it, a step() call runs the dense kernels in their recording form
-/// when more than `dense_fraction` (0..1; 0 always, 1 never) of the bricks were awake at the last
-/// tick the host knows of (WorldDef::dense_fraction). Throws BackendError (no GPU, CUDA failure,
-/// with the CUDA error string) or OutOfMemory (with the grid size, bytes needed and bytes free on
-/// the device); InvalidArgument for an empty grid, a null table or a dense_fraction outside 0..1.
-std::unique_ptr<Backend> make_cuda_backend(const Grid& initial, std::shared_ptr<const Lut> lut, const RuleSet& rules,
-                                           std::uint64_t seed, bool sparse = true,
-                                           double dense_fraction = WorldDef{}.dense_fraction);
+/// Creates the CUDA backend holding a copy of info.initial (a BackendFactory); info.sparse steps
+/// only awake bricks (the same result as dense stepping); with it, a step() call runs the dense
+/// kernels in their recording form when more than info.cuda.dense_fraction (0..1; 0 always, 1
+/// never) of the bricks were awake at the last tick the host knows of. info.threads and
+/// info.task_system are not used. Throws BackendError (no GPU, CUDA failure, with the CUDA error
+/// string) or OutOfMemory (with the grid size, bytes needed and bytes free on the device);
+/// InvalidArgument for an empty grid, a null table or rule set, or a dense_fraction outside 0..1.
+std::unique_ptr<Backend> make_cuda_backend(const BackendCreateInfo& info);
 
 /// Builds the transition table for `rules` on the GPU (rules.device_rule must be "paper" or
 /// "motion", else InvalidArgument), returns the 16,777,216 entries (copied back), and the kernel time in

@@ -35,7 +35,7 @@ struct CellsHandoff {
 
 /// The 16-byte UUID of the CUDA device a World with the CUDA backend would use (compare with
 /// VkPhysicalDeviceIDProperties::deviceUUID to pick the same GPU in Vulkan); nullopt when this
-/// build has no CUDA backend or no CUDA device is usable.
+/// program links no CUDA backend (backend_registry.hpp) or no CUDA device is usable.
 std::optional<std::array<std::uint8_t, 16>> cuda_device_uuid();
 
 }  // namespace granular

@@ -1,9 +1,13 @@
 #pragma once
 /// @file granular.hpp
 /// Everything a game needs to embed granular: World, its definition, materials, tools, scenes and
-/// grid files.
+/// grid files, and what plugs into a World (backends, the game's task system).
 
 #include "granular/activity.hpp"
+#include "granular/backend.hpp"
+#include "granular/backend_factory.hpp"
+#include "granular/backend_registry.hpp"
+#include "granular/cuda_options.hpp"
 #include "granular/errors.hpp"
 #include "granular/geometry.hpp"
 #include "granular/grid.hpp"
@@ -13,6 +17,7 @@
 #include "granular/motion.hpp"
 #include "granular/raycast.hpp"
 #include "granular/scene.hpp"
+#include "granular/task_system.hpp"
 #include "granular/time_scale.hpp"
 #include "granular/tools.hpp"
 #include "granular/vox_io.hpp"

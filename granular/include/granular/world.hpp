@@ -128,7 +128,10 @@ class World {
   void init(const Grid& initial);
   // The backend; throws StateError on a moved-from World.
   Backend& live() const;
-  BackendKind choose_backend(BackendKind wanted);
+  // The factory of the backend to create: def_.backend_factory, or the one `wanted` stands for
+  // here (adding a notice when auto falls back to the CPU). Throws BackendError when cuda is
+  // wanted and not linked or not usable.
+  BackendFactory choose_backend(BackendKind wanted);
   void mark_changed(const Box& region, std::span<const std::uint8_t> before, std::span<const std::uint8_t> after);
   // The cell bytes to write over `region` for new materials `after` (old ones `before`): a cell
   // whose material stays keeps its byte, motion state included (motion.hpp), so a tool or load

@@ -3,17 +3,22 @@
 /// Everything needed to create a World, with defaults (Box2D's b2DefaultWorldDef, as a struct).
 
 #include <cstdint>
+#include <memory>
 #include <string>
 
+#include "granular/backend_factory.hpp"
+#include "granular/cuda_options.hpp"
 #include "granular/geometry.hpp"
+#include "granular/task_system.hpp"
 
 namespace granular {
 
 /// Which compute backend steps the world.
 enum class BackendKind {
-  Auto,  ///< the CUDA backend when a usable GPU exists, otherwise the CPU (with a one-line notice)
+  Auto,  ///< the CUDA backend when the program links it (granular::granular of a CUDA build) and a
+         ///< usable GPU exists, otherwise the CPU (with a one-line notice)
   Cpu,   ///< the multithreaded CPU reference
-  Cuda,  ///< the CUDA backend (throws BackendError when unavailable)
+  Cuda,  ///< the CUDA backend (throws BackendError when it is not linked or no GPU is usable)
 };
 
 /// Parameters of a World. Every field has a usable default.
@@ -24,15 +29,19 @@ struct WorldDef {
                                      ///< GPU up to 1024^3 (docs/ACCURACY.md), "paper" is the paper's
   std::uint64_t seed = 0;       ///< seed of every random choice the rules make; same seed, same result
   BackendKind backend = BackendKind::Auto;  ///< compute backend
-  int threads = 0;              ///< CPU worker threads; 0 = all hardware threads
+  BackendFactory backend_factory;  ///< when set, creates the backend instead (wins over `backend`):
+                                   ///< a backend of the game's own, or one chosen its own way
+  int threads = 0;              ///< threads of the CPU backend's own pool; 0 = all hardware threads,
+                                ///< at most max_threads() (threads.hpp); with a task_system, its
+                                ///< thread_count() counts instead
+  std::shared_ptr<TaskSystem> task_system;  ///< the game's threads (task_system.hpp): when set, the
+                                            ///< CPU backend runs every parallel loop of a step on it
+                                            ///< and starts no threads; null = its own pool of `threads`
   bool use_lut_cache = true;    ///< load/save the transition table from/to the on-disk cache
   std::string lut_cache_dir;    ///< cache folder; empty = $GRANULAR_CACHE_DIR, else $XDG_CACHE_HOME/granular, else ~/.cache/granular
   bool sparse = true;           ///< step only bricks where something may move (same result as dense;
                                 ///< false steps every block every tick, for comparison)
-  double dense_fraction = 0.125;  ///< CUDA sparse stepping: when more than this fraction of the bricks
-                                  ///< was awake at the last tick the host knows of, step() runs the dense
-                                  ///< kernels, recording the sparse state (same cells and activity
-                                  ///< figures, faster when much is awake); 0 always, 1 never; 0..1
+  CudaOptions cuda;             ///< settings only the CUDA backend reads (cuda_options.hpp)
 };
 
 /// The default WorldDef (identical to a value-initialised one; provided for symmetry with Box2D).

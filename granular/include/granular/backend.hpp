@@ -1,7 +1,9 @@
 #pragma once
 /// @file backend.hpp
 /// The interface a compute backend implements. World owns one and routes every read, write and
-/// step through it, so tools and queries work the same on every backend.
+/// step through it, so tools and queries work the same on every backend. The core library has the
+/// CPU backend; the CUDA library (granular_cuda, part of granular::granular) registers its own
+/// (backend_registry.hpp); a game may create its backend itself (WorldDef::backend_factory).
 
 #include <cstdint>
 #include <span>
@@ -16,7 +18,9 @@
 
 namespace granular {
 
-/// A compute backend holding the world's cells.
+/// A compute backend holding the world's cells. Boxes passed in always lie inside the grid and hold
+/// cells at least one wide; spans are exactly box.volume() bytes (or one flag per brick). Cell bytes
+/// are a material (material.hpp) in the low bits and a grain's motion state (motion.hpp) above.
 class Backend {
  public:
   virtual ~Backend() = default;
