@@ -1,11 +1,13 @@
 #include <cuda_runtime.h>
 
 #include <algorithm>
+#include <cstring>
 #include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "box_transfer.cuh"
 #include "cuda_check.cuh"
 #include "cuda_device.cuh"
 #include "cuda_stream.cuh"
@@ -42,7 +44,9 @@ cuda::DeviceInfo prepare_device(Int3 size) {
 
 /// Steps a byte-per-cell grid on a CUDA device: the same cells, result table and block arithmetic
 /// as the CPU backend, so both produce the same grid after any number of ticks. Every call runs
-/// on the backend's own stream and returns once the device has finished.
+/// on the backend's own stream, which orders it after the calls before; write() returns once its
+/// work is enqueued (a failure of that work is reported by the next call that waits), the others
+/// once the device has finished (step() too unless a renderer's timelines are attached).
 ///
 /// Sparse stepping runs each step() call in one of two ways with the same result and the same
 /// sparse state (docs/ARCHITECTURE.md, "Activity tracking"): sparse ticks (one launch per tick over
@@ -100,6 +104,7 @@ class CudaBackend final : public Backend {
   void step(std::uint64_t first_tick, int ticks) override {
     // A failure names the grid and the ticks, so a user can tell a bad launch from a lost device.
     try {
+      enqueue_pending_wake();
       step_ticks(first_tick, ticks);
     } catch (const BackendError& e) {
       throw BackendError(std::string(e.what()) + " (stepping the " + to_string(size_) + " grid, ticks " +
@@ -150,20 +155,6 @@ class CudaBackend final : public Backend {
 
  public:
 
-  void wake(std::span<const std::uint32_t> bricks) override {
-    if (!sparse_ || bricks.empty()) return;
-    asleep_ = false;
-    // At most this many more are awake now (each wakes its neighbourhood, most of which a large
-    // wake, e.g. load(), wakes anyway): a large wake switches the next step to dense-recording ticks.
-    known_awake_ = std::min<std::uint64_t>(total_bricks_, known_awake_ + bricks.size());
-    activate();
-    cudaStream_t s = stream_.get();
-    cuda::check(cudaMemcpyAsync(wake_list_.data(), bricks.data(), bricks.size_bytes(), cudaMemcpyHostToDevice, s),
-                "cudaMemcpyAsync (bricks to wake)");
-    cuda::launch_wake(sparse_params(), wake_list_.data(), unsigned(bricks.size()), s);
-    stream_.synchronize("waking bricks");
-  }
-
   void take_changed_bricks(std::span<std::uint8_t> flags) override {
     if (!sparse_) {
       std::fill(flags.begin(), flags.end(), std::uint8_t(1));
@@ -184,14 +175,29 @@ class CudaBackend final : public Backend {
     return last_;
   }
 
+  /// Waits for the device once per chunk of the box (box_transfer.cuh): once for a tool's box.
   void read(const Box& box, std::span<std::uint8_t> out) const override {
     check_box(box, out.size(), "read");
     copy_out(box, out.data());
   }
 
-  void write(const Box& box, std::span<const std::uint8_t> in) override {
+  /// Enqueues the write and returns without waiting for the device (box_transfer.cuh). The bricks
+  /// wait on the host to be woken all at once before the next step (enqueue_pending_wake).
+  void write(const Box& box, std::span<const std::uint8_t> in, std::span<const std::uint32_t> wake_bricks) override {
     check_box(box, in.size(), "write");
+    for (const std::uint32_t b : wake_bricks)
+      if (b >= total_bricks_)
+        throw InvalidArgument("cuda backend: write: brick " + std::to_string(b) + " to wake is not one of the " +
+                              std::to_string(total_bricks_) + " bricks of the " + to_string(size_) + " grid");
     copy_in(box, in.data());
+    if (!sparse_ || wake_bricks.empty()) return;
+    asleep_ = false;
+    // At most this many more are awake now (each wakes its neighbourhood, most of which a large
+    // wake, e.g. load(), wakes anyway): a large wake switches the next step to dense-recording ticks.
+    known_awake_ = std::min<std::uint64_t>(total_bricks_, known_awake_ + wake_bricks.size());
+    // A list longer than the bricks would repeat some: wake those listed so far first.
+    if (pending_wake_.size() + wake_bricks.size() > total_bricks_) enqueue_pending_wake();
+    pending_wake_.insert(pending_wake_.end(), wake_bricks.begin(), wake_bricks.end());
   }
 
   MaterialCounts count() const override {
@@ -262,7 +268,6 @@ class CudaBackend final : public Backend {
     dirty_ = cuda::DeviceBuffer<std::uint8_t>(total_bricks_, "dirty bricks");
     changed_ = cuda::DeviceBuffer<std::uint8_t>(total_bricks_, "changed bricks");
     list_ = cuda::DeviceBuffer<std::uint32_t>(total_bricks_, "the awake brick list");
-    wake_list_ = cuda::DeviceBuffer<std::uint32_t>(total_bricks_, "bricks to wake");
     count_ = cuda::DeviceBuffer<unsigned>(1, "the awake brick count");
     counters_ = cuda::DeviceBuffer<unsigned long long>(cuda::kCounterSlots, "activity counters");
     counters_host_ = cuda::pinned_counters(cuda::kCounterSlots);
@@ -478,48 +483,84 @@ class CudaBackend final : public Backend {
                             std::to_string(bytes) + ")");
   }
 
-  /// Calls copy(device_offset, host_offset, width, height) for the pieces of `box`: one contiguous
-  /// run of `width` bytes (height 1) when the box spans whole xy slices, else per z slice `height`
-  /// rows of `width` bytes, the device's rows size.x bytes apart and the host's packed.
-  template <class Copy>
-  void for_each_piece(const Box& box, Copy&& copy) const {
+  /// The grid index of the first cell of `box` when its cells are one run of the grid's bytes of
+  /// more than a chunk (whole slices, or whole rows of one slice, or part of one row), else -1:
+  /// such a box moves in one copy between the grid and the caller's memory, the way a whole-grid
+  /// load or snapshot does, with no staging.
+  std::int64_t large_run(const Box& box) const {
     const Int3 e = box.extent();
-    const std::size_t sy = std::size_t(size_.x), sz = sy * std::size_t(size_.y);
-    const std::size_t origin = std::size_t(box.min.x) + sy * std::size_t(box.min.y) + sz * std::size_t(box.min.z);
-    if (e.x == size_.x && e.y == size_.y) {
-      copy(origin, std::size_t(0), sz * std::size_t(e.z), std::size_t(1));
-      return;
-    }
-    const std::size_t w = std::size_t(e.x), h = std::size_t(e.y);
-    for (int z = 0; z < e.z; ++z) copy(origin + sz * std::size_t(z), w * h * std::size_t(z), w, h);
+    const bool run = (e.x == size_.x && (e.y == size_.y || e.z == 1)) || (e.y == 1 && e.z == 1);
+    if (!run || std::uint64_t(box.volume()) <= cuda::kTransferChunkBytes) return -1;
+    return std::int64_t(box.min.x) + std::int64_t(size_.x) * (std::int64_t(box.min.y) + std::int64_t(size_.y) * box.min.z);
   }
 
-  /// Copies the cells of `box` out to `host` (x fastest, no padding).
+  /// Copies the cells of `box` out to `host` (x fastest, no padding): a large run in one copy, else
+  /// chunk by chunk, a kernel gathering the chunk into the staging (box_transfer.cuh) and the host
+  /// taking it from there once the device has finished.
   void copy_out(const Box& box, std::uint8_t* host) const {
     activate();
-    const std::size_t pitch = std::size_t(size_.x);
-    for_each_piece(box, [&](std::size_t d, std::size_t o, std::size_t w, std::size_t h) {
-      const cudaError_t status =
-          h == 1 ? cudaMemcpyAsync(host + o, cells_ + d, w, cudaMemcpyDeviceToHost, stream_.get())
-                 : cudaMemcpy2DAsync(host + o, w, cells_ + d, pitch, w, h, cudaMemcpyDeviceToHost, stream_.get());
-      cuda::check(status, "copying cells to the host");
+    cudaStream_t s = stream_.get();
+    if (const std::int64_t first = large_run(box); first >= 0) {
+      cuda::check(cudaMemcpyAsync(host, cells_ + first, std::size_t(box.volume()), cudaMemcpyDeviceToHost, s),
+                  "cudaMemcpyAsync (cells to the host)");
+      stream_.synchronize("read");
+      return;
+    }
+    cuda::for_each_chunk(box, cuda::kTransferChunkBytes, [&](const cuda::BoxChunk& chunk) {
+      const std::uint64_t bytes = chunk.cells();
+      staging_.reserve(bytes, s);
+      const cuda::ChunkCopy copy = cuda::chunk_copy(cells_, size_, chunk, staging_.device());
+      cuda::gather_chunk_kernel<<<cuda::chunk_blocks(copy.count), cuda::kChunkThreads, 0, s>>>(copy);
+      cuda::check_launch("gather kernel launch (reading cells)");
+      stream_.synchronize("read");
+      std::memcpy(host + chunk.offset, staging_.host(), bytes);
     });
-    stream_.synchronize("read");
   }
 
-  /// Copies `host` (x fastest, no padding) into the cells of `box`.
+  /// Enqueues copying `host` (x fastest, no padding) into the cells of `box`: a large run in one
+  /// copy (which returns once the driver holds the bytes), else chunk by chunk, the host filling the
+  /// staging (once the device has finished the last kernel that reads it) and a kernel scattering
+  /// it into the grid. A tool's write is that one kernel.
   void copy_in(const Box& box, const std::uint8_t* host) {
     activate();
     before_write();
-    const std::size_t pitch = std::size_t(size_.x);
-    for_each_piece(box, [&](std::size_t d, std::size_t o, std::size_t w, std::size_t h) {
-      const cudaError_t status =
-          h == 1 ? cudaMemcpyAsync(cells_ + d, host + o, w, cudaMemcpyHostToDevice, stream_.get())
-                 : cudaMemcpy2DAsync(cells_ + d, pitch, host + o, w, w, h, cudaMemcpyHostToDevice, stream_.get());
-      cuda::check(status, "copying cells to the device");
+    cudaStream_t s = stream_.get();
+    if (const std::int64_t first = large_run(box); first >= 0) {
+      cuda::check(cudaMemcpyAsync(cells_ + first, host, std::size_t(box.volume()), cudaMemcpyHostToDevice, s),
+                  "cudaMemcpyAsync (cells to the device)");
+      after_write();
+      return;
+    }
+    const std::uint64_t total = std::uint64_t(box.volume());
+    cuda::for_each_chunk(box, cuda::kTransferChunkBytes, [&](const cuda::BoxChunk& chunk) {
+      const std::uint64_t bytes = chunk.cells();
+      staging_.reserve(bytes, s);
+      staging_.wait_free();
+      std::memcpy(staging_.host(), host + chunk.offset, bytes);
+      const cuda::ChunkCopy copy = cuda::chunk_copy(cells_, size_, chunk, staging_.device());
+      cuda::scatter_chunk_kernel<<<cuda::chunk_blocks(copy.count), cuda::kChunkThreads, 0, s>>>(copy);
+      cuda::check_launch("scatter kernel launch (writing cells)");
+      staging_.read_until(s);
+      if (chunk.offset + bytes == total) after_write();
     });
-    after_write();
-    stream_.synchronize("write");
+  }
+
+  /// Enqueues the wake of the bricks that writes since the last step left pending (dirty, their
+  /// neighbourhoods awake, the awake list rebuilt), the kernel reading the list from the staging:
+  /// the wakes of any number of tools between two steps cost one.
+  void enqueue_pending_wake() {
+    if (pending_wake_.empty()) return;
+    activate();
+    cudaStream_t s = stream_.get();
+    const std::uint64_t bytes = pending_wake_.size() * sizeof(std::uint32_t);
+    staging_.reserve(bytes, s);
+    staging_.wait_free();
+    std::memcpy(staging_.host(), pending_wake_.data(), bytes);
+    cuda::launch_wake(sparse_params(), reinterpret_cast<const std::uint32_t*>(staging_.device()),
+                      unsigned(pending_wake_.size()), s);
+    staging_.read_until(s);
+    pending_wake_.clear();
+    asleep_ = false;
   }
 
   cuda::DeviceInfo device_;
@@ -549,7 +590,7 @@ class CudaBackend final : public Backend {
                                        ///< bound after a tool's wake); all at creation
   unsigned sparse_grid_ = 1;
   cuda::DeviceBuffer<std::uint8_t> awake_, dirty_, changed_;
-  cuda::DeviceBuffer<std::uint32_t> list_, wake_list_;
+  cuda::DeviceBuffer<std::uint32_t> list_;
   cuda::DeviceBuffer<unsigned> count_;
   cuda::DeviceBuffer<unsigned long long> counters_;
   cuda::DeviceBuffer<std::uint64_t> inert_;
@@ -557,6 +598,8 @@ class CudaBackend final : public Backend {
   mutable bool counters_pending_ = false;     ///< a step's counters are on their way to counters_host_
   mutable ActivityStats last_{};
   mutable bool asleep_ = false;  ///< no brick awake and none dirty: ticks need no device work until a wake
+  mutable cuda::TransferStaging staging_;  ///< reused by every read and write of a box (box_transfer.cuh)
+  std::vector<std::uint32_t> pending_wake_;  ///< bricks that writes asked to wake, woken before the next step
 };
 
 }  // namespace

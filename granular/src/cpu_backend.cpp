@@ -128,10 +128,6 @@ void CpuBackend::step_pass_sparse(const StepContext& c) {
     });
 }
 
-void CpuBackend::wake(std::span<const std::uint32_t> bricks) {
-  if (sparse_) activity_.wake(bricks);
-}
-
 void CpuBackend::take_changed_bricks(std::span<std::uint8_t> flags) {
   if (sparse_)
     activity_.take_changed(flags);
@@ -158,12 +154,13 @@ void CpuBackend::read(const Box& box, std::span<std::uint8_t> out) const {
       std::memcpy(out.data() + o, grid_.cells().data() + grid_.index({box.min.x, y, z}), std::size_t(w));
 }
 
-void CpuBackend::write(const Box& box, std::span<const std::uint8_t> in) {
+void CpuBackend::write(const Box& box, std::span<const std::uint8_t> in, std::span<const std::uint32_t> wake_bricks) {
   const int w = box.max.x - box.min.x;
   std::size_t o = 0;
   for (int z = box.min.z; z < box.max.z; ++z)
     for (int y = box.min.y; y < box.max.y; ++y, o += std::size_t(w))
       std::memcpy(grid_.cells().data() + grid_.index({box.min.x, y, z}), in.data() + o, std::size_t(w));
+  if (sparse_) activity_.wake(wake_bricks);
 }
 
 MaterialCounts CpuBackend::count() const {

@@ -27,10 +27,9 @@ class CpuBackend final : public Backend {
   std::string description() const override;
   void step(std::uint64_t first_tick, int ticks) override;
   void read(const Box& box, std::span<std::uint8_t> out) const override;
-  void write(const Box& box, std::span<const std::uint8_t> in) override;
+  void write(const Box& box, std::span<const std::uint8_t> in, std::span<const std::uint32_t> wake_bricks) override;
   MaterialCounts count() const override;
   std::uint64_t hash() const override;
-  void wake(std::span<const std::uint32_t> bricks) override;
   void take_changed_bricks(std::span<std::uint8_t> flags) override;
   ActivityStats last_activity() const override { return last_; }
 

@@ -1,6 +1,7 @@
 #include "granular/world.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <mutex>
@@ -35,6 +36,13 @@ void strip_motion(std::span<std::uint8_t> cells) {
   for (auto& c : cells) c &= kMaterialMask;
 }
 
+/// The materials of cell bytes read from a backend.
+std::vector<std::uint8_t> materials_of(std::span<const std::uint8_t> cells) {
+  std::vector<std::uint8_t> materials(cells.begin(), cells.end());
+  strip_motion(materials);
+  return materials;
+}
+
 /// Tables are 64 MiB: worlds of one process share them while any is alive.
 std::shared_ptr<const Lut> shared_lut(const RuleSet& rules, const WorldDef& def, int threads, double& seconds,
                                       bool& from_cache, std::string& notice) {
@@ -59,16 +67,48 @@ std::shared_ptr<const Lut> shared_lut(const RuleSet& rules, const WorldDef& def,
   return got.lut;
 }
 
+/// Calls fn(i, cell), in ascending i (the cell's index in `region`, x fastest), for the cells of
+/// `region` whose centre lies in `s`: dx * dx + dy * dy + dz * dz <= r * r in doubles. Rounding is
+/// monotonic, so along a row the sum only grows away from the cell holding the centre's x (clamped
+/// to the region), and the cells inside are one run around it: each row tests that cell, then
+/// grows the run cell by cell while the test holds. A row whose dy * dy + dz * dz alone exceeds
+/// r * r holds none.
 template <class Fn>
 void for_each_cell_in_sphere(const Box& region, const Sphere& s, Fn&& fn) {
   const double r2 = s.radius * s.radius;
-  std::size_t i = 0;
+  const int nearest = int(std::clamp(std::floor(s.center.x), double(region.min.x), double(region.max.x - 1)));
+  std::size_t row = 0;  // index of the row's first cell
   for (int z = region.min.z; z < region.max.z; ++z)
-    for (int y = region.min.y; y < region.max.y; ++y)
-      for (int x = region.min.x; x < region.max.x; ++x, ++i) {
-        const double dx = x + 0.5 - s.center.x, dy = y + 0.5 - s.center.y, dz = z + 0.5 - s.center.z;
-        if (dx * dx + dy * dy + dz * dz <= r2) fn(i, Int3{x, y, z});
-      }
+    for (int y = region.min.y; y < region.max.y; ++y, row += std::size_t(region.max.x - region.min.x)) {
+      const double dy = y + 0.5 - s.center.y, dz = z + 0.5 - s.center.z;
+      const double dy2 = dy * dy, dz2 = dz * dz;
+      if (dy2 + dz2 > r2) continue;
+      const auto inside = [&](int x) {
+        const double dx = x + 0.5 - s.center.x;
+        return dx * dx + dy2 + dz2 <= r2;
+      };
+      if (!inside(nearest)) continue;
+      int first = nearest, last = nearest + 1;
+      while (first > region.min.x && inside(first - 1)) --first;
+      while (last < region.max.x && inside(last)) ++last;
+      for (int x = first; x < last; ++x) fn(row + std::size_t(x - region.min.x), Int3{x, y, z});
+    }
+}
+
+/// Keeps the `keep` entries (fewer than there are) of the smallest keys, which are distinct, in no
+/// particular order: those whose top 8 key bits are below the bucket where the count reaches
+/// `keep`, and the smallest of that bucket; one counting pass and two partitions, where ordering
+/// them all by key would cost several times as much.
+void keep_smallest(std::vector<std::pair<std::uint64_t, std::size_t>>& entries, std::size_t keep) {
+  std::array<std::size_t, 256> count{};
+  for (const auto& e : entries) ++count[e.first >> 56];
+  std::size_t below = 0;
+  std::uint64_t bucket = 0;
+  while (below + count[bucket] < keep) below += count[bucket++];
+  const auto in_bucket = std::partition(entries.begin(), entries.end(), [&](const auto& e) { return (e.first >> 56) < bucket; });
+  const auto past = std::partition(in_bucket, entries.end(), [&](const auto& e) { return (e.first >> 56) == bucket; });
+  std::nth_element(in_bucket, in_bucket + std::ptrdiff_t(keep - below), past);
+  entries.resize(keep);
 }
 
 std::string box_string(const Box& b) {
@@ -231,36 +271,13 @@ std::uint64_t World::change_version() const {
 }
 
 void World::mark_bricks(std::span<const std::uint32_t> bricks) const {
-  take_step_changes();
+  // Changes of steps not taken yet (take_step_changes) get their version when somebody next asks
+  // for one, after these: every version a caller holds was read after taking them, so
+  // bricks_changed_since lists the same bricks either way, and a tool costs no read of the
+  // backend's changed-brick flags.
   if (bricks.empty()) return;
   ++change_version_;
   for (const std::uint32_t b : bricks) brick_version_[b] = change_version_;
-}
-
-void World::mark_changed(const Box& region, std::span<const std::uint8_t> before, std::span<const std::uint8_t> after) {
-  // The bricks holding a changed cell: marked for bricks_changed_since and woken for stepping.
-  const Int3 n = granular::brick_counts(size_);
-  const Int3 lo{region.min.x / kBrickSize, region.min.y / kBrickSize, region.min.z / kBrickSize};
-  const Int3 span{(region.max.x - 1) / kBrickSize - lo.x + 1, (region.max.y - 1) / kBrickSize - lo.y + 1,
-                  (region.max.z - 1) / kBrickSize - lo.z + 1};
-  std::vector<std::uint8_t> touched(std::size_t(span.x) * std::size_t(span.y) * std::size_t(span.z), 0);
-  std::size_t i = 0;
-  for (int z = region.min.z; z < region.max.z; ++z)
-    for (int y = region.min.y; y < region.max.y; ++y)
-      for (int x = region.min.x; x < region.max.x; ++x, ++i)
-        if (before[i] != after[i])
-          touched[(std::size_t(z / kBrickSize - lo.z) * std::size_t(span.y) + std::size_t(y / kBrickSize - lo.y)) *
-                      std::size_t(span.x) +
-                  std::size_t(x / kBrickSize - lo.x)] = 1;
-  std::vector<std::uint32_t> bricks;  // ascending: z, then y, then x
-  for (int bz = 0; bz < span.z; ++bz)
-    for (int by = 0; by < span.y; ++by)
-      for (int bx = 0; bx < span.x; ++bx)
-        if (touched[(std::size_t(bz) * std::size_t(span.y) + std::size_t(by)) * std::size_t(span.x) + std::size_t(bx)])
-          bricks.push_back(std::uint32_t(
-              (std::size_t(lo.z + bz) * std::size_t(n.y) + std::size_t(lo.y + by)) * std::size_t(n.x) + std::size_t(lo.x + bx)));
-  mark_bricks(bricks);
-  live().wake(bricks);
 }
 
 std::uint64_t World::shared_cell_bytes() const { return live().shared_cell_bytes(); }
@@ -337,35 +354,58 @@ void World::load(const Grid& grid) {
   if (!(grid.size() == size_))
     throw InvalidArgument("World::load: grid is " + to_string(grid.size()) + " but the world is " + to_string(size_));
   check_cells(grid.cells(), grid.size(), "World::load");
-  const Grid before = snapshot();
-  live().write(grid.bounds(), with_motion_kept(grid.bounds(), before.cells(), grid.cells()));
-  mark_changed(grid.bounds(), before.cells(), grid.cells());
+  std::vector<std::uint8_t> cells = read_cells(grid.bounds());
+  write_materials(grid.bounds(), cells, grid.cells());
 }
 
-std::vector<std::uint8_t> World::with_motion_kept(const Box& region, std::span<const std::uint8_t> before,
-                                                  std::span<const std::uint8_t> after) const {
-  std::vector<std::uint8_t> bytes(after.size());
-  live().read(region, bytes);
-  for (std::size_t i = 0; i < bytes.size(); ++i)
-    if (before[i] != after[i]) bytes[i] = after[i];
-  return bytes;
+std::vector<std::uint8_t> World::read_cells(const Box& region) const {
+  std::vector<std::uint8_t> cells(std::size_t(region.volume()));
+  live().read(region, cells);
+  return cells;
 }
 
-ChangeReport World::commit_region(const Box& region, bool clipped, const std::vector<std::uint8_t>& before,
-                                  const std::vector<std::uint8_t>& after) {
+ChangeReport World::write_materials(const Box& region, std::vector<std::uint8_t>& cells,
+                                    std::span<const std::uint8_t> after) {
   ChangeReport report;
+  // The bricks of the region, flagged when they hold a changed cell.
+  const Int3 n = granular::brick_counts(size_);
+  const Int3 lo{region.min.x / kBrickSize, region.min.y / kBrickSize, region.min.z / kBrickSize};
+  const Int3 span{(region.max.x - 1) / kBrickSize - lo.x + 1, (region.max.y - 1) / kBrickSize - lo.y + 1,
+                  (region.max.z - 1) / kBrickSize - lo.z + 1};
+  std::vector<std::uint8_t> touched(std::size_t(span.x) * std::size_t(span.y) * std::size_t(span.z), 0);
+  std::size_t i = 0;
+  for (int z = region.min.z; z < region.max.z; ++z)
+    for (int y = region.min.y; y < region.max.y; ++y) {
+      const std::size_t row = (std::size_t(z / kBrickSize - lo.z) * std::size_t(span.y) +
+                               std::size_t(y / kBrickSize - lo.y)) * std::size_t(span.x);
+      for (int x = region.min.x; x < region.max.x; ++x, ++i) {
+        const std::uint8_t was = cells[i] & kMaterialMask;
+        if (was == after[i]) continue;
+        ++report.cells_changed;
+        ++report.removed[was];
+        ++report.added[after[i]];
+        cells[i] = after[i];
+        touched[row + std::size_t(x / kBrickSize - lo.x)] = 1;
+      }
+    }
+  if (report.cells_changed == 0) return report;
+  std::vector<std::uint32_t> bricks;  // ascending: z, then y, then x
+  for (int bz = 0; bz < span.z; ++bz)
+    for (int by = 0; by < span.y; ++by)
+      for (int bx = 0; bx < span.x; ++bx)
+        if (touched[(std::size_t(bz) * std::size_t(span.y) + std::size_t(by)) * std::size_t(span.x) + std::size_t(bx)])
+          bricks.push_back(std::uint32_t(
+              (std::size_t(lo.z + bz) * std::size_t(n.y) + std::size_t(lo.y + by)) * std::size_t(n.x) + std::size_t(lo.x + bx)));
+  mark_bricks(bricks);
+  live().write(region, cells, bricks);
+  return report;
+}
+
+ChangeReport World::commit_region(const Box& region, bool clipped, std::vector<std::uint8_t>& cells,
+                                  std::span<const std::uint8_t> after) {
+  ChangeReport report = write_materials(region, cells, after);
   report.region = region;
   report.clipped = clipped;
-  for (std::size_t i = 0; i < before.size(); ++i)
-    if (before[i] != after[i]) {
-      ++report.cells_changed;
-      ++report.removed[before[i]];
-      ++report.added[after[i]];
-    }
-  if (report.cells_changed > 0) {
-    live().write(region, with_motion_kept(region, before, after));
-    mark_changed(region, before, after);
-  }
   ++tool_calls_;
   return report;
 }
@@ -373,34 +413,34 @@ ChangeReport World::commit_region(const Box& region, bool clipped, const std::ve
 ChangeReport World::dig(const Sphere& sphere) {
   bool clipped = false;
   const Box region = sphere_region(sphere, size_, "dig", clipped);
-  const auto before = read_region(region);
-  auto after = before;
+  auto cells = read_cells(region);
+  auto after = materials_of(cells);
   for_each_cell_in_sphere(region, sphere, [&](std::size_t i, Int3) {
     if (after[i] != to_cell(Material::Solid)) after[i] = to_cell(Material::Void);
   });
-  return commit_region(region, clipped, before, after);
+  return commit_region(region, clipped, cells, after);
 }
 
 ChangeReport World::pour(Vec3 center, double radius, Material material, std::int64_t amount) {
   const Sphere sphere{center, radius};
   bool clipped = false;
   const Box region = check_pour(sphere, material, amount, size_, clipped);
-  const auto before = read_region(region);
-  auto after = before;
+  auto cells = read_cells(region);
+  auto after = materials_of(cells);
   // Pick `amount` of the sphere's void cells by a hash of (seed, tick, call, position): a spray
   // that looks random yet is the same on every backend and every run with this seed.
+  // The cells with the `amount` smallest hashes: the hash is a bijection of the position (each
+  // coordinate < 2^21), so no two cells share one.
   const std::uint64_t salt = mix64(def_.seed ^ mix64(tick_ * 0x9E3779B97F4A7C15ull + tool_calls_));
   std::vector<std::pair<std::uint64_t, std::size_t>> candidates;
+  candidates.reserve(after.size());
   for_each_cell_in_sphere(region, sphere, [&](std::size_t i, Int3 p) {
-    if (before[i] == to_cell(Material::Void))
+    if (after[i] == to_cell(Material::Void))
       candidates.emplace_back(mix64(salt ^ (std::uint64_t(p.x) | std::uint64_t(p.y) << 21 | std::uint64_t(p.z) << 42)), i);
   });
-  if (std::int64_t(candidates.size()) > amount) {
-    std::nth_element(candidates.begin(), candidates.begin() + amount, candidates.end());
-    candidates.resize(std::size_t(amount));
-  }
+  if (std::int64_t(candidates.size()) > amount) keep_smallest(candidates, std::size_t(amount));
   for (const auto& c : candidates) after[c.second] = to_cell(material);
-  return commit_region(region, clipped, before, after);
+  return commit_region(region, clipped, cells, after);
 }
 
 ChangeReport World::paint(const Box& box, Material material) {
@@ -409,19 +449,19 @@ ChangeReport World::paint(const Box& box, Material material) {
   const Box region = intersect(box, Box{{0, 0, 0}, size_});
   if (region.empty())
     throw InvalidArgument("paint: box " + box_string(box) + " lies outside the " + to_string(size_) + " grid");
-  const auto before = read_region(region);
-  const std::vector<std::uint8_t> after(before.size(), to_cell(material));
-  return commit_region(region, !(region == box), before, after);
+  auto cells = read_cells(region);
+  const std::vector<std::uint8_t> after(cells.size(), to_cell(material));
+  return commit_region(region, !(region == box), cells, after);
 }
 
 ChangeReport World::paint(const Sphere& sphere, Material material) {
   check_tool_material(material, "paint");
   bool clipped = false;
   const Box region = sphere_region(sphere, size_, "paint", clipped);
-  const auto before = read_region(region);
-  auto after = before;
+  auto cells = read_cells(region);
+  auto after = materials_of(cells);
   for_each_cell_in_sphere(region, sphere, [&](std::size_t i, Int3) { after[i] = to_cell(material); });
-  return commit_region(region, clipped, before, after);
+  return commit_region(region, clipped, cells, after);
 }
 
 }  // namespace granular

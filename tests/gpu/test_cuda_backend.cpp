@@ -10,6 +10,7 @@
 #include <optional>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "../test_support.hpp"
@@ -45,6 +46,7 @@ struct WorldPair {
   World gpu;
   WorldPair(const Grid& initial, const char* rules, std::uint64_t seed)
       : cpu(def_for(BackendKind::Cpu, rules, seed), initial), gpu(def_for(BackendKind::Cuda, rules, seed), initial) {}
+  WorldPair(World cpu_world, World gpu_world) : cpu(std::move(cpu_world)), gpu(std::move(gpu_world)) {}
   void step(int ticks) {
     cpu.step(ticks);
     gpu.step(ticks);
@@ -307,4 +309,102 @@ TEST_CASE("cuda: sharing the cells refuses bad handles and leaves the world inta
   World cpu(def_for(BackendKind::Cpu, "paper", 1), initial);
   cpu.step(16);
   CHECK(world.hash() == cpu.hash());
+}
+
+TEST_CASE("cuda: tools between sparse steps of the default rules give the CPU's cells, reports and changed bricks") {
+  // Several tools in a row between steps: each write is enqueued without waiting, and the next
+  // tool's read of an overlapping region must see it.
+  const Int3 size{70, 52, 45};  // partial bricks on every axis
+  auto def = [](BackendKind backend) {
+    WorldDef d;  // the default rules (a motion model) and sparse stepping
+    d.seed = 7;
+    d.backend = backend;
+    d.threads = 2;
+    return d;
+  };
+  const Grid initial = random_grid(size, 3, 5, 25);
+  World cpu(def(BackendKind::Cpu), initial), gpu(def(BackendKind::Cuda), initial);
+  REQUIRE(gpu.backend() == BackendKind::Cuda);
+  std::mt19937_64 rng(4242);
+  std::uniform_real_distribution<double> ux(-3.0, size.x + 3.0), uy(-3.0, size.y + 3.0), uz(-3.0, size.z + 3.0);
+  std::uniform_real_distribution<double> radius(1.5, 9.0);
+  for (int round = 0; round < 40; ++round) {
+    CAPTURE(round);
+    const std::uint64_t cpu_version = cpu.change_version(), gpu_version = gpu.change_version();
+    const int ticks = int(rng() % 4);
+    cpu.step(ticks);
+    gpu.step(ticks);
+    for (int t = 0, tools = 1 + int(rng() % 3); t < tools; ++t) {
+      CAPTURE(t);
+      const Vec3 c{ux(rng), uy(rng), uz(rng)};
+      const double r = radius(rng);
+      const std::int64_t amount = std::int64_t(rng() % 600);
+      const Box box{{int(c.x) - 4, int(c.y) - 4, int(c.z) - 3}, {int(c.x) + 5, int(c.y) + 3, int(c.z) + 6}};
+      const int kind = int(rng() % 4);
+      auto apply = [&](World& world) -> std::optional<ChangeReport> {
+        try {
+          switch (kind) {
+            case 0: return world.dig({c, r});
+            case 1: return world.pour(c, r, Material::Granular, amount);
+            case 2: return world.paint(box, round % 5 == 0 ? Material::Solid : Material::Granular);
+            default: return world.paint(Sphere{c, r}, Material::Void);
+          }
+        } catch (const InvalidArgument&) {
+          return std::nullopt;
+        }
+      };
+      const auto a = apply(cpu), b = apply(gpu);
+      REQUIRE(a.has_value() == b.has_value());
+      if (!a) continue;
+      CHECK(a->cells_changed == b->cells_changed);
+      CHECK(a->added == b->added);
+      CHECK(a->removed == b->removed);
+      CHECK(a->region == b->region);
+      CHECK(a->clipped == b->clipped);
+    }
+    REQUIRE(gpu.hash() == cpu.hash());  // the motion state of every grain included
+    CHECK(gpu.bricks_changed_since(gpu_version) == cpu.bricks_changed_since(cpu_version));
+    CHECK(gpu.change_version() == cpu.change_version());
+  }
+  cpu.step(24);
+  gpu.step(24);
+  CHECK(gpu.hash() == cpu.hash());
+  CHECK(gpu.activity().active_bricks == cpu.activity().active_bricks);
+}
+
+TEST_CASE("cuda: reads and writes of boxes larger than one staging chunk agree with the CPU") {
+  // 300x300x100: chunks of whole slices; 2100x2050x3: a slice is more than a chunk, so chunks of
+  // rows; the whole grid and whole slices, one copy.
+  for (const Int3 size : {Int3{300, 300, 100}, Int3{2100, 2050, 3}})
+    for (const bool sparse : {false, true}) {
+      CAPTURE(size.x);
+      CAPTURE(size.y);
+      CAPTURE(sparse);
+      const Grid initial = random_grid(size, 17, 10, 30);
+      WorldDef cpu_def = def_for(BackendKind::Cpu, "paper", 3), gpu_def = def_for(BackendKind::Cuda, "paper", 3);
+      cpu_def.sparse = gpu_def.sparse = sparse;
+      WorldPair w(World(cpu_def, initial), World(gpu_def, initial));
+      require_same(w);
+      const Grid other = random_grid(size, 18, 5, 40);
+      w.cpu.load(other);
+      w.gpu.load(other);
+      CHECK(w.gpu.hash() == other.hash());
+      require_same(w);
+      CHECK(w.gpu.snapshot().hash() == other.hash());
+      const Box big{{1, 2, 0}, {size.x - 1, size.y - 3, size.z}};
+      CHECK(w.gpu.read_region(big) == w.cpu.read_region(big));
+      const ChangeReport a = w.cpu.paint(big, Material::Granular), b = w.gpu.paint(big, Material::Granular);
+      CHECK(a.cells_changed == b.cells_changed);
+      CHECK(a.added == b.added);
+      CHECK(a.removed == b.removed);
+      require_same(w);
+      // Whole slices of more than a chunk: one copy each way.
+      const Box slab{{0, 0, size.z / 3}, {size.x, size.y, size.z}};
+      CHECK(w.gpu.read_region(slab) == w.cpu.read_region(slab));
+      CHECK(w.cpu.paint(slab, Material::Solid).cells_changed == w.gpu.paint(slab, Material::Solid).cells_changed);
+      require_same(w);
+      w.step(3);
+      require_same(w);
+      CHECK(w.gpu.bricks_changed_since(0) == w.cpu.bricks_changed_since(0));
+    }
 }

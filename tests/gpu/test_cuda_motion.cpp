@@ -85,7 +85,6 @@ void reference_tick(std::vector<std::uint8_t>& cells, Int3 size, const RuleSet& 
 /// bricks (what World does after a tool).
 void paint_raw(Backend& backend, std::vector<std::uint8_t>& reference, Int3 size, const Box& box, std::uint8_t byte) {
   const std::vector<std::uint8_t> fill(std::size_t(box.volume()), byte);
-  backend.write(box, fill);
   std::vector<std::uint32_t> bricks;
   const Int3 counts = brick_counts(size);
   for (int z = box.min.z; z < box.max.z; ++z)
@@ -96,7 +95,7 @@ void paint_raw(Backend& backend, std::vector<std::uint8_t>& reference, Int3 size
       }
   std::sort(bricks.begin(), bricks.end());
   bricks.erase(std::unique(bricks.begin(), bricks.end()), bricks.end());
-  backend.wake(bricks);
+  backend.write(box, fill, bricks);
 }
 
 /// Material counts of raw bytes (each byte's material bits).

@@ -30,17 +30,17 @@ class Backend {
   virtual std::string description() const = 0;
   /// Runs ticks first_tick .. first_tick + ticks - 1.
   virtual void step(std::uint64_t first_tick, int ticks) = 0;
-  /// Copies the cells of an in-grid box out (x fastest).
+  /// Copies the cells of an in-grid box out (x fastest), every earlier write included.
   virtual void read(const Box& box, std::span<std::uint8_t> out) const = 0;
-  /// Overwrites the cells of an in-grid box.
-  virtual void write(const Box& box, std::span<const std::uint8_t> in) = 0;
+  /// Overwrites the cells of an in-grid box (x fastest) and wakes `wake_bricks` (activity.hpp
+  /// indices, each < the brick count): a sparse backend steps them and their neighbours again
+  /// (docs/ARCHITECTURE.md, "Activity tracking"). May return before the cells are written, once
+  /// `in` and `wake_bricks` are no longer needed: every later call sees the write.
+  virtual void write(const Box& box, std::span<const std::uint8_t> in, std::span<const std::uint32_t> wake_bricks) = 0;
   /// Cells per material.
   virtual MaterialCounts count() const = 0;
   /// The grid hash (hash_cells).
   virtual std::uint64_t hash() const = 0;
-  /// Cells of these bricks (activity.hpp indices) were overwritten by write(): a sparse backend
-  /// steps them and their neighbours again (docs/ARCHITECTURE.md, "Activity tracking").
-  virtual void wake(std::span<const std::uint32_t> bricks) = 0;
   /// Sets flags[i] = 1 (one entry per brick) for every brick whose cells step() changed since the
   /// last call, and forgets them. A dense backend sets every flag.
   virtual void take_changed_bricks(std::span<std::uint8_t> flags) = 0;

@@ -132,16 +132,20 @@ class World {
   // here (adding a notice when auto falls back to the CPU). Throws BackendError when cuda is
   // wanted and not linked or not usable.
   BackendFactory choose_backend(BackendKind wanted);
-  void mark_changed(const Box& region, std::span<const std::uint8_t> before, std::span<const std::uint8_t> after);
-  // The cell bytes to write over `region` for new materials `after` (old ones `before`): a cell
-  // whose material stays keeps its byte, motion state included (motion.hpp), so a tool or load
-  // changes nothing it does not change in materials (a sleeping brick stays exact).
-  std::vector<std::uint8_t> with_motion_kept(const Box& region, std::span<const std::uint8_t> before,
-                                             std::span<const std::uint8_t> after) const;
+  // The cell bytes of `region` as the backend holds them (a material in the low bits, a grain's
+  // motion state above, motion.hpp), read in one backend call.
+  std::vector<std::uint8_t> read_cells(const Box& region) const;
+  // Puts materials `after` into `region`, whose bytes read_cells gave as `cells`, with one backend
+  // write that also wakes the bricks holding a changed cell (marked for bricks_changed_since): a
+  // cell whose material stays keeps its byte, motion state included, so a tool or load changes
+  // nothing it does not change in materials (a sleeping brick stays exact). `cells` ends holding the
+  // bytes written. Returns the cells changed per material (region and clipped left unset).
+  ChangeReport write_materials(const Box& region, std::vector<std::uint8_t>& cells, std::span<const std::uint8_t> after);
   void mark_bricks(std::span<const std::uint32_t> bricks) const;
   void take_step_changes() const;
-  ChangeReport commit_region(const Box& region, bool clipped, const std::vector<std::uint8_t>& before,
-                             const std::vector<std::uint8_t>& after);
+  // A tool's write_materials, with its region and clipping in the report; counts the tool call.
+  ChangeReport commit_region(const Box& region, bool clipped, std::vector<std::uint8_t>& cells,
+                             std::span<const std::uint8_t> after);
 
   WorldDef def_;
   Int3 size_{};
