@@ -14,7 +14,7 @@
 ///
 ///   bench_activity [--backend cpu|cuda] [--n N] [--max-ticks T] [--window W] [--threads J]
 ///                  [--series-seconds S] [--pour-ticks P] [--dense-fraction F] [--rules R] [--out DIR]
-/// --dense-fraction sets the sparse worlds' WorldDef::cuda.dense_fraction (CUDA: above this awake
+/// --dense-fraction sets the sparse worlds' WorldDef::cuda.dense_fraction and motion_dense_fraction (CUDA: above this awake
 /// fraction a step uses dense-recording ticks; 1 = sparse ticks only, as before that existed).
 /// Prints a short table last.
 
@@ -77,7 +77,7 @@ WorldDef def_for(const Options& o, bool sparse) {
   def.backend = o.backend == "cuda" ? BackendKind::Cuda : BackendKind::Cpu;
   def.threads = o.threads;
   def.sparse = sparse;
-  def.cuda.dense_fraction = o.dense_fraction;
+  def.cuda.dense_fraction = def.cuda.motion_dense_fraction = o.dense_fraction;
   def.rules = o.rules;
   return def;
 }

@@ -3,9 +3,9 @@
 ///   (1) paper     the paper's layout: one int32 per cell, the full 8^8 uint32 permutation table in
 ///                 global memory, one CUDA block of 256 threads per horizontal layer of blocks
 ///                 (interior blocks only, as in the paper), gather-key-lookup-permute-scatter;
-///   (2) backend   the CUDA backend's own step kernel (step_kernel.cuh): a byte per cell and the
+///   (2) backend   the CUDA backend's own dense kernel (block_walk.cuh): a byte per cell and the
 ///                 result table, one thread per 4 blocks; also with the isotropic rule's random
-///                 symmetry; and its fused two-tick kernel (step_pair_kernel.cuh), one launch per
+///                 symmetry; and its fused two-tick kernel (pair_kernel.cuh), one launch per
 ///                 even-odd pair of ticks, right after the release and mid-fall;
 ///   (3) memcpy    a device-to-device copy of the grid's bytes: the bandwidth ceiling (a copy reads
 ///                 and writes one byte per cell, the least any step can move).
@@ -35,8 +35,11 @@
 #include "granular/errors.hpp"
 #include "granular/scene.hpp"
 #include "reduce_kernels.cuh"
-#include "step_kernel.cuh"
-#include "step_pair_kernel.cuh"
+#include "block_walk.cuh"
+#include "granular/rule_presets.hpp"
+#include "pair_kernel.cuh"
+#include "step/block_step.hpp"
+#include "step/step_materials.hpp"
 #include "table_kernels.cuh"
 
 namespace {
@@ -154,6 +157,24 @@ std::filesystem::path output_dir(int argc, char** argv) {
   return std::filesystem::current_path();
 }
 
+/// The backend's kernels on a grid of the bench: one tick, or an even-odd pair of ticks, of the
+/// one-step rules (the paper's table, with or without random symmetry).
+struct BenchStepper {
+  cuda::DeviceCells grid;  ///< the cells
+  StepRules rules;         ///< the tables and flags
+
+  /// Enqueues tick `tick` with the dense kernel.
+  void step(std::uint64_t tick, const cuda::StepShape& shape, cudaStream_t stream) const {
+    cuda::with_device_step(rules, tick, [&](const auto& rule) { cuda::launch_dense<cuda::NoNotes>(grid, rule, shape, {}, stream); });
+  }
+  /// Enqueues ticks `tick` (even) and `tick + 1` with the pair kernel.
+  void pair(std::uint64_t tick, const cuda::PairShape& shape, std::uint8_t* halo, cudaStream_t stream) const {
+    cuda::with_device_step_pair(rules, tick, [&](const auto& a, const auto& b) {
+      cuda::launch_pair<cuda::NoNotes>(grid, a, b, shape, halo, {}, stream);
+    });
+  }
+};
+
 int run(int argc, char** argv) {
   const std::filesystem::path out_dir = output_dir(argc, argv);
   std::filesystem::create_directories(out_dir);
@@ -166,7 +187,8 @@ int run(int argc, char** argv) {
   const std::size_t table_bytes = std::size_t(kBlockKeyCount) * sizeof(Transition);
   cuda::DeviceBuffer<Transition> lut(kBlockKeyCount, "the transition table");
   cuda::DeviceBuffer<BlockKey> result(kBlockKeyCount, "the result table");
-  cuda::launch_paper_lut(lut.data(), stream.get());
+  const StepMaterials materials = step_materials(default_materials());
+  cuda::launch_paper_lut(lut.data(), materials, stream.get());
   cuda::launch_result_table(lut.data(), result.data(), stream.get());
   stream.synchronize("building the tables");
 
@@ -229,35 +251,32 @@ int run(int argc, char** argv) {
     for (const Variant& v : variants) {
       upload();
       const auto before = device_counts(bytes.data(), cells, device.sm_count, stream);
-      cuda::StepParams p;
-      p.cells = bytes.data();
-      p.size = size;
-      p.result = result.data();
-      p.seed = 1;
+      BenchStepper p;
+      p.grid = {bytes.data(), size};
+      p.rules.result = result.data();
+      p.rules.seed = 1;
+      p.rules.random_symmetry = v.random_symmetry;
+      p.rules.materials = materials;
       const cuda::StepShape shape = cuda::step_shape(size);
       const cuda::PairShape pair = cuda::pair_shape(size, v.chunk);
       const std::size_t halo_bytes = cuda::pair_halo_bytes(size, pair);
       std::optional<cuda::DeviceBuffer<std::uint8_t>> halo;
       if (v.pair && halo_bytes > 0) halo.emplace(halo_bytes, "the pair kernel's halo");
       for (int t = 0; t < v.start_tick; ++t) {
-        p.tick = std::uint64_t(t);
-        cuda::launch_step(p, v.random_symmetry, shape, stream.get());
+        p.step(std::uint64_t(t), shape, stream.get());
       }
       double s = 0;
       if (v.pair) {
         const int first = v.start_tick + v.start_tick % 2;  // pairs start at an even tick
         if (first != v.start_tick) {
-          p.tick = std::uint64_t(v.start_tick);
-          cuda::launch_step(p, v.random_symmetry, shape, stream.get());
+          p.step(std::uint64_t(v.start_tick), shape, stream.get());
         }
         s = time_ticks(stream, warmup / 2, ticks / 2, [&](std::uint64_t t) {
-              p.tick = std::uint64_t(first) + 2 * t;
-              cuda::launch_step_pair(p, v.random_symmetry, pair, halo ? halo->data() : nullptr, stream.get());
+              p.pair(std::uint64_t(first) + 2 * t, pair, halo ? halo->data() : nullptr, stream.get());
             }) / 2;
       } else {
         s = time_ticks(stream, warmup, ticks, [&](std::uint64_t t) {
-          p.tick = std::uint64_t(v.start_tick) + t;
-          cuda::launch_step(p, v.random_symmetry, shape, stream.get());
+          p.step(std::uint64_t(v.start_tick) + t, shape, stream.get());
         });
       }
       stream.synchronize("backend step");
@@ -273,30 +292,26 @@ int run(int argc, char** argv) {
     for (const bool random_symmetry : {false, true}) {
       if (n > 1024) break;  // the host comparison of a larger grid costs more than it tells
       cuda::DeviceBuffer<std::uint8_t> twin(cuda::cell_buffer_bytes(cells), "the pair check's twin grid");
-      cuda::StepParams a;
-      a.size = size;
-      a.result = result.data();
-      a.seed = 7;
+      BenchStepper a;
+      a.rules.result = result.data();
+      a.rules.seed = 7;
+      a.rules.random_symmetry = random_symmetry;
+      a.rules.materials = materials;
       const cuda::StepShape shape = cuda::step_shape(size);
       const cuda::PairShape pair = cuda::pair_shape(size);
       const std::size_t halo_bytes = cuda::pair_halo_bytes(size, pair);
       std::optional<cuda::DeviceBuffer<std::uint8_t>> halo;
       if (halo_bytes > 0) halo.emplace(halo_bytes, "the pair kernel's halo");
       upload();
-      a.cells = bytes.data();
-      for (int t = 0; t < n / 2; ++t) {
-        a.tick = std::uint64_t(t);
-        cuda::launch_step(a, random_symmetry, shape, stream.get());
-      }
+      a.grid = {bytes.data(), size};
+      for (int t = 0; t < n / 2; ++t) a.step(std::uint64_t(t), shape, stream.get());
       cuda::check(cudaMemcpyAsync(twin.data(), bytes.data(), cells, cudaMemcpyDeviceToDevice, stream.get()), "copy");
-      cuda::StepParams b = a;
-      b.cells = twin.data();
+      BenchStepper b = a;
+      b.grid.cells = twin.data();
       for (int t = n / 2; t < n / 2 + 8; t += 2) {
-        a.tick = b.tick = std::uint64_t(t);
-        cuda::launch_step(a, random_symmetry, shape, stream.get());
-        a.tick = std::uint64_t(t + 1);
-        cuda::launch_step(a, random_symmetry, shape, stream.get());
-        cuda::launch_step_pair(b, random_symmetry, pair, halo ? halo->data() : nullptr, stream.get());
+        a.step(std::uint64_t(t), shape, stream.get());
+        a.step(std::uint64_t(t + 1), shape, stream.get());
+        b.pair(std::uint64_t(t), pair, halo ? halo->data() : nullptr, stream.get());
       }
       stream.synchronize("pair check");
       std::vector<std::uint8_t> single_host(cells), pair_host(cells);

@@ -29,6 +29,12 @@ void add_world_options(CLI::App& command, WorldOptions& o) {
   add_number_option(command, "--seed", o.seed, {}, "seed of every random choice");
   command.add_flag("--no-lut-cache", o.no_lut_cache, "build the transition table even when it is cached");
   command.add_flag("--dense", o.dense, "step every block every tick (no sleeping bricks; same result, for comparison)");
+  command
+      .add_option("--dense-fraction", o.dense_fraction,
+                  "CUDA sparse stepping: above this fraction of awake bricks a step runs the dense kernels, recording "
+                  "the sleeping bricks (same result); 0 always, 1 never; default: the rule set's "
+                  "(WorldDef::cuda.dense_fraction, or motion_dense_fraction with a motion model)")
+      ->check(CLI::Range(0.0, 1.0));
 }
 
 void add_ticks_option(CLI::App& command, std::uint64_t& ticks, const std::string& description) {
@@ -42,6 +48,7 @@ PreparedWorld prepare_world(const WorldOptions& o, double bytes_per_cell) {
   def.threads = o.threads;
   def.use_lut_cache = !o.no_lut_cache;
   def.sparse = !o.dense;
+  if (o.dense_fraction) def.cuda.dense_fraction = def.cuda.motion_dense_fraction = *o.dense_fraction;
   def.backend = o.backend == "cpu" ? BackendKind::Cpu : o.backend == "cuda" ? BackendKind::Cuda : BackendKind::Auto;
   PreparedWorld p;
   const std::filesystem::path as_path(o.scene);

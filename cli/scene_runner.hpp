@@ -39,6 +39,7 @@ struct WorldOptions {
   std::uint64_t seed = 0;      ///< seed of random choices
   bool no_lut_cache = false;   ///< build the transition table even when cached
   bool dense = false;          ///< step every block every tick (no activity tracking)
+  std::optional<double> dense_fraction;  ///< both WorldDef::cuda fractions when given
 };
 
 /// Registers the world options on a subcommand.

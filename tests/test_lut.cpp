@@ -13,7 +13,9 @@ namespace {
 
 constexpr std::uint8_t V = 0, S = 1, G = 2;
 
-BlockCells after(const BlockCells& cells) { return apply_transition(cells, paper_transition(cells)); }
+BlockCells after(const BlockCells& cells) {
+  return apply_transition(cells, paper_transition(cells, default_materials()));
+}
 
 std::filesystem::path fresh_dir(const char* name) {
   auto dir = std::filesystem::temp_directory_path() / ("granular-test-" + std::string(name) + "-" + std::to_string(::getpid()));
@@ -22,12 +24,12 @@ std::filesystem::path fresh_dir(const char* name) {
   return dir;
 }
 
-Transition moves_solid(const BlockCells& cells) {
+Transition moves_solid(const BlockCells& cells, const MaterialTable&) {
   // Swaps cells 0 and 1 whatever they hold: moves solid whenever one of them is solid.
   return cells[0] == cells[1] ? kIdentityTransition : (kIdentityTransition & ~077u) | 001u;  // cell 0 -> 1, cell 1 -> 0
 }
 
-Transition not_a_permutation(const BlockCells&) { return 0; }
+Transition not_a_permutation(const BlockCells&, const MaterialTable&) { return 0; }
 
 }  // namespace
 
@@ -94,7 +96,7 @@ TEST_CASE("lut: the paper's rules: gravity first, then flow into a clear diagona
 }
 
 TEST_CASE("lut: a rule that moves solid or is no permutation is rejected with the key") {
-  RuleSet bad;
+  RuleSet bad = preset("paper");
   bad.name = "moves-solid";
   bad.transition = &moves_solid;
   try {
@@ -103,7 +105,7 @@ TEST_CASE("lut: a rule that moves solid or is no permutation is rejected with th
   } catch (const RuleError& e) {
     const std::string msg = e.what();
     CHECK(msg.find("moves-solid") != std::string::npos);
-    CHECK(msg.find("moves the solid cell") != std::string::npos);
+    CHECK(msg.find("moves the fixed (static) cell") != std::string::npos);
   }
   bad.name = "not-a-permutation";
   bad.transition = &not_a_permutation;
@@ -147,6 +149,12 @@ TEST_CASE("lut: the fingerprint follows the rule's behaviour, name, version and 
   RuleSet changed = *paper;
   changed.transition = &moves_solid;
   CHECK(rule_fingerprint(changed) != rule_fingerprint(*paper));
+  RuleSet renamed = *paper;
+  renamed.materials[5].name = "gravel";
+  CHECK(rule_fingerprint(renamed) != rule_fingerprint(*paper));
+  RuleSet grain = *paper;
+  grain.materials[2].grain.roll_cost = 7;
+  CHECK(rule_fingerprint(grain) != rule_fingerprint(*paper));
   CHECK_THROWS_AS(make_rule_set("no-such-rules"), InvalidArgument);
   CHECK_THROWS_WITH(make_rule_set("no-such-rules"), doctest::Contains("paper, isotropic"));
 }

@@ -235,6 +235,9 @@ TEST_CASE("world: bad definitions are clear errors") {
   def.cuda.dense_fraction = -0.25;
   CHECK_THROWS_WITH_AS(World{def}, doctest::Contains("WorldDef::cuda.dense_fraction = -0.25"), InvalidArgument);
   def.cuda.dense_fraction = CudaOptions{}.dense_fraction;
+  def.cuda.motion_dense_fraction = 2;
+  CHECK_THROWS_WITH_AS(World{def}, doctest::Contains("WorldDef::cuda.motion_dense_fraction = 2"), InvalidArgument);
+  def.cuda.motion_dense_fraction = CudaOptions{}.motion_dense_fraction;
   def.rules = "wet-sand";
   CHECK_THROWS_WITH_AS(World{def}, doctest::Contains("unknown rule set 'wet-sand'"), InvalidArgument);
   def.rules = "paper";

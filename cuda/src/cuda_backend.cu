@@ -22,13 +22,15 @@
 #include "granular/motion.hpp"
 #include "granular/rule_set.hpp"
 #include "granular_cuda/cuda_backend_factory.hpp"
-#include "motion_step_kernel.cuh"
+#include "activity_record.cuh"
+#include "block_walk.cuh"
+#include "pair_kernel.cuh"
 #include "pinned_counters.cuh"
 #include "reduce_kernels.cuh"
-#include "sparse_motion_kernel.cuh"
-#include "sparse_step_kernel.cuh"
-#include "step_kernel.cuh"
-#include "step_pair_kernel.cuh"
+#include "sparse_kernel.cuh"
+#include "step/block_step.hpp"
+#include "step/motion_table.hpp"
+#include "step/step_materials.hpp"
 #include "table_kernels.cuh"
 
 namespace granular {
@@ -54,10 +56,10 @@ cuda::DeviceInfo prepare_device(Int3 size) {
 /// the host knows of, dense-recording ticks (the dense kernels, fused pairs included, recording
 /// the sparse flags).
 ///
-/// A rule set with the motion model (granular/motion.hpp) keeps the transition table on the device
-/// and steps each tick as MotionParams::substeps sub-steps of the motion kernels
-/// (motion_step_kernel.cuh, sparse_motion_kernel.cuh); every other rule set runs the kernels above,
-/// unchanged.
+/// Every path steps blocks through the one block step (step/block_step.hpp) with the Rule of the
+/// rule set: a motion rule set keeps the transition table on the device and steps each tick as
+/// MotionParams::substeps sub-steps, fused in pairs by the pair kernel wherever two consecutive
+/// steps share their x and y offsets, exactly as the one-step rules fuse pairs of ticks.
 class CudaBackend final : public Backend {
  public:
   /// Uploads info.initial and derives the result table from info.lut on the device (keeping the
@@ -68,17 +70,13 @@ class CudaBackend final : public Backend {
       : device_(prepare_device(info.initial.size())),
         size_(info.initial.size()),
         cell_count_(std::uint64_t(info.initial.cell_count())),
-        random_symmetry_(info.rules->random_symmetry),
-        random_axis_order_(info.rules->random_axis_order),
-        motion_(info.rules->motion),
-        seed_(info.seed),
         shape_(cuda::step_shape(info.initial.size())),
         owned_cells_(cuda::cell_buffer_bytes(cell_count_), "the grid's cells"),
         cells_(owned_cells_.data()),
         result_(kBlockKeyCount, "the result table"),
         scratch_(kMaterialCount, "reduction counters"),
         sparse_(info.sparse),
-        dense_fraction_(info.cuda.dense_fraction),
+        dense_fraction_(info.rules->motion.enabled() ? info.cuda.motion_dense_fraction : info.cuda.dense_fraction),
         bricks_(brick_counts(info.initial.size())),
         total_bricks_(std::uint32_t(std::uint64_t(bricks_.x) * std::uint64_t(bricks_.y) * std::uint64_t(bricks_.z))),
         known_awake_(total_bricks_) {
@@ -93,9 +91,24 @@ class CudaBackend final : public Backend {
     cuda::check(cudaMemcpyAsync(table.data(), info.lut->entries().data(), table.bytes(), cudaMemcpyHostToDevice, s),
                 "cudaMemcpyAsync (upload transition table)");
     cuda::launch_result_table(table.data(), result_.data(), s);
+    const RuleSet& rules = *info.rules;
+    step_rules_.seed = info.seed;
+    step_rules_.random_symmetry = rules.random_symmetry;
+    step_rules_.random_axis_order = rules.random_axis_order;
+    step_rules_.motion = rules.motion;
+    step_rules_.materials = step_materials(rules.materials);
+    step_rules_.result = result_.data();
     if (sparse_) init_sparse(s);
+    step_rules_.inert = inert_.data();
     stream_.synchronize("building the result table");
-    if (motion_.enabled()) table_ = std::move(table);  // the motion kernels look up the transitions
+    if (rules.motion.enabled()) {
+      // The motion model looks up the motion table (256 KiB, cache-resident on the device).
+      const std::vector<Transition> motion_table = derive_motion_table(info.lut->entries());
+      table_ = cuda::DeviceBuffer<Transition>(motion_table.size(), "the motion table");
+      cuda::check(cudaMemcpy(table_.data(), motion_table.data(), table_.bytes(), cudaMemcpyHostToDevice),
+                  "cudaMemcpy (upload motion table)");
+    }
+    step_rules_.transitions = table_.data();
   }
 
   BackendKind kind() const override { return BackendKind::Cuda; }
@@ -128,21 +141,13 @@ class CudaBackend final : public Backend {
       return;
     }
     if (sparse_) {
-      if (motion_.enabled())
-        enqueue_motion(first_tick, ticks);
-      else if (dense_recording())
-        enqueue_dense(first_tick, ticks, true);
-      else
-        enqueue_sparse(first_tick, ticks);
+      enqueue_steps(first_tick, ticks, dense_recording() ? Mode::Recording : Mode::Sparse);
       after_write();
       // With a renderer attached the host goes on at once; last_activity() waits for the counters.
       if (!ready_) collect_sparse_counters();
       return;
     }
-    if (motion_.enabled())
-      enqueue_motion(first_tick, ticks);
-    else
-      enqueue_dense(first_tick, ticks, false);
+    enqueue_steps(first_tick, ticks, Mode::Dense);
     after_write();
     // With a renderer attached the host goes on at once; the timelines order the device's work.
     if (!ready_) stream_.synchronize("step");
@@ -277,10 +282,10 @@ class CudaBackend final : public Backend {
     cuda::check(cudaMemsetAsync(count_.data(), 0, sizeof(unsigned), s), "cudaMemsetAsync (brick count)");
     cuda::build_list_kernel<<<cuda::activity_blocks(total_bricks_), cuda::kActivityThreads, 0, s>>>(sparse_params());
     cuda::check_launch("build brick list kernel launch");
-    if (random_symmetry_ || motion_.enabled()) {
+    if (step_rules_.random_symmetry || step_rules_.motion.enabled()) {
       inert_ = cuda::DeviceBuffer<std::uint64_t>(kInertTableWords, "the inert-key table");
       cuda::inert_table_kernel<<<cuda::activity_blocks(kInertTableWords), cuda::kActivityThreads, 0, s>>>(
-          result_.data(), random_symmetry_, inert_.data());
+          result_.data(), step_rules_.random_symmetry, inert_.data());
       cuda::check_launch("inert-key table kernel launch");
     }
     // Enough CUDA blocks of the sparse kernel to fill the device; each walks the list from there.
@@ -299,7 +304,6 @@ class CudaBackend final : public Backend {
     sp.list = list_.data();
     sp.count = count_.data();
     sp.counters = counters_.data();
-    sp.inert = inert_.data();
     return sp;
   }
 
@@ -309,127 +313,95 @@ class CudaBackend final : public Backend {
     return dense_fraction_ <= 0.0 || double(known_awake_) > dense_fraction_ * double(total_bricks_);
   }
 
-  /// Enqueues the ticks with the dense kernels: an odd first tick alone, then even-odd pairs in one
-  /// fused pass each, then a last odd one out. With `record` (dense-recording ticks of sparse mode)
-  /// the kernels record the sparse flags of every tick as the sparse kernel would, and the cycle
-  /// updates and activity counters (the awake list counted per run of ticks between two list
-  /// changes) are enqueued as enqueue_sparse does; stepping an asleep brick changes nothing and
-  /// records nothing (its blocks are inert), so the cells and the sparse state are those of sparse
-  /// ticks.
-  void enqueue_dense(std::uint64_t first_tick, int ticks, bool record) {
-    cuda::StepParams p;
-    p.cells = cells_;
-    p.size = size_;
-    p.result = result_.data();
-    p.seed = seed_;
-    p.random_axis_order = random_axis_order_;
-    cudaStream_t s = stream_.get();
-    cuda::SparseParams sp;
-    cuda::ActivityRecord rec;
-    const cuda::ActivityRecord* recording = nullptr;
-    if (record) {
-      sp = sparse_params();
-      rec.bricks = bricks_;
-      rec.dirty = dirty_.data();
-      rec.changed = changed_.data();
-      rec.inert = inert_.data();
-      recording = &rec;
-      reset_counters();
-    }
-    std::uint64_t tick = first_tick;
-    int left = ticks;
-    unsigned uncounted = 0;  // ticks stepped over the current awake list, not yet counted
-    // After `done` ticks up to tick - 1: when recording, counts them and runs a cycle's end.
-    auto finish = [&](unsigned done) {
-      if (!record) return;
-      uncounted += done;
-      if (((tick - 1) & 7u) == 7u) {
-        cuda::launch_count_awake(sp, size_, uncounted, left == 0, s);
-        uncounted = 0;
-        cuda::launch_end_cycle(sp, s);
-      }
-    };
-    auto single = [&] {
-      p.tick = tick++;
-      --left;
-      cuda::launch_step(p, random_symmetry_, shape_, s, recording);
-      finish(1);
-    };
-    if (left > 0 && (tick & 1u) != 0) single();
-    if (left >= 2) {
-      const cuda::PairShape pair = cuda::pair_shape(size_);
-      const std::size_t halo_bytes = cuda::pair_halo_bytes(size_, pair);
-      void* halo = nullptr;
-      // Without room for the halo buffer the ticks run one by one (the same result).
-      if (halo_bytes == 0 || cudaMallocAsync(&halo, halo_bytes, s) == cudaSuccess) {
-        while (left >= 2) {
-          p.tick = tick;
-          tick += 2;
-          left -= 2;
-          cuda::launch_step_pair(p, random_symmetry_, pair, static_cast<std::uint8_t*>(halo), s, recording);
-          finish(2);
-        }
-        if (halo != nullptr) cuda::check(cudaFreeAsync(halo, s), "cudaFreeAsync (pair halo)");
-      } else {
-        (void)cudaGetLastError();
-      }
-    }
-    while (left > 0) single();
-    if (!record) return;
-    if (uncounted > 0) cuda::launch_count_awake(sp, size_, uncounted, true, s);
-    fetch_counters(ticks);
-  }
+  /// How step() runs its ticks: every block (not sparse), or in sparse mode the dense kernels
+  /// recording the sparse state (dense-recording ticks), or the sparse kernel over the awake bricks.
+  enum class Mode { Dense, Recording, Sparse };
 
-  /// Enqueues the ticks over the awake bricks, one launch per tick plus the sleep/wake update at
-  /// the end of every 8-tick cycle, and the copy of the activity counters to pinned host memory.
-  void enqueue_sparse(std::uint64_t first_tick, int ticks) {
+  /// Enqueues the steps of ticks first_tick .. first_tick + ticks - 1 (substeps_of steps per tick,
+  /// numbered as in block_step.hpp). Dense and Recording fuse two consecutive steps into one pass of
+  /// the pair kernel wherever their offsets allow (pairable) and, when recording, no cycle ends
+  /// between them; the other steps run the dense kernel. Recording notes the sparse flags of every
+  /// step as the sparse kernel would and runs the cycle updates and activity counters as Sparse does
+  /// (the awake list counted once per tick, in runs of ticks between two list changes); stepping an
+  /// asleep brick changes nothing and records nothing (its blocks are quiet), so the cells and the
+  /// sparse state are those of sparse ticks. Sparse launches the sparse kernel per step and ends a
+  /// cycle after every 8th.
+  void enqueue_steps(std::uint64_t first_tick, int ticks, Mode mode) {
     cudaStream_t s = stream_.get();
-    cuda::StepParams p;
-    p.cells = cells_;
-    p.size = size_;
-    p.result = result_.data();
-    p.seed = seed_;
-    p.random_axis_order = random_axis_order_;
-    const cuda::SparseParams sp = sparse_params();
-    reset_counters();
-    for (int i = 0; i < ticks; ++i) {
-      p.tick = first_tick + std::uint64_t(i);
-      cuda::launch_sparse_step(p, sp, random_symmetry_, i + 1 == ticks, sparse_grid_, s);
-      if ((p.tick & 7u) == 7u) cuda::launch_end_cycle(sp, s);
-    }
-    fetch_counters(ticks);
-  }
-
-  /// Enqueues the ticks of a motion rule set, each as motion_.substeps sub-steps: one launch of the
-  /// dense motion kernel per sub-step, or in sparse mode of the sparse motion kernel over the awake
-  /// bricks, with a cycle's end after every 8th sub-step (substeps is a multiple of 8; a grain moves
-  /// at most 8 cells in a cycle, as with one step per tick) and the
-  /// activity counters as enqueue_sparse (the bricks counted once per tick). Motion rule sets have
-  /// no dense-recording ticks (no recording form of the dense motion kernel): sparse mode always
-  /// steps the awake bricks, whatever dense_fraction_.
-  void enqueue_motion(std::uint64_t first_tick, int ticks) {
-    cudaStream_t s = stream_.get();
-    cuda::MotionStepParams p;
-    p.cells = cells_;
-    p.size = size_;
-    p.table = table_.data();
-    p.random_axis_order = random_axis_order_;
-    p.sub = motion::sub_step(motion_, seed_, first_tick, 0, random_symmetry_);
+    const cuda::DeviceCells g{cells_, size_};
+    const std::uint64_t substeps = std::uint64_t(substeps_of(step_rules_));
+    const std::uint64_t first = first_tick * substeps, end = (first_tick + std::uint64_t(ticks)) * substeps;
+    const std::uint64_t last_tick = first_tick + std::uint64_t(ticks) - 1;
     const cuda::SparseParams sp = sparse_ ? sparse_params() : cuda::SparseParams{};
-    if (sparse_) reset_counters();
-    for (int i = 0; i < ticks; ++i) {
-      p.sub.tick = first_tick + std::uint64_t(i);
-      for (int sub = 0; sub < motion_.substeps; ++sub) {
-        p.sub.substep = sub;
-        if (sparse_) {
-          cuda::launch_sparse_motion(p, sp, sub == 0, sub == 0 && i + 1 == ticks, sparse_grid_, s);
-          if ((sub & 7) == 7) cuda::launch_end_cycle(sp, s);
-        } else {
-          cuda::launch_motion_step(p, shape_, s);
-        }
+    const cuda::ActivityRecord record{bricks_, dirty_.data(), changed_.data()};
+    if (mode != Mode::Dense) reset_counters();
+    // Recording counts the awake list per run of ticks: `uncounted` ticks began since the last count.
+    unsigned uncounted = 0;
+    bool last_uncounted = false;
+    auto count = [&] {
+      if (uncounted > 0) cuda::launch_count_awake(sp, size_, uncounted, last_uncounted, s);
+      uncounted = 0;
+    };
+    // The pair kernel's halo buffer, allocated at the first pair; without room for it the steps run
+    // one by one (the same result).
+    const cuda::PairShape pair = cuda::pair_shape(size_);
+    const std::size_t halo_bytes = cuda::pair_halo_bytes(size_, pair);
+    void* halo = nullptr;
+    bool halo_failed = false;
+    auto halo_ready = [&] {
+      if (halo_bytes == 0 || halo != nullptr) return true;
+      if (halo_failed) return false;
+      if (cudaMallocAsync(&halo, halo_bytes, s) == cudaSuccess) return true;
+      (void)cudaGetLastError();
+      halo_failed = true;
+      return false;
+    };
+    for (std::uint64_t n = first; n < end;) {
+      const std::uint64_t tick = n / substeps;
+      const bool tick_start = n % substeps == 0;
+      if (mode == Mode::Sparse) {
+        cuda::with_device_step(step_rules_, n, [&](const auto& rule) {
+          cuda::launch_sparse(g, rule, sp, tick_start, tick_start && tick == last_tick, sparse_grid_, s);
+        });
+        if ((n & 7u) == 7u) cuda::launch_end_cycle(sp, s);
+        ++n;
+        continue;
       }
+      const bool fuse = n + 1 < end && cuda::pairable(step_offset(step_rules_, n), step_offset(step_rules_, n + 1)) &&
+                        !(mode == Mode::Recording && (n & 7u) == 7u) && halo_ready();
+      if (fuse) {
+        cuda::with_device_step_pair(step_rules_, n, [&](const auto& a, const auto& b) {
+          if (mode == Mode::Recording)
+            cuda::launch_pair<cuda::OwnerNotes>(g, a, b, pair, static_cast<std::uint8_t*>(halo), record, s);
+          else
+            cuda::launch_pair<cuda::NoNotes>(g, a, b, pair, static_cast<std::uint8_t*>(halo), {}, s);
+        });
+      } else {
+        cuda::with_device_step(step_rules_, n, [&](const auto& rule) {
+          if (mode == Mode::Recording)
+            cuda::launch_dense<cuda::OwnerNotes>(g, rule, shape_, record, s);
+          else
+            cuda::launch_dense<cuda::NoNotes>(g, rule, shape_, {}, s);
+        });
+      }
+      const std::uint64_t done = fuse ? 2 : 1;
+      if (mode == Mode::Recording)
+        for (std::uint64_t k = n; k < n + done; ++k) {
+          if (k % substeps == 0) {
+            ++uncounted;
+            last_uncounted = k / substeps == last_tick;
+          }
+          if ((k & 7u) == 7u) {
+            count();
+            cuda::launch_end_cycle(sp, s);
+          }
+        }
+      n += done;
     }
-    if (sparse_) fetch_counters(ticks);
+    if (halo != nullptr) cuda::check(cudaFreeAsync(halo, s), "cudaFreeAsync (pair halo)");
+    if (mode == Mode::Dense) return;
+    count();
+    fetch_counters(ticks);
   }
 
   /// Enqueues zeroing the activity counters (before a sparse step's first tick).
@@ -566,10 +538,7 @@ class CudaBackend final : public Backend {
   cuda::DeviceInfo device_;
   Int3 size_;
   std::uint64_t cell_count_;
-  bool random_symmetry_;
-  bool random_axis_order_;
-  MotionParams motion_;  ///< the rule set's motion model (enabled: the motion kernels step)
-  std::uint64_t seed_;
+  StepRules step_rules_;  ///< the Rules' tables (device memory) and parameters
   cuda::StepShape shape_;
   cuda::Stream stream_;
   cuda::DeviceBuffer<std::uint8_t> owned_cells_;  ///< the cells, until share_cells() moves them
@@ -580,7 +549,7 @@ class CudaBackend final : public Backend {
   std::uint64_t writes_ = 0;                       ///< last value signalled on ready_
   std::uint64_t handoffs_ = 0;                     ///< last value handed out for released_
   cuda::DeviceBuffer<BlockKey> result_;
-  cuda::DeviceBuffer<Transition> table_;  ///< the transition table, kept for motion rule sets only
+  cuda::DeviceBuffer<Transition> table_;  ///< the motion table (motion rule sets only, motion_table.hpp)
   cuda::DeviceBuffer<unsigned long long> scratch_;
   bool sparse_;
   double dense_fraction_;  ///< awake fraction above which step() uses dense-recording ticks
@@ -609,9 +578,11 @@ std::unique_ptr<Backend> make_cuda_backend(const BackendCreateInfo& info) {
   if (!info.lut || info.lut->entries().size() != kBlockKeyCount)
     throw InvalidArgument("cuda backend: BackendCreateInfo::lut must be a full transition table (16,777,216 entries)");
   if (!info.rules) throw InvalidArgument("cuda backend: BackendCreateInfo::rules is null");
-  if (!(info.cuda.dense_fraction >= 0.0 && info.cuda.dense_fraction <= 1.0))
-    throw InvalidArgument("cuda backend: BackendCreateInfo::cuda.dense_fraction = " +
-                          std::to_string(info.cuda.dense_fraction) + " must lie in 0..1");
+  for (const auto& [field, value] : {std::pair{"dense_fraction", info.cuda.dense_fraction},
+                                     std::pair{"motion_dense_fraction", info.cuda.motion_dense_fraction}})
+    if (!(value >= 0.0 && value <= 1.0))
+      throw InvalidArgument(std::string("cuda backend: BackendCreateInfo::cuda.") + field + " = " +
+                            std::to_string(value) + " must lie in 0..1");
   return std::make_unique<CudaBackend>(info);
 }
 

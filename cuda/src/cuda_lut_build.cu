@@ -26,7 +26,7 @@ std::vector<Transition> build_lut_on_gpu(const RuleSet& rules, float* kernel_ms)
   if (motion)
     cuda::launch_motion_lut(table.data(), stream.get());
   else
-    cuda::launch_paper_lut(table.data(), stream.get());
+    cuda::launch_paper_lut(table.data(), step_materials(rules.materials), stream.get());
   stop.record(stream.get());
   stream.synchronize("building the transition table");
   const float ms = stop.ms_since(start);

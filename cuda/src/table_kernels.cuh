@@ -12,16 +12,18 @@
 #include "granular/block.hpp"
 #include "step/motion_block.hpp"
 #include "step/paper_rule.hpp"
+#include "step/step_materials.hpp"
 
 namespace granular::cuda {
 
 /// Threads per CUDA block of the table kernels.
 inline constexpr int kTableThreads = 256;
 
-/// out[k] = paper_rule(k): the very function the CPU's "paper" rule evaluates.
-static __global__ void paper_lut_kernel(Transition* out) {
+/// out[k] = paper_rule(code key of k): the very function the CPU's "paper" rule evaluates, on the
+/// material table `materials`.
+static __global__ void paper_lut_kernel(Transition* out, StepMaterials materials) {
   const std::uint32_t key = blockIdx.x * blockDim.x + threadIdx.x;
-  if (key < kBlockKeyCount) out[key] = rules::paper_rule(key);
+  if (key < kBlockKeyCount) out[key] = rules::paper_rule(code_key(materials, decode_key(key)));
 }
 
 /// out[k] = motion::motion_rule(k): the very function the CPU's motion rule sets evaluate.
@@ -37,8 +39,8 @@ static __global__ void result_table_kernel(const Transition* lut, BlockKey* resu
 }
 
 /// Enqueues paper_lut_kernel over all keys into `out` (kBlockKeyCount entries).
-static inline void launch_paper_lut(Transition* out, cudaStream_t stream) {
-  paper_lut_kernel<<<kBlockKeyCount / kTableThreads, kTableThreads, 0, stream>>>(out);
+static inline void launch_paper_lut(Transition* out, const StepMaterials& materials, cudaStream_t stream) {
+  paper_lut_kernel<<<kBlockKeyCount / kTableThreads, kTableThreads, 0, stream>>>(out, materials);
   check_launch("transition table kernel launch");
 }
 

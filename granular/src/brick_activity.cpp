@@ -14,12 +14,11 @@ BrickActivity::BrickActivity(Int3 grid_size) : size_(grid_size), bricks_(brick_c
   rebuild_active();
 }
 
-BrickRecord BrickActivity::record(const std::uint64_t* inert) {
+BrickRecord BrickActivity::record() {
   BrickRecord r;
   r.bricks = bricks_;
   r.dirty = dirty_.data();
   r.changed = changed_.data();
-  r.inert = inert;
   return r;
 }
 

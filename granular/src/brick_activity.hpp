@@ -33,8 +33,8 @@ class BrickActivity {
   const std::vector<Run>& runs() const { return runs_; }
   /// Cells inside the awake bricks.
   std::uint64_t active_cells() const { return active_cells_; }
-  /// Where the kernel records dirty and changed bricks (`inert`: the inert-key table or null).
-  BrickRecord record(const std::uint64_t* inert);
+  /// Where the kernel records dirty and changed bricks.
+  BrickRecord record();
   /// Ends an 8-tick cycle: awake = dirty grown by one brick, then nothing is dirty.
   void end_cycle();
   /// Cells of `bricks` were overwritten from outside (tools, load): they are dirty for this cycle and

@@ -10,6 +10,7 @@
 #include "granular/errors.hpp"
 #include "granular/threads.hpp"
 #include "step/inert_keys.hpp"
+#include "step/motion_table.hpp"
 #include "thread_pool.hpp"
 
 namespace granular {
@@ -47,10 +48,6 @@ CpuBackend::CpuBackend(const BackendCreateInfo& info)
     : grid_(info.initial),
       lut_(info.lut),
       result_(shared_result_table(*lut_, info.threads)),
-      random_symmetry_(info.rules->random_symmetry),
-      random_axis_order_(info.rules->random_axis_order),
-      motion_(info.rules->motion),
-      seed_(info.seed),
       sparse_(info.sparse),
       inert_(info.sparse && (info.rules->random_symmetry || info.rules->motion.enabled())
                  ? shared_inert_table(*lut_, *result_, info.rules->random_symmetry, info.threads)
@@ -60,6 +57,18 @@ CpuBackend::CpuBackend(const BackendCreateInfo& info)
       pool_(*task_system_) {
   const Int3 b = activity_.bricks();
   last_.total_bricks = std::uint64_t(b.x) * std::uint64_t(b.y) * std::uint64_t(b.z);
+  const RuleSet& rules = *info.rules;
+  step_rules_.result = result_->data();
+  if (rules.motion.enabled()) {
+    motion_table_ = derive_motion_table(lut_->entries());
+    step_rules_.transitions = motion_table_.data();
+  }
+  step_rules_.inert = inert_ ? inert_->data() : nullptr;
+  step_rules_.seed = info.seed;
+  step_rules_.random_symmetry = rules.random_symmetry;
+  step_rules_.random_axis_order = rules.random_axis_order;
+  step_rules_.motion = rules.motion;
+  step_rules_.materials = step_materials(rules.materials);
 }
 
 std::string CpuBackend::description() const {
@@ -70,7 +79,7 @@ void CpuBackend::step(std::uint64_t first_tick, int ticks) {
   const std::uint64_t total = last_.total_bricks;
   last_ = ActivityStats{};
   last_.total_bricks = total;
-  const int substeps = motion_.enabled() ? motion_.substeps : 1;
+  const int substeps = step_rules_.motion.substeps;
   for (int i = 0; i < ticks; ++i) {
     const std::uint64_t tick = first_tick + std::uint64_t(i);
     if (sparse_) {
@@ -99,24 +108,11 @@ void CpuBackend::step(std::uint64_t first_tick, int ticks) {
 }
 
 StepContext CpuBackend::context(std::uint64_t tick, int substep) {
-  StepContext c;
-  c.cells = grid_.cells().data();
-  c.size = grid_.size();
-  c.result = result_->data();
-  c.seed = seed_;
-  c.tick = tick;
-  c.random_symmetry = random_symmetry_;
-  c.random_axis_order = random_axis_order_;
-  if (motion_.enabled()) {
-    c.motion = true;
-    c.transitions = lut_->entries().data();
-    c.sub = motion::sub_step(motion_, seed_, tick, substep, random_symmetry_);
-  }
-  return c;
+  return StepContext{.cells = grid_.cells().data(), .size = grid_.size(), .rules = step_rules_, .tick = tick, .substep = substep};
 }
 
 void CpuBackend::step_pass_sparse(const StepContext& c) {
-  const BrickRecord record = activity_.record(inert_ ? inert_->data() : nullptr);
+  const BrickRecord record = activity_.record();
   const auto& runs = activity_.runs();
   const int count = int(runs.size());
   const int tasks = std::min(count, pool_.thread_count() == 1 ? 1 : pool_.thread_count() * 8);

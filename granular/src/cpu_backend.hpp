@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "brick_activity.hpp"
+#include "cpu_step.hpp"
 #include "granular/backend.hpp"
 #include "granular/backend_factory.hpp"
 #include "granular/grid.hpp"
@@ -41,12 +42,10 @@ class CpuBackend final : public Backend {
   Grid grid_;
   std::shared_ptr<const Lut> lut_;
   std::shared_ptr<const std::vector<BlockKey>> result_;
-  bool random_symmetry_;
-  bool random_axis_order_;
-  MotionParams motion_;
-  std::uint64_t seed_;
   bool sparse_;
   std::shared_ptr<const std::vector<std::uint64_t>> inert_;  ///< inert-key bits (sparse, random symmetry or motion)
+  std::vector<Transition> motion_table_;  ///< the motion table (motion rule sets; motion_table.hpp)
+  StepRules step_rules_;  ///< the tables and parameters every step's Rule is made from
   BrickActivity activity_;
   ActivityStats last_{};
   std::shared_ptr<TaskSystem> task_system_;  ///< info.task_system, or the backend's own ThreadPool

@@ -48,11 +48,18 @@ constexpr BrickCodeTable kBrickCodes = make_brick_codes();
 /// non-inert key and whether any cell of the brick itself changed; cells changed in a neighbour
 /// (by a block straddling into it) are recorded at once. select() names the brick whose blocks
 /// come next.
-template <bool kRandom, bool kMotion>
+template <class Rule>
 class BrickStepper {
  public:
-  BrickStepper(const StepContext& c, const BrickRecord& r, Int3 first)
-      : c_(c), r_(r), first_(first), brick_(first), offset_z_(context_offset(c).z) {}
+  /// A brick already dirty in this cycle starts as seen non-inert: its blocks need no quiet test.
+  BrickStepper(const StepContext& c, const Rule& rule, const BrickRecord& r, Int3 first, int length)
+      : c_(c), rule_(rule), r_(r), first_(first), brick_(first) {
+    const std::uint32_t index = brick_index(r_.bricks, first_.x, first_.y, first_.z);
+    for (int i = 0; i < length; ++i) non_inert_[std::size_t(i)] = r_.dirty[index + std::uint32_t(i)] != 0;
+  }
+
+  /// True when the selected brick has been seen non-inert (so far, or earlier in the cycle).
+  bool non_inert() const { return non_inert_[std::size_t(current_)]; }
 
   /// The following blocks belong to brick `i` of the run.
   void select(int i) {
@@ -60,19 +67,19 @@ class BrickStepper {
     brick_.x = first_.x + i;
   }
 
-  /// A block with at least one cell outside the grid: outside cells read as solid, never written.
+  /// A block with at least one cell outside the grid: outside cells read as static, never written.
   void boundary_block(int x0, int y0, int z0) {
     const std::size_t sy = std::size_t(c_.size.x), sz = sy * std::size_t(c_.size.y);
     std::uint64_t v = 0;
     for (int i = 0; i < 8; ++i) {
       const int x = x0 + (i & 1), y = y0 + ((i >> 1) & 1), z = z0 + ((i >> 2) & 1);
       const std::uint64_t cell =
-          inside(x, y, z) ? c_.cells[std::size_t(x) + sy * std::size_t(y) + sz * std::size_t(z)] : kOutsideCell;
+          inside(x, y, z) ? c_.cells[std::size_t(x) + sy * std::size_t(y) + sz * std::size_t(z)] : std::uint64_t(rule_.outside);
       v |= cell << (8 * i);
     }
-    const std::uint64_t out = block_after<kRandom, kMotion>(c_, v, x0, y0, z0);
+    const std::uint64_t out = rule_.step(v, x0, y0, z0);
     bool& non_inert = non_inert_[std::size_t(current_)];
-    if (!non_inert) non_inert = !quiet(v, out);
+    if (!non_inert) non_inert = !rule_.quiet(v, out);
     if (out == v) return;
     for (int i = 0; i < 8; ++i) {
       const int x = x0 + (i & 1), y = y0 + ((i >> 1) & 1), z = z0 + ((i >> 2) & 1);
@@ -86,23 +93,26 @@ class BrickStepper {
   /// a. What it sees goes to the caller's `non_inert` and `codes` (the bricks of changed cells,
   /// see kBrickCodes), kept in registers over a row and handed over by flush(): branch-free like
   /// the dense kernel's loop.
-  void interior_block(std::uint8_t* const* r, int x0, int y0, int z0, unsigned straddle, bool& non_inert,
-                      unsigned& codes) {
+  /// Returns the codes (see kBrickCodes) of the bricks of its changed cells, with kNonInertSeen set
+  /// when `check_quiet` and the block is not quiet. Values, not references, so the caller keeps them
+  /// in registers across the byte stores.
+  unsigned interior_block(std::uint8_t* const* r, int x0, int y0, int z0, unsigned straddle, bool check_quiet) const {
     const std::uint64_t v = load_pair(r[0] + x0) | (load_pair(r[1] + x0) << 16) | (load_pair(r[2] + x0) << 32) |
                             (load_pair(r[3] + x0) << 48);
-    const std::uint64_t out = block_after<kRandom, kMotion>(c_, v, x0, y0, z0);
-    if (!non_inert) non_inert = !quiet(v, out);
+    const std::uint64_t out = rule_.step(v, x0, y0, z0);
+    const unsigned seen = check_quiet && !rule_.quiet(v, out) ? kNonInertSeen : 0u;
     store_pair(r[0] + x0, out);
     store_pair(r[1] + x0, out >> 16);
     store_pair(r[2] + x0, out >> 32);
     store_pair(r[3] + x0, out >> 48);
     // A block inside the brick changes only the brick (code 0); the rare straddling ones look
     // their cells' codes up.
-    if (straddle == 0)
-      codes |= unsigned(out != v);
-    else
-      codes |= kBrickCodes.codes[straddle][changed_cells(v ^ out)];
+    if (straddle == 0) return seen | unsigned(out != v);
+    return seen | kBrickCodes.codes[straddle][changed_cells(v ^ out)];
   }
+
+  /// The bit interior_block sets when a block is not quiet.
+  static constexpr unsigned kNonInertSeen = 1u << 8;
 
   /// Adds what interior blocks of the selected brick saw: code 0 is the brick itself, code c the
   /// brick (-(c & 1), -((c >> 1) & 1), -(c >> 2)) from it.
@@ -132,22 +142,6 @@ class BrickStepper {
     return x >= 0 && y >= 0 && z >= 0 && x < c_.size.x && y < c_.size.y && z < c_.size.z;
   }
 
-  /// True when the block (bytes `v`, `out` after the rule) is inert: no variant of the rule changes
-  /// it, so it cannot keep its brick awake. Without random variants, iff the rule left it as it was;
-  /// with random symmetry, iff its key is in the inert table; with the motion model, iff its grains
-  /// are all at rest and its rest key is in the inert table (motion::rest_key).
-  bool quiet(std::uint64_t v, std::uint64_t out) const {
-    if constexpr (kMotion) {
-      bool at_rest = false;
-      const BlockKey key = motion::rest_key(v, offset_z_, at_rest);
-      return at_rest && is_inert(r_.inert, key);
-    } else if constexpr (kRandom) {
-      return is_inert(r_.inert, pack_key(v));
-    } else {
-      return out == v;
-    }
-  }
-
   /// Records the bricks of the block's changed cells (`diff`: byte i non-zero when cell i changed).
   void mark_changed(int x0, int y0, int z0, std::uint64_t diff) {
     if (x0 >= brick_.x * kBrickSize && y0 >= brick_.y * kBrickSize && z0 >= brick_.z * kBrickSize) {
@@ -163,18 +157,19 @@ class BrickStepper {
   }
 
   const StepContext& c_;
+  const Rule& rule_;
   const BrickRecord& r_;
   Int3 first_;
   Int3 brick_;
   int current_ = 0;
-  int offset_z_;  ///< the partition's z offset (motion::rest_key)
   std::array<bool, kMaxBrickRun> non_inert_{};
   std::array<bool, kMaxBrickRun> owner_changed_{};
 };
 
-template <bool kRandom, bool kMotion>
-void step_run_blocks(const StepContext& c, const BrickRecord& record, std::uint32_t first_index, int length) {
-  const BlockOffset o = context_offset(c);
+template <class Rule>
+void step_run_blocks(const StepContext& c, const Rule& rule, const BrickRecord& record, std::uint32_t first_index,
+                     int length) {
+  const BlockOffset o = rule.offset;
   const Int3 first = brick_coords(record.bricks, first_index);
   const BlockSpan bx_first = owned_blocks(first.x, record.bricks.x, c.size.x, o.x);
   const BlockSpan bx_last = owned_blocks(first.x + length - 1, record.bricks.x, c.size.x, o.x);
@@ -182,7 +177,7 @@ void step_run_blocks(const StepContext& c, const BrickRecord& record, std::uint3
   const BlockSpan bz = owned_blocks(first.z, record.bricks.z, c.size.z, o.z);
   const int nx = c.size.x, ny = c.size.y, nz = c.size.z;
   const std::size_t sy = std::size_t(nx), sz = sy * std::size_t(ny);
-  BrickStepper<kRandom, kMotion> stepper(c, record, first);
+  BrickStepper<Rule> stepper(c, rule, record, first, length);
   // Brick i of the run owns the blocks starting in [x_first + i * kBrickSize, ...) up to the next
   // brick's; the last brick's end is its own (it may own one block more at the grid's edge).
   const int x_first = 2 * bx_first.first - o.x, x_stop = 2 * bx_last.last - o.x;
@@ -216,21 +211,22 @@ void step_run_blocks(const StepContext& c, const BrickRecord& record, std::uint3
         }
         const int inside_end = x + ((nx - x) / 2) * 2;  // blocks starting in [x, inside_end) lie inside
         const int x_end = inside_end < stop ? inside_end : stop;
-        bool non_inert = false;
-        unsigned codes = 0;
-        // Eight blocks at a time are skipped when all 64 cells are equal: a uniform key is inert
-        // (with the motion model, but for grains in sub-step 0).
+        unsigned codes = stepper.non_inert() ? BrickStepper<Rule>::kNonInertSeen : 0u;
+        // Eight blocks at a time are skipped when all 64 cells are equal and the rule says such a
+        // block does not change; such blocks are quiet too.
         for (; x + 16 <= x_end; x += 16) {
           const std::uint64_t ref = (std::uint64_t(rows[0][x]) & 0xFFu) * kEveryByte;
           std::uint64_t diff = 0;
           for (int r = 0; r < 4; ++r) diff |= (load_word(rows[r] + x) ^ ref) | (load_word(rows[r] + x + 8) ^ ref);
-          if (diff == 0 && (!kMotion || motion::uniform_block_unchanged(rows[0][x], c.sub.substep))) continue;
+          if (diff == 0 && !rule.steps_uniform(rows[0][x])) continue;
           for (int k = 0; k < 16; k += 2)
-            stepper.interior_block(rows, x + k, y0, z0, row_straddle | (x + k < x_min ? 1u : 0u), non_inert, codes);
+            codes |= stepper.interior_block(rows, x + k, y0, z0, row_straddle | (x + k < x_min ? 1u : 0u),
+                                            (codes & BrickStepper<Rule>::kNonInertSeen) == 0);
         }
         for (; x < x_end; x += 2)
-          stepper.interior_block(rows, x, y0, z0, row_straddle | (x < x_min ? 1u : 0u), non_inert, codes);
-        stepper.flush(non_inert, codes);
+          codes |= stepper.interior_block(rows, x, y0, z0, row_straddle | (x < x_min ? 1u : 0u),
+                                          (codes & BrickStepper<Rule>::kNonInertSeen) == 0);
+        stepper.flush((codes & BrickStepper<Rule>::kNonInertSeen) != 0, codes & 0xFFu);
         for (; x < stop; x += 2) stepper.boundary_block(x, y0, z0);
       }
     }
@@ -241,12 +237,7 @@ void step_run_blocks(const StepContext& c, const BrickRecord& record, std::uint3
 }  // namespace
 
 void step_brick_run(const StepContext& context, const BrickRecord& record, std::uint32_t first_brick, int length) {
-  if (context.motion)
-    step_run_blocks<false, true>(context, record, first_brick, length);
-  else if (context.random_symmetry)
-    step_run_blocks<true, false>(context, record, first_brick, length);
-  else
-    step_run_blocks<false, false>(context, record, first_brick, length);
+  cpu_ops::with_host_rule(context, [&](const auto& rule) { step_run_blocks(context, rule, record, first_brick, length); });
 }
 
 }  // namespace granular

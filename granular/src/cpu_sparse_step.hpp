@@ -17,8 +17,6 @@ struct BrickRecord {
                                          ///< (written only by the task stepping that brick)
   std::uint8_t* changed = nullptr;       ///< set for a brick one of whose cells changed (written by
                                          ///< several tasks, with relaxed atomic stores of 1)
-  const std::uint64_t* inert = nullptr;  ///< inert-key bit table (inert_keys.hpp); needed only with
-                                         ///< random symmetry (else a key is inert iff it maps to itself)
 };
 
 /// Longest run of bricks step_brick_run takes.

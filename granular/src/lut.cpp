@@ -25,17 +25,17 @@ std::string octal_key(BlockKey key) {
 
 }  // namespace
 
-std::string check_transition(BlockKey key, Transition t) {
+std::string check_transition(BlockKey key, Transition t, std::uint8_t fixed) {
   if (!is_permutation(t)) return "is not a permutation of the 8 cells";
   const BlockCells cells = decode_key(key);
   for (int i = 0; i < 8; ++i)
-    if (cells[i] == to_cell(Material::Solid) && destination(t, i) != i)
-      return "moves the solid cell " + std::to_string(i) + " to " + std::to_string(destination(t, i));
+    if (((fixed >> cells[i]) & 1u) != 0 && destination(t, i) != i)
+      return "moves the fixed (static) cell " + std::to_string(i) + " to " + std::to_string(destination(t, i));
   return {};
 }
 
 Lut Lut::build(const RuleSet& rules, int threads) {
-  if (!rules.transition) throw RuleError("rule set '" + rules.name + "' has no transition function");
+  validate_rule_set(rules);
   threads = resolve_threads(threads, "Lut::build threads");
   Lut lut;
   lut.entries_.resize(kBlockKeyCount);
@@ -44,17 +44,17 @@ Lut Lut::build(const RuleSet& rules, int threads) {
   Transition* out = lut.entries_.data();
   pool.run(kChunks, [&](int chunk) {
     const BlockKey first = BlockKey(chunk) * kChunkKeys;
-    for (BlockKey k = first; k < first + kChunkKeys; ++k) out[k] = rules.transition(decode_key(k));
+    for (BlockKey k = first; k < first + kChunkKeys; ++k) out[k] = rules.transition(decode_key(k), rules.materials);
   });
   try {
-    lut.validate_and_summarise(threads);
+    lut.validate_and_summarise(threads, fixed_states(rules));
   } catch (const RuleError& e) {
     throw RuleError("rule set '" + rules.name + "': " + e.what());
   }
   return lut;
 }
 
-Lut Lut::from_entries(std::vector<Transition> entries, std::uint64_t rule_fingerprint, int threads) {
+Lut Lut::from_entries(std::vector<Transition> entries, std::uint64_t rule_fingerprint, int threads, std::uint8_t fixed) {
   if (entries.size() != kBlockKeyCount)
     throw RuleError("transition table has " + std::to_string(entries.size()) + " entries; expected " +
                     std::to_string(kBlockKeyCount));
@@ -62,11 +62,11 @@ Lut Lut::from_entries(std::vector<Transition> entries, std::uint64_t rule_finger
   Lut lut;
   lut.entries_ = std::move(entries);
   lut.rule_fingerprint_ = rule_fingerprint;
-  lut.validate_and_summarise(threads);
+  lut.validate_and_summarise(threads, fixed);
   return lut;
 }
 
-void Lut::validate_and_summarise(int threads) {
+void Lut::validate_and_summarise(int threads, std::uint8_t fixed) {
   std::vector<std::uint64_t> hashes(kChunks), moving(kChunks);
   std::vector<std::string> errors(kChunks);
   ThreadPool pool(threads);
@@ -80,7 +80,7 @@ void Lut::validate_and_summarise(int threads) {
       if (t != kIdentityTransition) {
         ++m;
         if (errors[chunk].empty()) {
-          std::string why = check_transition(k, t);
+          std::string why = check_transition(k, t, fixed);
           if (!why.empty()) errors[chunk] = "key " + octal_key(k) + ": transition 0" + [&] {
             std::ostringstream s;
             s << std::oct << t;

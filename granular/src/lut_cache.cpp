@@ -32,8 +32,8 @@ struct CacheHeader {
 static_assert(sizeof(CacheHeader) == 40);
 
 /// Reads and checks a cache file; returns nullptr (with `why`) when it cannot be trusted.
-std::shared_ptr<const Lut> read_cache(const std::filesystem::path& file, std::uint64_t fingerprint, int threads,
-                                      std::string& why) {
+std::shared_ptr<const Lut> read_cache(const std::filesystem::path& file, std::uint64_t fingerprint, std::uint8_t fixed,
+                                      int threads, std::string& why) {
   std::ifstream in(file, std::ios::binary);
   if (!in) return nullptr;  // no cache yet: not worth a notice
   CacheHeader h{};
@@ -58,7 +58,7 @@ std::shared_ptr<const Lut> read_cache(const std::filesystem::path& file, std::ui
     return nullptr;
   }
   try {
-    auto lut = std::make_shared<const Lut>(Lut::from_entries(std::move(entries), fingerprint, threads));
+    auto lut = std::make_shared<const Lut>(Lut::from_entries(std::move(entries), fingerprint, threads, fixed));
     if (lut->content_hash() != h.content_hash) {
       why = "content hash mismatch";
       return nullptr;
@@ -135,7 +135,7 @@ LutObtained obtain_lut(const RuleSet& rules, const LutCacheOptions& options) {
   if (options.enabled && !dir.empty()) {
     result.cache_file = cache_file(rules.name, fingerprint, dir);
     std::string why;
-    result.lut = read_cache(result.cache_file, fingerprint, options.threads, why);
+    result.lut = read_cache(result.cache_file, fingerprint, fixed_states(rules), options.threads, why);
     if (result.lut) {
       result.from_cache = true;
       result.seconds = std::chrono::duration<double>(Clock::now() - start).count();

@@ -1,70 +1,96 @@
 #include "granular/rule_presets.hpp"
 
+#include <array>
 #include <utility>
 
 #include "granular/errors.hpp"
 #include "granular/material.hpp"
 #include "step/motion_block.hpp"
 #include "step/paper_rule.hpp"
+#include "step/step_materials.hpp"
 
 namespace granular {
 
 namespace {
 
-/// The inertial presets' motion model for `substeps` sub-steps per tick: every moving grain may roll,
-/// a topple always gains a level and a roll costs one with chance 160/256, which puts the full-size
-/// poured cone's angle at 34.6 degrees, near dry sand's 33 (tuned on the accuracy suite's cone on
-/// the GPU: 128 gives 29.4, 192 gives 36.4).
-constexpr MotionParams inertial_motion(int substeps) {
-  return MotionParams{.substeps = substeps, .topple_gain = 256, .roll_cost = 160, .roll_chance = 256};
-}
+/// The inertial presets' grain: a topple always gains a level and a roll costs one with chance
+/// 160/256, which puts the full-size poured cone's angle at 34.6 degrees, near dry sand's 33 (tuned on
+/// the accuracy suite's cone on the GPU: 128 gives 29.4, 192 gives 36.4); every moving grain may roll.
+constexpr GrainMotion kInertialGrain{.topple_gain = 256, .roll_cost = 160, .roll_chance = 256};
 
-RuleSet make_preset(std::string name, std::string description, std::uint32_t version, bool random_symmetry,
-                    bool random_axis_order, MotionParams motion = {}) {
+/// One preset of the registry.
+struct PresetEntry {
+  const char* name;
+  const char* description;
+  std::uint32_t version;
+  bool random_symmetry;
+  bool random_axis_order;
+  int substeps;  ///< MotionParams::substeps (1: no motion model)
+};
+
+constexpr std::array<PresetEntry, 5> kPresets = {{
+    {"paper", "gravity then flow, fixed preference order (the paper's rules)", 1, false, false, 1},
+    {"isotropic",
+     "the paper's rules under a random horizontal symmetry per block and tick and a random offset order per cycle", 2,
+     true, true, 1},
+    {"d4", "the paper's rules under a random horizontal symmetry per block and tick, the paper's offset cycle", 1, true,
+     false, 1},
+    {"inertial",
+     "isotropic plus inertia and rolling: 16 sub-steps per tick, grains accelerate in free fall and roll on", 1, true,
+     true, 16},
+    {"inertial-24",
+     "inertial with 24 sub-steps per tick: a top speed of 23 cells per tick instead of 15, for 1.5 times the cost", 1,
+     true, true, 24},
+}};
+
+RuleSet make_preset(const PresetEntry& e) {
   RuleSet r;
-  r.name = std::move(name);
-  r.description = std::move(description);
-  r.version = version;
-  r.random_symmetry = random_symmetry;
-  r.random_axis_order = random_axis_order;
-  r.motion = motion;
-  r.transition = motion.enabled() ? &motion_transition : &paper_transition;
-  r.device_rule = motion.enabled() ? "motion" : "paper";
+  r.name = e.name;
+  r.description = e.description;
+  r.version = e.version;
+  r.random_symmetry = e.random_symmetry;
+  r.random_axis_order = e.random_axis_order;
+  r.motion.substeps = e.substeps;
+  r.materials = default_materials(r.motion.enabled() ? kInertialGrain : GrainMotion{});
+  r.transition = r.motion.enabled() ? &motion_transition : &paper_transition;
+  r.device_rule = r.motion.enabled() ? "motion" : "paper";
   return r;
 }
 
 }  // namespace
 
-Transition paper_transition(const BlockCells& cells) { return rules::paper_rule(encode_key(cells)); }
+Transition paper_transition(const BlockCells& cells, const MaterialTable& materials) {
+  return rules::paper_rule(code_key(step_materials(materials), cells));
+}
 
-Transition motion_transition(const BlockCells& cells) { return motion::motion_rule(encode_key(cells)); }
+Transition motion_transition(const BlockCells& codes, const MaterialTable&) { return motion::motion_rule(encode_key(codes)); }
 
-std::shared_ptr<const RuleSet> make_rule_set(std::string_view name) {
-  if (name == "paper")
-    return std::make_shared<const RuleSet>(
-        make_preset("paper", "gravity then flow, fixed preference order (the paper's rules)", 1, false, false));
-  if (name == "isotropic")
-    return std::make_shared<const RuleSet>(make_preset(
-        "isotropic", "the paper's rules under a random horizontal symmetry per block and tick and a random offset order per cycle",
-        2, true, true));
-  if (name == "d4")
-    return std::make_shared<const RuleSet>(make_preset(
-        "d4", "the paper's rules under a random horizontal symmetry per block and tick, the paper's offset cycle", 1, true,
-        false));
-  if (name == "inertial")
-    return std::make_shared<const RuleSet>(make_preset(
-        "inertial",
-        "isotropic plus inertia and rolling: 16 sub-steps per tick, grains accelerate in free fall and roll on",
-        1, true, true, inertial_motion(16)));
-  if (name == "inertial-24")
-    return std::make_shared<const RuleSet>(make_preset(
-        "inertial-24", "inertial with 24 sub-steps per tick: a top speed of 23 cells per tick instead of 15, for 1.5 times the cost", 1, true, true,
-        inertial_motion(24)));
+MaterialTable default_materials(GrainMotion grain) {
+  MaterialTable t;
+  for (int s = 0; s < kMaterialCount; ++s) {
+    t[std::size_t(s)].name = std::string(material_name(Material(s)));
+    t[std::size_t(s)].behaviour = Behaviour::Static;
+  }
+  t[to_cell(Material::Void)].behaviour = Behaviour::Void;
+  t[to_cell(Material::Granular)].behaviour = Behaviour::Granular;
+  t[to_cell(Material::Granular)].grain = grain;
+  return t;
+}
+
+RuleSet preset(std::string_view name) {
+  for (const PresetEntry& e : kPresets)
+    if (name == e.name) return make_preset(e);
   std::string valid;
   for (const auto& n : rule_preset_names()) valid += (valid.empty() ? "" : ", ") + n;
   throw InvalidArgument("unknown rule set '" + std::string(name) + "'; valid rule sets: " + valid);
 }
 
-std::vector<std::string> rule_preset_names() { return {"paper", "isotropic", "d4", "inertial", "inertial-24"}; }
+std::shared_ptr<const RuleSet> make_rule_set(std::string_view name) { return std::make_shared<const RuleSet>(preset(name)); }
+
+std::vector<std::string> rule_preset_names() {
+  std::vector<std::string> names;
+  for (const PresetEntry& e : kPresets) names.emplace_back(e.name);
+  return names;
+}
 
 }  // namespace granular

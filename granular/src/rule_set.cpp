@@ -1,31 +1,93 @@
 #include "granular/rule_set.hpp"
 
+#include <set>
+
+#include "granular/errors.hpp"
 #include "granular/grid.hpp"
+#include "step/step_materials.hpp"
 
 namespace granular {
 
+const char* behaviour_name(Behaviour b) noexcept {
+  switch (b) {
+    case Behaviour::Void: return "void";
+    case Behaviour::Static: return "static";
+    case Behaviour::Granular: return "granular";
+  }
+  return "invalid";
+}
+
+std::uint8_t fixed_states(const RuleSet& rules) {
+  // The motion model's table is indexed by codes: obstacle (1) and the unused codes 4..7 never move.
+  if (rules.motion.enabled()) return std::uint8_t(0xF0u | (1u << kCodeObstacle));
+  std::uint8_t fixed = 0;
+  for (int s = 0; s < kMaterialCount; ++s)
+    if (rules.materials[std::size_t(s)].behaviour == Behaviour::Static) fixed = std::uint8_t(fixed | (1u << s));
+  return fixed;
+}
+
+void validate_rule_set(const RuleSet& rules) {
+  const std::string who = "rule set '" + rules.name + "': ";
+  if (!rules.transition) throw RuleError(who + "RuleSet::transition is null; give it a block rule");
+  std::set<std::string> names;
+  bool any_static = false;
+  for (int s = 0; s < kMaterialCount; ++s) {
+    const MaterialDef& d = rules.materials[std::size_t(s)];
+    const std::string field = "RuleSet::materials[" + std::to_string(s) + "]";
+    if (d.behaviour != Behaviour::Void && d.behaviour != Behaviour::Static && d.behaviour != Behaviour::Granular)
+      throw RuleError(who + field + ".behaviour = " + std::to_string(int(d.behaviour)) +
+                      " is not a Behaviour; use Void, Static or Granular");
+    if (d.name.empty()) throw RuleError(who + field + ".name is empty; every state needs a name");
+    if (!names.insert(d.name).second) throw RuleError(who + field + ".name = '" + d.name + "' is used twice");
+    if ((s == 0) != (d.behaviour == Behaviour::Void))
+      throw RuleError(who + field + ".behaviour = " + behaviour_name(d.behaviour) +
+                      (s == 0 ? "; state 0 must be void (new grids and dug cells are state 0)"
+                              : "; only state 0 may be void"));
+    any_static = any_static || d.behaviour == Behaviour::Static;
+    auto chance = [&](int c, const char* what) {
+      if (c < 0 || c > 256)
+        throw RuleError(who + field + ".grain." + what + " = " + std::to_string(c) + "; chances are out of 256 (0..256)");
+    };
+    chance(d.grain.topple_gain, "topple_gain");
+    chance(d.grain.roll_cost, "roll_cost");
+    chance(d.grain.roll_chance, "roll_chance");
+  }
+  if (!any_static)
+    throw RuleError(who + "RuleSet::materials has no static material; cells outside the grid read as one");
+  const int n = rules.motion.substeps;
+  if (n != 1 && (n < 8 || n % 8 != 0 || n > 32))
+    throw RuleError(who + "RuleSet::motion.substeps = " + std::to_string(n) +
+                    "; use 1 (no motion model) or a multiple of 8 up to 32");
+}
+
 std::uint64_t rule_fingerprint(const RuleSet& rules) {
   std::uint64_t h = 0x72756C6573657431ull;
+  auto add_text = [&](const std::string& text) {
+    for (char c : text) h = mix64(h ^ std::uint8_t(c));
+    h = mix64(h ^ text.size());
+  };
   for (char c : rules.name) h = mix64(h ^ std::uint8_t(c));
   h = mix64(h ^ rules.version);
   h = mix64(h ^ (rules.random_symmetry ? 1u : 0u));
   if (rules.random_axis_order) h = mix64(h ^ 0x617865736F726465ull);
-  if (rules.motion.enabled())
-    h = mix64(h ^ 0x6D6F74696F6E0000ull ^ std::uint64_t(rules.motion.substeps) ^
-              (std::uint64_t(rules.motion.roll_chance) << 8) ^ (std::uint64_t(rules.motion.topple_gain) << 20) ^
-              (std::uint64_t(rules.motion.roll_cost) << 32));
+  if (rules.motion.enabled()) h = mix64(h ^ 0x6D6F74696F6E0000ull ^ std::uint64_t(rules.motion.substeps));
+  for (const MaterialDef& d : rules.materials) {
+    add_text(d.name);
+    h = mix64(h ^ (std::uint64_t(d.behaviour) << 56) ^ std::uint64_t(d.grain.topple_gain) ^
+              (std::uint64_t(d.grain.roll_cost) << 16) ^ (std::uint64_t(d.grain.roll_chance) << 32));
+  }
   if (!rules.transition) return h;
   // Every block over the three simulated states.
   for (std::uint32_t n = 0; n < 6561; ++n) {
     BlockCells cells{};
     std::uint32_t v = n;
     for (int i = 0; i < 8; ++i, v /= 3) cells[i] = std::uint8_t(v % 3);
-    h = mix64(h ^ rules.transition(cells)) + n;
+    h = mix64(h ^ rules.transition(cells, rules.materials)) + n;
   }
   // A pseudo-random sample over all 8 states.
   for (std::uint64_t n = 0; n < 4096; ++n) {
     const BlockKey key = BlockKey(mix64(n * 0x9E3779B97F4A7C15ull) & (kBlockKeyCount - 1));
-    h = mix64(h ^ rules.transition(decode_key(key))) + key;
+    h = mix64(h ^ rules.transition(decode_key(key), rules.materials)) + key;
   }
   return h;
 }

@@ -172,24 +172,19 @@ void World::init(const Grid& initial) {
   if (def_.backend != BackendKind::Auto && def_.backend != BackendKind::Cpu && def_.backend != BackendKind::Cuda)
     throw InvalidArgument("WorldDef::backend = " + std::to_string(int(def_.backend)) +
                           " is not a BackendKind; use Auto, Cpu or Cuda");
-  if (!(def_.cuda.dense_fraction >= 0.0 && def_.cuda.dense_fraction <= 1.0))
-    throw InvalidArgument("WorldDef::cuda.dense_fraction = " + std::to_string(def_.cuda.dense_fraction) +
-                          "; use a fraction of the bricks in 0..1 (0: always dense-recording, 1: never)");
+  for (const auto& [field, value] : {std::pair{"dense_fraction", def_.cuda.dense_fraction},
+                                     std::pair{"motion_dense_fraction", def_.cuda.motion_dense_fraction}})
+    if (!(value >= 0.0 && value <= 1.0))
+      throw InvalidArgument(std::string("WorldDef::cuda.") + field + " = " + std::to_string(value) +
+                            "; use a fraction of the bricks in 0..1 (0: always dense-recording, 1: never)");
   size_ = initial.size();
   def_.size = size_;
   const Int3 bricks = granular::brick_counts(size_);
   brick_version_.assign(std::size_t(bricks.x) * std::size_t(bricks.y) * std::size_t(bricks.z), 0);
   changed_flags_.assign(brick_version_.size(), 0);
   activity_.total_bricks = brick_version_.size();
-  rules_ = make_rule_set(def_.rules);
-  const MotionParams& motion = rules_->motion;
-  auto chance = [](int c) { return c >= 0 && c <= 256; };
-  if (motion.enabled() && (motion.substeps % 8 != 0 || motion.substeps > 32 || !chance(motion.roll_chance) ||
-                           !chance(motion.topple_gain) || !chance(motion.roll_cost)))
-    throw RuleError("rule set '" + rules_->name + "': MotionParams substeps = " + std::to_string(motion.substeps) +
-                    ", roll_chance = " + std::to_string(motion.roll_chance) + ", topple_gain = " +
-                    std::to_string(motion.topple_gain) + ", roll_cost = " + std::to_string(motion.roll_cost) +
-                    "; substeps must be 1 or a multiple of 8 up to 32 and the chances 0..256");
+  rules_ = def_.rule_set ? def_.rule_set : make_rule_set(def_.rules);
+  validate_rule_set(*rules_);
   const BackendFactory factory = choose_backend(def_.backend);
   // The table (64 MiB), the backend's cells and its scratch: an allocation that fails is an
   // OutOfMemory naming the grid, not a bare std::bad_alloc.

@@ -48,6 +48,6 @@ inline constexpr std::uint32_t kInertTableWords = kBlockKeyCount / 64;
 std::vector<std::uint64_t> derive_inert_table(std::span<const BlockKey> result, bool random_symmetry, int threads);
 
 /// Looks up key k in an inert-key bit table.
-inline bool is_inert(const std::uint64_t* table, BlockKey key) { return (table[key >> 6] >> (key & 63u)) & 1u; }
+constexpr bool is_inert(const std::uint64_t* table, BlockKey key) { return (table[key >> 6] >> (key & 63u)) & 1u; }
 
 }  // namespace granular

@@ -8,14 +8,15 @@
 /// t uses the partition offset motion_offset(t, s): z flips every sub-step, and the sub-step in
 /// which grains at rest take part (s = t & 1) walks all 8 offsets over 8 ticks, as the one-step
 /// cycle does. Per block:
-///  1. Each cell gets a code for the table: void 0, obstacle 1 (solid and every other material),
-///     grain 2. A grain in the top layer that is outside its window this sub-step (it is too slow
+///  1. Each cell gets a code for the table from its material's behaviour (StepMaterials): void 0,
+///     obstacle 1 (every static material), grain 2 (every granular one). A grain in the top layer that is outside its window this sub-step (it is too slow
 ///     to move now) reads as an obstacle; one inside its window with a motion level above 0 reads,
-///     with chance roll_chance / 256, as a roller (3), which the table lets roll sideways onto the
+///     with chance roll_chance / 256 (its material's GrainMotion), as a roller (3), which the table lets roll sideways onto the
 ///     top of a neighbour column one cell lower. Bottom-layer grains never move on their own, so
 ///     their code is always 2.
-///  2. The key is viewed under the block's random symmetry, looked up in the transition table of
-///     motion_rule, and the permutation is mapped back: cell i goes to position dest[i].
+///  2. The key is viewed under the block's random symmetry, looked up in the motion table (motion_rule's
+///     transitions at 2 bits per cell, kMotionTableKeys), and the permutation is mapped back: cell i
+///     goes to position dest[i].
 ///  3. The 8 bytes are permuted with their motion levels, and each grain that took part updates
 ///     its level: one that fell straight down gains 1 in the first sub-step of its window when
 ///     nothing is beside it in the top layer (gravity accelerates free grains, not a dense flow);
@@ -35,19 +36,15 @@
 
 #include "granular/block.hpp"
 #include "granular/motion.hpp"
+#include "step/block_bytes.hpp"
 #include "step/paper_rule.hpp"
+#include "step/step_materials.hpp"
 
 namespace granular::motion {
 
 /// Chance out of 256 that a moving grain blocked from below with no room to roll in its block
 /// loses a level (so a grain stuck in a pit comes to rest, and its brick can sleep).
 inline constexpr int kStuckCost = 64;
-
-/// Table codes of a cell: what motion_rule sees.
-inline constexpr std::uint32_t kCodeVoid = 0, kCodeObstacle = 1, kCodeGrain = 2, kCodeRoller = 3;
-
-/// Material values the block step tests (material.hpp's Void and Granular).
-inline constexpr std::uint32_t kVoid = 0, kGrain = 2;
 
 /// The motion model's block rule on a key of table codes (3 bits per cell, block.hpp order):
 /// the paper's gravity and flow (rules::paper_rule) with rollers moving as grains, then roll (a
@@ -88,6 +85,18 @@ constexpr Transition motion_rule(BlockKey key) {
   return transition;
 }
 
+/// Keys of the motion table: a block's 8 table codes (all below 4) at 2 bits per cell, block order.
+/// The table (256 KiB) is motion_rule's transition table at those keys, small enough to stay in a
+/// CPU's or a GPU's cache, where the full table of 3-bit keys (64 MiB) is not.
+inline constexpr std::uint32_t kMotionTableKeys = 1u << 16;
+
+/// The full table's key (3 bits per cell) of motion table key `compact` (2 bits per cell).
+constexpr BlockKey full_code_key(std::uint32_t compact) {
+  BlockKey key = 0;
+  for (int i = 0; i < 8; ++i) key |= ((compact >> (2 * i)) & 3u) << (3 * i);
+  return key;
+}
+
 /// The partition offset of sub-step `substep` of tick `tick` (see the file comment); with
 /// `random_axis_order`, x and y are exchanged on the 8-tick cycles cycle_swaps_axes draws.
 constexpr BlockOffset motion_offset(std::uint64_t tick, int substep, std::uint64_t seed, bool random_axis_order) {
@@ -107,17 +116,14 @@ struct SubStep {
   std::uint64_t tick = 0;       ///< the tick
   int substep = 0;              ///< this sub-step, 0 .. substeps - 1
   int substeps = 2;             ///< MotionParams::substeps (the highest level follows from it)
-  int roll_chance = 0;          ///< MotionParams::roll_chance
-  int topple_gain = 0;          ///< MotionParams::topple_gain
-  int roll_cost = 0;            ///< MotionParams::roll_cost
   bool random_symmetry = false; ///< draw a horizontal symmetry per block
+  StepMaterials materials;      ///< the rule set's material table (codes, grains, grain motion)
 };
 
 /// The SubStep of sub-step `substep` of tick `tick` for a rule set's motion model.
-constexpr SubStep sub_step(const MotionParams& motion, std::uint64_t seed, std::uint64_t tick, int substep,
-                           bool random_symmetry) {
-  return SubStep{seed, tick, substep, motion.substeps, motion.roll_chance, motion.topple_gain, motion.roll_cost,
-                 random_symmetry};
+constexpr SubStep sub_step(const MotionParams& motion, const StepMaterials& materials, std::uint64_t seed,
+                           std::uint64_t tick, int substep, bool random_symmetry) {
+  return SubStep{seed, tick, substep, motion.substeps, random_symmetry, materials};
 }
 
 /// The phase a grain in cell i of a block takes at sub-step 0, as its bit: 0 in the top layer (its
@@ -125,11 +131,11 @@ constexpr SubStep sub_step(const MotionParams& motion, std::uint64_t seed, std::
 constexpr std::uint32_t rest_phase(int i) { return i >= 4 ? 0u : kMotionPhaseBit; }
 
 /// The bytes with every grain's phase set as at sub-step 0 (rest_phase).
-constexpr std::uint64_t with_phases(std::uint64_t bytes) {
+constexpr std::uint64_t with_phases(std::uint64_t bytes, const StepMaterials& materials) {
   std::uint64_t out = 0;
   for (int i = 0; i < 8; ++i) {
     std::uint32_t byte = std::uint32_t(bytes >> (8 * i)) & 0xFFu;
-    if ((byte & kMaterialMask) == kGrain) byte = (byte & ~std::uint32_t(kMotionPhaseBit)) | rest_phase(i);
+    if (materials.is_grain(byte & kMaterialMask)) byte = (byte & ~std::uint32_t(kMotionPhaseBit)) | rest_phase(i);
     out |= std::uint64_t(byte) << (8 * i);
   }
   return out;
@@ -143,100 +149,97 @@ constexpr std::uint64_t with_phases(std::uint64_t bytes) {
 /// roller, a grain outside its window only turns into an obstacle, which never lets a block move
 /// that would not move anyway, a grain at rest that stays keeps level 0, and sub-step 0 rewrites
 /// each phase with the value it has.
-constexpr BlockKey rest_key(std::uint64_t bytes, int offset_z, bool& all_at_rest) {
-  BlockKey key = 0;
-  bool rest = true;
-  for (int i = 0; i < 8; ++i) {
-    const std::uint32_t byte = std::uint32_t(bytes >> (8 * i)) & 0xFFu;
-    const std::uint32_t material = byte & kMaterialMask;
-    const std::uint32_t code = material == kVoid ? kCodeVoid : material == kGrain ? kCodeGrain : kCodeObstacle;
-    key |= code << (3 * i);
-    if (material == kGrain) {
-      // The cell's layer at sub-step 0 is its layer now when the offset is 0, else the other one.
-      const int layer_at_zero = offset_z == 0 ? i : i ^ 4;
-      rest = rest && (byte & ~std::uint32_t(kMaterialMask)) == rest_phase(layer_at_zero);
-    } else {
-      rest = rest && (byte & ~std::uint32_t(kMaterialMask)) == 0;
-    }
-  }
-  all_at_rest = rest;
+constexpr BlockKey rest_key(std::uint64_t bytes, int offset_z, const StepMaterials& materials, bool& all_at_rest) {
+  const BlockKey key = materials.code_key(pack_key(bytes & (kEveryByte * kMaterialMask)));
+  // 0x80 in the bytes whose code is a grain's (the codes here are 0..2, so after the exclusive or
+  // only a grain's byte is 0, and the borrow of a 0 byte never turns a neighbour's 2 or 3 into 0).
+  const std::uint64_t x = unpack_key(key) ^ (kEveryByte * kCodeGrain);
+  const std::uint64_t grains = (x - kEveryByte) & ~x & (kEveryByte * 0x80u);
+  // At rest: no motion level, and the phase bit set exactly in the grains whose layer at sub-step 0
+  // is the bottom one (rest_phase): this layer when offset_z is 0, else the other.
+  const std::uint64_t bottom = offset_z == 0 ? 0x0000000080808080ull : 0x8080808000000000ull;
+  all_at_rest = (bytes & (kEveryByte * std::uint64_t(kMotionLevelMask << kMotionShift))) == 0 &&
+                (bytes & (kEveryByte * 0x80u)) == (grains & bottom);
   return key;
 }
 
 /// True when the top-layer cell i of a block has only void beside it in the top layer: a grain
 /// there that falls is in free fall and gains speed, while one that moves down in contact with
 /// others (a dense flow) does not.
-constexpr bool laterally_free(std::uint64_t bytes, int i) {
+constexpr bool laterally_free(std::uint64_t bytes, int i, const StepMaterials& materials) {
   for (int j = 4; j < 8; ++j)
-    if (j != i && ((bytes >> (8 * j)) & kMaterialMask) != kVoid) return false;
+    if (j != i && materials.code((bytes >> (8 * j)) & kMaterialMask) != kCodeVoid) return false;
   return true;
 }
 
 /// True when a block of 8 equal bytes `byte` may be skipped in sub-step `substep` as unchanged and
 /// quiet: void and obstacles. A uniform block of grains is never at rest (sub-step 0 gives its two
 /// layers different phases), so it is stepped, and noted, like any other.
-constexpr bool uniform_block_unchanged(std::uint32_t byte, int substep) {
-  return substep >= 0 && (byte & kMaterialMask) != kGrain;
+constexpr bool uniform_block_unchanged(std::uint32_t byte, const StepMaterials& materials) {
+  return !materials.is_grain(byte & kMaterialMask);
 }
 
-/// The block's 8 bytes (cell i in byte i) after sub-step `m` (see the file comment). `table` is the
-/// motion_rule transition table indexed by key; `load` reads an entry (a plain read on the CPU, a
-/// read-only cache load on a GPU).
+/// The block's 8 bytes (cell i in byte i) after sub-step `m` (see the file comment). `load(k)`
+/// reads the motion table's entry of motion table key k (kMotionTableKeys; a plain read on the CPU,
+/// a read-only cache load on a GPU).
 template <class Load>
 constexpr std::uint64_t step_block(std::uint64_t bytes, const SubStep& m, int x0, int y0, int z0, Load load) {
+  const StepMaterials& mats = m.materials;
   const int s = m.substep;
-  if (s == 0) bytes = with_phases(bytes);
+  if (s == 0) bytes = with_phases(bytes, mats);
+  // Which top-layer grains take part: only they ever move or change, so a block without one is
+  // left as it is before its random word is drawn.
+  unsigned takes_part = 0;
+  for (int i = 4; i < 8; ++i) {
+    const std::uint32_t byte = std::uint32_t(bytes >> (8 * i)) & 0xFFu;
+    if (!mats.is_grain(byte & kMaterialMask)) continue;
+    const int level = int((byte >> kMotionShift) & kMotionLevelMask);
+    const int start = (byte & kMotionPhaseBit) ? 1 : 0;
+    if (s >= start && s - start < motion_window(level)) takes_part |= 1u << i;
+  }
+  if (takes_part == 0) return bytes;
   const std::uint64_t random = block_random(m.seed, m.tick * std::uint64_t(m.substeps) + std::uint64_t(s), x0, y0, z0);
   BlockKey key = 0;
-  unsigned takes_part = 0;
   for (int i = 0; i < 8; ++i) {
     const std::uint32_t byte = std::uint32_t(bytes >> (8 * i)) & 0xFFu;
     const std::uint32_t material = byte & kMaterialMask;
-    std::uint32_t code = material == kVoid ? kCodeVoid : kCodeObstacle;
-    if (material == kGrain) {
-      code = kCodeGrain;
-      if (i >= 4) {
-        const int level = int((byte >> kMotionShift) & kMotionLevelMask);
-        const int start = (byte & kMotionPhaseBit) ? 1 : 0;
-        if (s >= start && s - start < motion_window(level)) {
-          takes_part |= 1u << i;
-          if (level > 0 && int((random >> (8 * (i - 3))) & 0xFFu) < m.roll_chance) code = kCodeRoller;
-        } else {
-          code = kCodeObstacle;
-        }
-      }
+    std::uint32_t code = mats.code(material);
+    if (code == kCodeGrain && i >= 4) {
+      // A top-layer grain outside its window is too slow to move now: an obstacle.
+      if (((takes_part >> i) & 1u) == 0)
+        code = kCodeObstacle;
+      else if (((byte >> kMotionShift) & kMotionLevelMask) > 0 &&
+               int((random >> (8 * (i - 3))) & 0xFFu) < int(mats.roll_chance[material]))
+        code = kCodeRoller;
     }
     key |= code << (3 * i);
   }
-  if (takes_part == 0) return bytes;  // only top-layer grains that take part ever move or change
+  // The symmetry as arithmetic on cell indices (no arrays: a GPU keeps everything in registers).
   const int symmetry = m.random_symmetry ? int(random & 7u) : 0;
-  const auto map = horizontal_symmetry(symmetry);
-  int inverse[8] = {};
-  BlockKey viewed = 0;
-  for (int i = 0; i < 8; ++i) {
-    inverse[map[i]] = i;
-    viewed |= ((key >> (3 * i)) & 7u) << (3 * map[i]);
-  }
+  std::uint32_t viewed = 0;  // the motion table key of the block in the drawn frame
+  for (int i = 0; i < 8; ++i) viewed |= ((key >> (3 * i)) & 3u) << (2 * symmetry_image(i, symmetry));
   const Transition t = load(viewed);
   const int max_level = MotionParams{.substeps = m.substeps}.max_level();
   std::uint64_t out = 0;
   for (int i = 0; i < 8; ++i) {
-    const int dest = inverse[destination(t, map[i])];
+    const int dest = symmetry_preimage(destination(t, symmetry_image(i, symmetry)), symmetry);
     std::uint32_t byte = std::uint32_t(bytes >> (8 * i)) & 0xFFu;
     if ((takes_part >> i) & 1u) {
+      const std::uint32_t material = byte & kMaterialMask;
       int level = int((byte >> kMotionShift) & kMotionLevelMask);
       const std::uint32_t phase = byte & kMotionPhaseBit;
+      const int draw = int((random >> (40 + 6 * (i - 4))) & 63u) * 4;
       if (dest < 4) {
         if ((dest & 3) == (i & 3)) {
-          if (s == (phase ? 1 : 0) && laterally_free(bytes, i)) ++level;
-        } else if (int((random >> (40 + 6 * (i - 4))) & 63u) * 4 < m.topple_gain) {
+          if (s == (phase ? 1 : 0) && laterally_free(bytes, i, mats)) ++level;
+        } else if (draw < int(mats.topple_gain[material])) {
           ++level;
         }
         if (level > max_level) level = max_level;
-      } else if (level > 0 && int((random >> (40 + 6 * (i - 4))) & 63u) * 4 < (dest != i ? m.roll_cost : kStuckCost)) {
+      } else if (level > 0 && draw < (dest != i ? int(mats.roll_cost[material]) : kStuckCost)) {
         --level;
       }
-      byte = kGrain | (std::uint32_t(level) << kMotionShift) | phase;
+      byte = material | (std::uint32_t(level) << kMotionShift) | phase;
     }
     out |= std::uint64_t(byte) << (8 * dest);
   }

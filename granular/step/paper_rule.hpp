@@ -7,7 +7,7 @@
 
 namespace granular::rules {
 
-/// Void and granular cell values (see material.hpp).
+/// The void and grain table codes (step_materials.hpp): the rule sees behaviours, not materials.
 inline constexpr std::uint32_t kRuleVoid = 0, kRuleGrain = 2;
 
 /// Gravity, then flow, on the block whose states are packed in `key` (3 bits per cell, cell i at

@@ -27,7 +27,7 @@ using granular::test::random_size;
 
 namespace {
 
-/// The GPU worlds' WorldDef::cuda.dense_fraction values: always dense-recording, never, the default, half.
+/// The GPU worlds' WorldDef::cuda.dense_fraction (and motion_dense_fraction) values: always dense-recording, never, the default, half.
 const std::array<double, 4> kFractions = {0.0, 1.0, CudaOptions{}.dense_fraction, 0.5};
 
 /// A WorldDef for `backend` (the CPU with 2 threads), sparse or dense, with the build tree's table
@@ -40,7 +40,7 @@ WorldDef activity_def(BackendKind backend, bool sparse, const char* rules, std::
   def.backend = backend;
   def.threads = 2;
   def.sparse = sparse;
-  def.cuda.dense_fraction = dense_fraction;
+  def.cuda.dense_fraction = def.cuda.motion_dense_fraction = dense_fraction;
   return def;
 }
 

@@ -57,8 +57,8 @@ Grid motion_scene(Int3 size, std::uint64_t seed) {
 /// with motion::step_block; cells outside the grid read as solid and are never written.
 void reference_tick(std::vector<std::uint8_t>& cells, Int3 size, const RuleSet& rules, const Lut& lut,
                     std::uint64_t seed, std::uint64_t tick) {
-  const auto load = [&](BlockKey key) { return lut[key]; };
-  motion::SubStep sub = motion::sub_step(rules.motion, seed, tick, 0, rules.random_symmetry);
+  const auto load = [&](std::uint32_t key) { return lut[motion::full_code_key(key)]; };
+  motion::SubStep sub = motion::sub_step(rules.motion, step_materials(rules.materials), seed, tick, 0, rules.random_symmetry);
   for (int s = 0; s < rules.motion.substeps; ++s) {
     sub.substep = s;
     const BlockOffset o = motion::motion_offset(tick, s, seed, rules.random_axis_order);

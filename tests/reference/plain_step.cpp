@@ -216,9 +216,11 @@ PlainRules plain_rules(const RuleSet& rules, const Lut& lut, std::uint64_t seed)
   plain.random_symmetry = rules.random_symmetry;
   plain.random_axis_order = rules.random_axis_order;
   plain.substeps = rules.motion.substeps;
-  plain.topple_gain = rules.motion.topple_gain;
-  plain.roll_cost = rules.motion.roll_cost;
-  plain.roll_chance = rules.motion.roll_chance;
+  // The plain loop knows one grain, the shipped tables' granular state.
+  const GrainMotion& grain = rules.materials[to_cell(Material::Granular)].grain;
+  plain.topple_gain = grain.topple_gain;
+  plain.roll_cost = grain.roll_cost;
+  plain.roll_chance = grain.roll_chance;
   plain.seed = seed;
   return plain;
 }

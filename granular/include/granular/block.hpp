@@ -84,6 +84,18 @@ constexpr std::array<std::uint8_t, 8> horizontal_symmetry(int s) {
   return map;
 }
 
+/// Where symmetry s sends cell i: horizontal_symmetry(s)[i], as arithmetic (no table).
+constexpr int symmetry_image(int i, int s) {
+  const int j = i ^ (s & 3);
+  return (s & 4) ? (j & 4) | ((j & 1) << 1) | ((j >> 1) & 1) : j;
+}
+
+/// The cell symmetry s sends to cell j: the inverse of symmetry_image.
+constexpr int symmetry_preimage(int j, int s) {
+  const int k = (s & 4) ? (j & 4) | ((j & 1) << 1) | ((j >> 1) & 1) : j;
+  return k ^ (s & 3);
+}
+
 /// The partition offset (0 or 1 per axis) of tick `tick`: z flips every tick (so a free grain
 /// falls one cell per tick), x every 2 ticks, y every 4: all 8 offsets in an 8-tick cycle.
 struct BlockOffset {

@@ -21,8 +21,12 @@ class Lut {
   /// past max_threads(), threads.hpp) and validates the result. Throws RuleError naming the first
   /// offending key.
   static Lut build(const RuleSet& rules, int threads = 0);
-  /// Wraps entries read from elsewhere (the cache, a GPU build); validates them (RuleError).
-  static Lut from_entries(std::vector<Transition> entries, std::uint64_t rule_fingerprint, int threads = 0);
+  /// Wraps entries read from elsewhere (the cache, a GPU build); validates them (RuleError) with
+  /// `fixed` the states that must not move (fixed_states of the rule set; the default: solid only).
+  static Lut from_entries(std::vector<Transition> entries, std::uint64_t rule_fingerprint, int threads = 0,
+                          std::uint8_t fixed = kSolidFixed);
+  /// The fixed states of a table whose only static material is solid.
+  static constexpr std::uint8_t kSolidFixed = 1u << 1;
 
   /// The transition of a key.
   Transition operator[](BlockKey key) const { return entries_[key]; }
@@ -39,7 +43,7 @@ class Lut {
 
  private:
   Lut() = default;
-  void validate_and_summarise(int threads);
+  void validate_and_summarise(int threads, std::uint8_t fixed);
 
   std::vector<Transition> entries_;
   std::uint64_t rule_fingerprint_ = 0;
@@ -47,9 +51,9 @@ class Lut {
   std::uint64_t moving_keys_ = 0;
 };
 
-/// Checks one entry: a permutation that keeps every solid cell in place. Returns an empty string
-/// when valid, else what is wrong.
-std::string check_transition(BlockKey key, Transition t);
+/// Checks one entry: a permutation that keeps every cell of a fixed state (bit s of `fixed` for state
+/// s; fixed_states) in place. Returns an empty string when valid, else what is wrong.
+std::string check_transition(BlockKey key, Transition t, std::uint8_t fixed = Lut::kSolidFixed);
 
 /// Where and whether to cache tables on disk.
 struct LutCacheOptions {

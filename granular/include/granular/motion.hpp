@@ -26,17 +26,22 @@ inline constexpr std::uint8_t kMotionPhaseBit = 0x80;
 /// What a rule set's motion model does (RuleSet::motion). The default is no motion model: one
 /// Margolus step per tick and no motion state, the paper's scheme.
 struct MotionParams {
-  int substeps = 1;     ///< Margolus sub-steps per tick (1: no motion model; else a multiple of 8
-                        ///< up to 32, so that sparse stepping's 8-step cycles fit in whole ticks)
-  int topple_gain = 0;  ///< out of 256: chance that a grain toppling down a step gains a level
-  int roll_cost = 0;    ///< out of 256: chance that a roll (a move onto a level neighbour) costs a level
-  int roll_chance = 0;  ///< out of 256: chance that a moving grain blocked from below is offered a
-                        ///< roll to a level neighbour cell (the friction lever; 0: never rolls)
+  int substeps = 1;  ///< Margolus sub-steps per tick (1: no motion model; else a multiple of 8 up to 32,
+                     ///< so that sparse stepping's 8-step cycles fit in whole ticks)
   /// True when the rule set uses the motion model.
   constexpr bool enabled() const { return substeps > 1; }
   /// The highest motion level: a grain at it falls motion_window(max_level()) <= substeps - 1 cells
   /// per tick (the window must fit after a phase of 1).
   constexpr int max_level() const { return substeps / 2 < kMotionLevelMask ? substeps / 2 : kMotionLevelMask; }
+};
+
+/// How a granular material moves under a motion model (MaterialDef::grain): its friction levers.
+/// Chances are out of 256 (0: never, 256: always).
+struct GrainMotion {
+  int topple_gain = 0;  ///< chance that a grain toppling down a step gains a level
+  int roll_cost = 0;    ///< chance that a roll (a move onto a level neighbour) costs a level
+  int roll_chance = 0;  ///< chance that a moving grain blocked from below is offered a roll to a level
+                        ///< neighbour cell (0: never rolls)
 };
 
 /// The sub-steps a grain at motion level `level` takes part in: 1 at rest and at level 1, then

@@ -1,6 +1,7 @@
 #pragma once
 /// @file rule_presets.hpp
-/// The shipped rule sets.
+/// The shipped rule sets: one registry, enumerated by rule_preset_names() (the CLI, the accuracy
+/// suite and the sandbox list presets from it).
 
 #include <memory>
 #include <string>
@@ -11,23 +12,33 @@
 
 namespace granular {
 
-/// The paper's rules: gravity (a grain above void falls), then flow (a supported grain in the top
-/// layer topples diagonally down into a void whose column above is void too), with a fixed order
-/// of preference (+/-x neighbour, then y, then diagonal). Deterministic; piles at 45 degrees.
-Transition paper_transition(const BlockCells& cells);
+/// The paper's rules on a material table: gravity (a granular cell above void falls), then flow (a
+/// supported granular cell in the top layer topples diagonally down into a void whose column above is
+/// void too), with a fixed order of preference (+/-x neighbour, then y, then diagonal); static
+/// materials never move. Deterministic; piles at 45 degrees.
+Transition paper_transition(const BlockCells& cells, const MaterialTable& materials);
 
-/// The motion model's rule (motion.hpp): the paper's rule on void, obstacle and grain, plus a
-/// roller state (table code 3) that also rolls sideways onto a level neighbour.
-Transition motion_transition(const BlockCells& cells);
+/// The motion model's rule (motion.hpp) on table codes: the paper's rule on void, obstacle and grain,
+/// plus a roller code (3) that also rolls sideways onto a level neighbour. `materials` is unused: the
+/// step maps materials to codes (motion_block.hpp).
+Transition motion_transition(const BlockCells& codes, const MaterialTable& materials);
 
-/// Looks up a preset by name: "paper" (the paper's deterministic rules and offset cycle),
-/// "isotropic" (the same table under a random horizontal symmetry per block and tick, and a random
-/// offset order per 8-tick cycle, so heaps come out round) or "d4" (the random symmetry alone, on
-/// the paper's cycle: isotropic before the offset order was drawn, kept for comparison).
-/// Throws InvalidArgument naming the valid presets for an unknown name.
+/// The shipped material table: void (0), solid (1, static), granular (2, sand, rolling as `grain`
+/// says), and states 3..7 (named liquid, gas, state5..7) static obstacles.
+MaterialTable default_materials(GrainMotion grain = {});
+
+/// A preset by name, as a value a game may copy and change: "paper" (the paper's deterministic rules
+/// and offset cycle), "isotropic" (the same table under a random horizontal symmetry per block and
+/// tick, and a random offset order per 8-tick cycle, so heaps come out round), "d4" (the random
+/// symmetry alone, on the paper's cycle), "inertial" (isotropic plus the motion model: 16 sub-steps
+/// per tick, inertia and rolling) and "inertial-24" (24 sub-steps). Throws InvalidArgument naming the
+/// valid presets for an unknown name.
+RuleSet preset(std::string_view name);
+
+/// preset(name), shared.
 std::shared_ptr<const RuleSet> make_rule_set(std::string_view name);
 
-/// Names of every preset, in a stable order.
+/// Names of every preset, in a stable order: the registry's enumeration.
 std::vector<std::string> rule_preset_names();
 
 }  // namespace granular

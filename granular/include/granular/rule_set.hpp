@@ -1,21 +1,48 @@
 #pragma once
 /// @file rule_set.hpp
-/// A rule set is code: a function from a block's 8 states to a transition (a permutation of the
-/// block's cells). It is compiled into the transition table (Lut) once, validated, and cached.
+/// A rule set is data: a material table (what each of the 8 cell states is and the parameters the
+/// step reads for it), the motion model's parameters, the random variants, and the block rule that
+/// is compiled into the transition table (Lut) once, validated, and cached. A game copies a preset
+/// (granular::preset, rule_presets.hpp), changes it, and passes it as WorldDef::rule_set.
 
+#include <array>
 #include <cstdint>
 #include <string>
 
 #include "granular/block.hpp"
+#include "granular/material.hpp"
 #include "granular/motion.hpp"
 
 namespace granular {
 
-/// The function a rule set supplies: given a block's cells, where does each cell go.
-/// Must return a permutation and must leave every solid cell in place (the table build checks).
-using BlockRule = Transition (*)(const BlockCells& cells);
+/// How the step treats cells of a material.
+enum class Behaviour : std::uint8_t {
+  Void = 0,      ///< empty space: mobile cells move into it
+  Static = 1,    ///< never moved by any rule (walls, bowls, obstacles)
+  Granular = 2,  ///< falls under gravity and topples into heaps (with the motion model: inertia, rolling)
+};
 
-/// A named set of block rules.
+/// The lower-case name of a behaviour ("void", "static", "granular").
+const char* behaviour_name(Behaviour b) noexcept;
+
+/// One row of the material table: one cell state.
+struct MaterialDef {
+  std::string name;                         ///< lower-case name, unique in the table ("sand")
+  Behaviour behaviour = Behaviour::Static;  ///< how the step treats it
+  GrainMotion grain;                        ///< granular materials under a motion model: rolling and level changes
+};
+
+/// The material table: row m describes cell state m.
+using MaterialTable = std::array<MaterialDef, kMaterialCount>;
+
+/// The function a rule set supplies: given a block's 8 table keys' states, where does each cell go.
+/// Without a motion model the states are materials and `materials` says what they are; with one
+/// they are the motion model's table codes (motion_block.hpp) and `materials` is not consulted.
+/// Must return a permutation that leaves every fixed state (fixed_states) in place (the table
+/// build checks).
+using BlockRule = Transition (*)(const BlockCells& cells, const MaterialTable& materials);
+
+/// A named rule set.
 ///
 /// Random variants. Every random choice is a pure function of (seed, tick, block position), so a
 /// run is deterministic for a seed on every backend and thread count, and each is one of a finite
@@ -30,21 +57,32 @@ struct RuleSet {
   std::string name;            ///< preset name, e.g. "paper"
   std::string description;     ///< one line for humans
   std::uint32_t version = 1;   ///< bump whenever the rule's behaviour changes (part of the cache key)
+  MaterialTable materials;     ///< what each cell state is (default_materials() in the presets)
   bool random_symmetry = false;  ///< apply a random horizontal symmetry (D4) per block and tick, drawn
                                  ///< from block_random(seed, tick, position): one table, isotropic result
   bool random_axis_order = false;  ///< walk each 8-tick offset cycle in one of two orders (x flips every 2
                                    ///< ticks and y every 4, or the reverse), drawn per cycle from
                                    ///< block_offset(tick, seed, true); the same for every block of a tick
   BlockRule transition = nullptr;  ///< the rule itself
-  MotionParams motion;  ///< inertia and rolling (motion.hpp); the default is off: one step per tick
-  std::string device_rule;  ///< name of the same rule compiled for GPUs ("paper"), empty when none:
-                            ///< a GPU backend builds the table on the device from it
+  MotionParams motion;  ///< the motion model (motion.hpp); the default is off: one step per tick
+  std::string device_rule;  ///< name of the same rule compiled for GPUs ("paper", "motion"), empty when
+                            ///< none: a GPU backend builds the table on the device from it
 };
 
-/// A 64-bit identity of a rule set's behaviour: its name, version and flags plus the rule's output
-/// on every key over {void, solid, granular} and on 4096 pseudo-random keys over all 8 states. It
-/// keys the on-disk table cache, so a changed rule invalidates a stale table even if nobody bumped
-/// the version.
+/// The table states that must never move: with a motion model the obstacle codes (motion_block.hpp),
+/// otherwise the static materials. Bit s set for state s.
+std::uint8_t fixed_states(const RuleSet& rules);
+
+/// Throws RuleError naming the field and value when `rules` cannot be stepped: no transition, a
+/// material table without exactly one void material and at least one static one, an empty or
+/// duplicate material name, a behaviour out of range, a grain motion chance outside 0..256, or motion
+/// parameters out of range (MotionParams::substeps 1, or a multiple of 8 up to 32).
+void validate_rule_set(const RuleSet& rules);
+
+/// A 64-bit identity of a rule set's behaviour: its name, version, flags, material table and motion
+/// parameters, plus the rule's output on every key over {void, solid, granular} and on 4096
+/// pseudo-random keys over all 8 states. It keys the on-disk table cache, so a changed rule invalidates
+/// a stale table even if nobody bumped the version.
 std::uint64_t rule_fingerprint(const RuleSet& rules);
 
 }  // namespace granular

@@ -9,6 +9,7 @@
 #include "granular/backend_factory.hpp"
 #include "granular/cuda_options.hpp"
 #include "granular/geometry.hpp"
+#include "granular/rule_set.hpp"
 #include "granular/task_system.hpp"
 
 namespace granular {
@@ -27,6 +28,9 @@ struct WorldDef {
   std::string rules = "inertial-24";  ///< rule-set preset name (see rule_presets.hpp); "inertial-24"
                                      ///< measures best on the accuracy suite and runs in real time on a
                                      ///< GPU up to 1024^3 (docs/ACCURACY.md), "paper" is the paper's
+  std::shared_ptr<const RuleSet> rule_set;  ///< a rule set of the game's own (e.g. a copy of
+                                            ///< granular::preset(...) with a changed material table);
+                                            ///< when set it wins over `rules`
   std::uint64_t seed = 0;       ///< seed of every random choice the rules make; same seed, same result
   BackendKind backend = BackendKind::Auto;  ///< compute backend
   BackendFactory backend_factory;  ///< when set, creates the backend instead (wins over `backend`):

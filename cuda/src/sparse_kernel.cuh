@@ -1,31 +1,34 @@
 #pragma once
-/// @file sparse_step_kernel.cuh
-/// Sparse stepping on the device: one tick over the list of awake bricks, the per-cycle sleep/wake
-/// update, tool wakes, and the inert-key table (docs/ARCHITECTURE.md, "Activity tracking"; the
-/// CPU counterpart is cpu_sparse_step.cpp + brick_activity.cpp, with the same rules).
+/// @file sparse_kernel.cuh
+/// Sparse stepping on the device: one (sub-)step over the list of awake bricks for every Rule
+/// (step/block_step.hpp), the per-cycle sleep/wake update, tool wakes, and the inert-key table
+/// (docs/ARCHITECTURE.md, "Activity tracking"; the CPU counterpart is cpu_sparse_step.cpp +
+/// brick_activity.cpp, with the same rules).
 ///
-/// State, one byte per brick (x fastest): awake (stepped this cycle), dirty (owned a block with a
-/// non-inert key this cycle, or was touched by a tool), changed (a cell changed since the host last
-/// took the flags); plus the compact list of awake bricks and its length, both built on the device
-/// so that step(n) enqueues every launch and synchronises once.
+/// State, one byte per brick (x fastest): awake (stepped this cycle), dirty (owned a block that was
+/// not quiet this cycle, or was touched by a tool), changed (a cell changed since the host last took
+/// the flags); plus the compact list of awake bricks and its length, both built on the device so
+/// that step(n) enqueues every launch and synchronises once.
 ///
 /// The step kernel runs a fixed grid of CUDA blocks that walk the list (grid-stride over the
-/// device-side count): a settled world costs one near-empty launch per tick. A CUDA block of
+/// device-side count): a settled world costs one near-empty launch per step. A CUDA block of
 /// kBrickThreads threads steps one brick: thread t takes the group of kGroupBlocks blocks
 /// (t % kBrickGroups) of row (t / kBrickGroups) % kBrickBlocks of layer t / (kBrickGroups *
 /// kBrickBlocks), and the rows, layers and groups kBrickBlocks further on (the last brick along an
-/// axis may own one block more). Blocks are stepped with step_kernel.cuh's arithmetic, so the
-/// result is the dense kernels' (and the CPU's) bit for bit.
+/// axis may own one block more). Blocks are walked with the dense kernel's helpers (block_walk.cuh)
+/// through the BrickNotes policy, so the result is the dense kernels' (and the CPU's) bit for bit.
+/// Every stepped block is noted but those of a skipped uniform group, the CPU's rule on groups of 4
+/// blocks where the CPU's are 8: a skipped uniform group is quiet either way, so the flags agree.
 
 #include <cuda_runtime.h>
 
 #include <cstdint>
 
-#include "step/brick_grid.hpp"
+#include "block_walk.cuh"
 #include "cuda_check.cuh"
 #include "granular/block.hpp"
+#include "step/brick_grid.hpp"
 #include "step/inert_keys.hpp"
-#include "step_kernel.cuh"
 
 namespace granular::cuda {
 
@@ -58,123 +61,64 @@ struct SparseParams {
   std::uint32_t* list = nullptr;          ///< the awake bricks, in any order
   unsigned* count = nullptr;              ///< length of the list
   unsigned long long* counters = nullptr; ///< ActivityCounter slots
-  const std::uint64_t* inert = nullptr;   ///< inert-key bits (with random symmetry or motion; else unused)
 };
 
-/// What one thread saw of its brick while stepping.
-struct BrickSeen {
-  Int3 brick;               ///< the brick's coordinates
-  bool non_inert = false;   ///< a block had a non-inert key
+/// The Notes policy of the sparse kernel: one thread's flags for the brick it steps.
+struct BrickNotes {
+  /// What it is built from.
+  using Params = SparseParams;
+
+  /// The notes of a thread stepping brick `brick`.
+  /// The brick's dirty byte (set earlier in the cycle) starts it as seen non-inert: its blocks need
+  /// no quiet test then.
+  __device__ BrickNotes(const SparseParams& params, Int3 brick_coords, std::uint32_t index)
+      : s(params), brick(brick_coords), non_inert(params.dirty[index] != 0) {}
+
+  /// A stepped block that is not quiet marks the brick dirty.
+  template <class Rule>
+  __device__ void block(const Rule& rule, std::uint64_t before, std::uint64_t after) {
+    if (!non_inert && !rule.quiet(before, after)) non_inert = true;
+  }
+
+  /// Records that cell (x, y, z) changed: in the brick it is collected per CUDA block; a cell of a
+  /// neighbour (a straddling block) is flagged at once.
+  __device__ void changed(int x, int y, int z) {
+    if (flag_changed_cell(brick, s.bricks, s.changed, x, y, z)) owner_changed = true;
+  }
+
+  /// The CUDA block collects the flags (sparse_kernel).
+  __device__ void flush() {}
+
+  const SparseParams& s;       ///< the sparse state
+  Int3 brick;                  ///< the brick's coordinates
+  bool non_inert = false;      ///< a block was not quiet
   bool owner_changed = false;  ///< a cell of the brick itself changed
 };
 
-/// Notes a stepped block's key (see inert_keys.hpp): without random variants a key is inert iff
-/// it maps to itself.
-template <bool kRandom>
-__device__ inline void note_key(const SparseParams& s, BrickSeen& seen, BlockKey key, BlockKey next) {
-  if constexpr (kRandom) {
-    if (!seen.non_inert && ((__ldg(s.inert + (key >> 6)) >> (key & 63u)) & 1u) == 0) seen.non_inert = true;
-  } else {
-    seen.non_inert |= next != key;
-  }
-}
-
-/// Records that cell (x, y, z) changed: in the owner brick it is collected per CUDA block; a cell
-/// of a neighbour (a straddling block) is flagged at once.
-__device__ inline void note_changed_cell(const SparseParams& s, BrickSeen& seen, int x, int y, int z) {
-  const int bx = brick_of(x), by = brick_of(y), bz = brick_of(z);
-  if (bx == seen.brick.x && by == seen.brick.y && bz == seen.brick.z)
-    seen.owner_changed = true;
-  else
-    s.changed[brick_index(s.bricks, bx, by, bz)] = 1;
-}
-
-/// One block, any position (step_edge_block with the recording).
-template <bool kRandom>
-__device__ inline void sparse_edge_block(const StepParams& p, const SparseParams& s, BrickSeen& seen, int x0, int y0,
-                                         int z0) {
-  const std::int64_t sy = p.size.x, sz = sy * p.size.y;
-  const std::int64_t origin = std::int64_t(x0) + sy * y0 + sz * z0;
-  std::uint32_t cell[8];
-  bool inside[8];
-  BlockKey key = 0;
-#pragma unroll
-  for (int i = 0; i < 8; ++i) {
-    const int x = x0 + (i & 1), y = y0 + ((i >> 1) & 1), z = z0 + (i >> 2);
-    inside[i] = x >= 0 && y >= 0 && z >= 0 && x < p.size.x && y < p.size.y && z < p.size.z;
-    cell[i] = inside[i] ? (p.cells[origin + block_cell_offset(i, sy, sz)] & 7u) : kOutsideCell;
-    key |= cell[i] << (3 * i);
-  }
-  if (key == cell[0] * kUniformKeyUnit) return;
-  const BlockKey next = next_key<kRandom>(p, key, x0, y0, z0);
-  note_key<kRandom>(s, seen, key, next);
-  if (next == key) return;
-#pragma unroll
-  for (int i = 0; i < 8; ++i) {
-    const std::uint32_t value = (next >> (3 * i)) & 7u;
-    if (inside[i] && value != cell[i]) {
-      p.cells[origin + block_cell_offset(i, sy, sz)] = std::uint8_t(value);
-      note_changed_cell(s, seen, x0 + (i & 1), y0 + ((i >> 1) & 1), z0 + (i >> 2));
-    }
-  }
-}
-
-/// kGroupBlocks blocks starting at (x0, y0, z0), all inside the grid (step_inside_group with the
-/// recording).
-template <bool kRandom>
-__device__ inline void sparse_inside_group(const StepParams& p, const SparseParams& s, BrickSeen& seen, int x0, int y0,
-                                           int z0) {
-  constexpr std::uint64_t kEveryByte = 0x0101010101010101ull;
-  const std::int64_t sy = p.size.x, sz = sy * p.size.y;
-  const std::int64_t origin = std::int64_t(x0) + sy * y0 + sz * z0;
-  std::uint64_t row[4];
-#pragma unroll
-  for (int r = 0; r < 4; ++r) row[r] = load_bytes8(p.cells, origin + sy * (r & 1) + sz * (r >> 1)) & (7 * kEveryByte);
-  const std::uint64_t same = (row[0] & 0xFFu) * kEveryByte;
-  if (((row[0] ^ same) | (row[1] ^ same) | (row[2] ^ same) | (row[3] ^ same)) == 0) return;
-#pragma unroll
-  for (int k = 0; k < kGroupBlocks; ++k) {
-    std::uint64_t v = 0;
-#pragma unroll
-    for (int r = 0; r < 4; ++r) v |= ((row[r] >> (16 * k)) & 0xFFFFu) << (16 * r);
-    if (v == (v & 0xFFu) * kEveryByte) continue;
-    const BlockKey key = pack_block_bytes(v);
-    const BlockKey next = next_key<kRandom>(p, key, x0 + 2 * k, y0, z0);
-    note_key<kRandom>(s, seen, key, next);
-    if (next == key) continue;
-#pragma unroll
-    for (int i = 0; i < 8; ++i) {
-      const std::uint32_t value = (next >> (3 * i)) & 7u;
-      if (value != ((key >> (3 * i)) & 7u)) {
-        p.cells[origin + 2 * k + block_cell_offset(i, sy, sz)] = std::uint8_t(value);
-        note_changed_cell(s, seen, x0 + 2 * k + (i & 1), y0 + ((i >> 1) & 1), z0 + (i >> 2));
-      }
-    }
-  }
-}
-
-/// One tick (p.tick) over the awake bricks (see the file comment). `last_tick`: also count the
-/// bricks into the kLastBricks / kLastCells slots.
-template <bool kRandom>
-static __global__ void __launch_bounds__(kBrickThreads) sparse_step_kernel(StepParams p, SparseParams s, bool last_tick) {
+/// One (sub-)step of `rule` over the awake bricks (see the file comment). `count`: add the bricks to
+/// kBrickTicks / kCellTicks (once per tick: at a motion model's first sub-step); `last_tick`: also to
+/// kLastBricks / kLastCells.
+template <class Rule>
+static __global__ void __launch_bounds__(kBrickThreads)
+    sparse_kernel(DeviceCells g, Rule rule, SparseParams s, bool count, bool last_tick) {
   __shared__ int any_non_inert, any_changed;
-  const BlockOffset o = block_offset(p.tick, p.seed, p.random_axis_order);
+  const BlockOffset o = rule.offset;
   const int t = int(threadIdx.x);
   const int group = t % kBrickGroups, row = (t / kBrickGroups) % kBrickBlocks, layer = t / (kBrickGroups * kBrickBlocks);
-  const unsigned count = *s.count;
+  const unsigned listed = *s.count;
   unsigned long long bricks_done = 0, cells_done = 0;  // thread 0's tally, added once at the end
-  for (unsigned entry = blockIdx.x; entry < count; entry += gridDim.x) {
+  for (unsigned entry = blockIdx.x; entry < listed; entry += gridDim.x) {
     if (t == 0) {
       any_non_inert = 0;
       any_changed = 0;
     }
     __syncthreads();
     const std::uint32_t index = s.list[entry];
-    BrickSeen seen;
-    seen.brick = brick_coords(s.bricks, index);
-    const BlockSpan bx = owned_blocks(seen.brick.x, s.bricks.x, p.size.x, o.x);
-    const BlockSpan by = owned_blocks(seen.brick.y, s.bricks.y, p.size.y, o.y);
-    const BlockSpan bz = owned_blocks(seen.brick.z, s.bricks.z, p.size.z, o.z);
+    BrickNotes notes(s, brick_coords(s.bricks, index), index);
+    const Int3 brick = notes.brick;
+    const BlockSpan bx = owned_blocks(brick.x, s.bricks.x, g.size.x, o.x);
+    const BlockSpan by = owned_blocks(brick.y, s.bricks.y, g.size.y, o.y);
+    const BlockSpan bz = owned_blocks(brick.z, s.bricks.z, g.size.z, o.z);
     for (int kz = bz.first + layer; kz < bz.last; kz += kBrickBlocks) {
       const int z0 = 2 * kz - o.z;
       for (int ky = by.first + row; ky < by.last; ky += kBrickBlocks) {
@@ -182,26 +126,26 @@ static __global__ void __launch_bounds__(kBrickThreads) sparse_step_kernel(StepP
         for (int k0 = bx.first + group * kGroupBlocks; k0 < bx.last; k0 += kBrickBlocks) {
           const int x0 = 2 * k0 - o.x;
           const int blocks = bx.last - k0 < kGroupBlocks ? bx.last - k0 : kGroupBlocks;
-          if (blocks == kGroupBlocks && x0 >= 0 && x0 + 2 * kGroupBlocks <= p.size.x && y0 >= 0 && y0 + 1 < p.size.y &&
-              z0 >= 0 && z0 + 1 < p.size.z)
-            sparse_inside_group<kRandom>(p, s, seen, x0, y0, z0);
+          if (blocks == kGroupBlocks && x0 >= 0 && x0 + 2 * kGroupBlocks <= g.size.x && y0 >= 0 && y0 + 1 < g.size.y &&
+              z0 >= 0 && z0 + 1 < g.size.z)
+            walk_inside_group(g, rule, x0, y0, z0, notes);
           else
-            for (int k = 0; k < blocks; ++k) sparse_edge_block<kRandom>(p, s, seen, x0 + 2 * k, y0, z0);
+            for (int k = 0; k < blocks; ++k) walk_edge_block(g, rule, x0 + 2 * k, y0, z0, notes);
         }
       }
     }
-    if (seen.non_inert) any_non_inert = 1;
-    if (seen.owner_changed) any_changed = 1;
+    if (notes.non_inert) any_non_inert = 1;
+    if (notes.owner_changed) any_changed = 1;
     __syncthreads();
     if (t == 0) {
       if (any_non_inert) s.dirty[index] = 1;
       if (any_changed) s.changed[index] = 1;
       ++bricks_done;
-      cells_done += brick_cells(p.size, seen.brick.x, seen.brick.y, seen.brick.z);
+      cells_done += brick_cells(g.size, brick.x, brick.y, brick.z);
     }
     __syncthreads();
   }
-  if (t == 0 && bricks_done > 0) {
+  if (t == 0 && count && bricks_done > 0) {
     atomicAdd(s.counters + kBrickTicks, bricks_done);
     atomicAdd(s.counters + kCellTicks, cells_done);
     if (last_tick) {
@@ -295,13 +239,12 @@ inline unsigned activity_blocks(std::uint64_t n) {
   return unsigned(blocks < 4096 ? (blocks > 0 ? blocks : 1) : 4096);
 }
 
-/// Enqueues one sparse tick (p.tick) with `grid` CUDA blocks walking the list.
-static inline void launch_sparse_step(const StepParams& p, const SparseParams& s, bool random_symmetry, bool last_tick,
-                                      unsigned grid, cudaStream_t stream) {
-  if (random_symmetry)
-    sparse_step_kernel<true><<<grid, kBrickThreads, 0, stream>>>(p, s, last_tick);
-  else
-    sparse_step_kernel<false><<<grid, kBrickThreads, 0, stream>>>(p, s, last_tick);
+/// Enqueues one sparse (sub-)step of `rule` with `grid` CUDA blocks walking the list; `count` and
+/// `last_tick` as sparse_kernel.
+template <class Rule>
+static inline void launch_sparse(const DeviceCells& g, const Rule& rule, const SparseParams& s, bool count,
+                                 bool last_tick, unsigned grid, cudaStream_t stream) {
+  sparse_kernel<Rule><<<grid, kBrickThreads, 0, stream>>>(g, rule, s, count, last_tick);
   check_launch("sparse step kernel launch");
 }
 

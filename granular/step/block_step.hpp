@@ -1,0 +1,190 @@
+#pragma once
+/// @file block_step.hpp
+/// The one block step: what a block's 8 cell bytes become in one (sub-)step, for every backend and
+/// every path (CPU dense and sparse, CUDA dense, fused pair, recording and sparse kernels). Each path
+/// walks its blocks its own way and asks a Rule for each block; the Rule is one of two policies:
+///  * OneStepRule: a rule set without a motion model. The bytes hold materials only; the block's key
+///    is looked up in the result table (per key, the key after its transition), under the block's
+///    random symmetry when the rule set draws one.
+///  * MotionRule: one sub-step of the motion model (motion_block.hpp, motion::step_block).
+/// Both take a Platform policy for what differs between host and device: how a table entry is read
+/// (a plain load, or a read-only cache load) and how a key is viewed under a symmetry (byte tables on
+/// the CPU, a per-cell loop on a GPU). Everything else is plain constexpr integer arithmetic compiled
+/// by the host compiler and by nvcc (--expt-relaxed-constexpr), which is what makes every path
+/// bit-identical.
+///
+/// A Rule also says what sparse stepping needs: quiet() (the block cannot keep its brick awake,
+/// inert_keys.hpp) and steps_uniform() (a block of 8 equal bytes may change; a path may skip such a
+/// block only when it says no). StepRules holds what every Rule is made from, and with_rule builds
+/// the Rule of one (sub-)step and hands it to the path.
+
+#include <cstdint>
+#include <type_traits>
+
+#include "granular/block.hpp"
+#include "granular/geometry.hpp"
+#include "granular/motion.hpp"
+#include "step/block_bytes.hpp"
+#include "step/inert_keys.hpp"
+#include "step/motion_block.hpp"
+#include "step/step_materials.hpp"
+
+namespace granular {
+
+/// Everything the Rules of a world's (sub-)steps are made from (the tables live where the backend
+/// keeps them: host memory for the CPU, device memory for a GPU).
+struct StepRules {
+  const BlockKey* result = nullptr;        ///< per key, the key after its transition (one-step rules)
+  const Transition* transitions = nullptr; ///< the motion table (motion model only, motion_table.hpp)
+  const std::uint64_t* inert = nullptr;    ///< inert-key bits (sparse stepping with random variants)
+  std::uint64_t seed = 0;                  ///< world seed
+  bool random_symmetry = false;            ///< RuleSet::random_symmetry
+  bool random_axis_order = false;          ///< RuleSet::random_axis_order
+  MotionParams motion;                     ///< RuleSet::motion
+  StepMaterials materials;                 ///< RuleSet::materials as the step reads it
+};
+
+/// A rule set without a motion model, for one tick.
+template <bool kRandom, class Platform>
+struct OneStepRule {
+  const BlockKey* result;       ///< per key, the key after its transition
+  const std::uint64_t* inert;   ///< inert-key bits (kRandom with sparse stepping)
+  std::uint64_t seed;           ///< world seed
+  std::uint64_t tick;           ///< the tick
+  BlockOffset offset;           ///< the tick's partition offset
+  std::uint32_t outside;        ///< the state a cell outside the grid reads as
+
+  /// No motion model.
+  static constexpr bool kMotion = false;
+  /// Cell bytes hold materials only.
+  static constexpr std::uint64_t kCellMask = 7 * kEveryByte;
+
+  /// A block of 8 equal bytes never changes: every permutation of it is itself.
+  constexpr bool steps_uniform(std::uint32_t) const { return false; }
+
+  /// The key of the block at (x0, y0, z0) after the tick (`key` its key now).
+  constexpr BlockKey next_key(BlockKey key, int x0, int y0, int z0) const {
+    if constexpr (kRandom) {
+      const int s = int(block_random(seed, tick, x0, y0, z0) & 7u);
+      return Platform::unview(Platform::load(result + Platform::view(key, s)), s);
+    } else {
+      return Platform::load(result + key);
+    }
+  }
+
+  /// The block's bytes after the tick.
+  constexpr std::uint64_t step(std::uint64_t bytes, int x0, int y0, int z0) const {
+    return unpack_key(next_key(pack_key(bytes), x0, y0, z0));
+  }
+
+  /// True when no variant of the rule changes the block (`before`, `after` the tick): then it
+  /// cannot keep its brick awake. Without random variants, iff the rule left it as it was.
+  constexpr bool quiet(std::uint64_t before, std::uint64_t after) const {
+    if constexpr (kRandom)
+      return is_inert(inert, pack_key(before));
+    else
+      return before == after;
+  }
+};
+
+/// One sub-step of a rule set's motion model.
+template <class Platform>
+struct MotionRule {
+  const Transition* table;      ///< the motion table (motion_table.hpp)
+  const std::uint64_t* inert;   ///< inert-key bits (sparse stepping)
+  motion::SubStep sub;          ///< seed, tick, sub-step, materials
+  BlockOffset offset;           ///< the sub-step's partition offset
+  std::uint32_t outside;        ///< the state a cell outside the grid reads as
+
+  /// The motion model.
+  static constexpr bool kMotion = true;
+  /// Cell bytes hold a grain's motion state above its material.
+  static constexpr std::uint64_t kCellMask = ~std::uint64_t(0);
+
+  /// A block of 8 equal grain bytes may change (sub-step 0 sets the phases of its two layers apart);
+  /// one of any other material never does.
+  constexpr bool steps_uniform(std::uint32_t byte) const { return sub.materials.is_grain(byte & kMaterialMask); }
+
+  /// The block's bytes after the sub-step. After sub-step 1 only a top-layer grain at a motion level
+  /// of 2 or more takes part (motion_window), so a block without one is left at once.
+  constexpr std::uint64_t step(std::uint64_t bytes, int x0, int y0, int z0) const {
+    if (sub.substep >= 2 && ((bytes >> 32) & 0x70707070u) == 0) return bytes;
+    return motion::step_block(bytes, sub, x0, y0, z0, [this](BlockKey key) { return Platform::load(table + key); });
+  }
+
+  /// True when the block stays as it is in every sub-step whatever the draws (motion::rest_key):
+  /// then it cannot keep its brick awake.
+  constexpr bool quiet(std::uint64_t before, std::uint64_t) const {
+    bool at_rest = false;
+    const BlockKey key = motion::rest_key(before, offset.z, sub.materials, at_rest);
+    return at_rest && is_inert(inert, key);
+  }
+};
+
+/// Steps are numbered across ticks: step n is sub-step n % substeps of tick n / substeps (without a
+/// motion model, tick n). The sparse cycle of 8 steps ends after every step n with n % 8 == 7.
+constexpr int substeps_of(const StepRules& r) { return r.motion.enabled() ? r.motion.substeps : 1; }
+
+/// The partition offset of step `n`.
+constexpr BlockOffset step_offset(const StepRules& r, std::uint64_t n) {
+  if (!r.motion.enabled()) return block_offset(n, r.seed, r.random_axis_order);
+  const int substeps = r.motion.substeps;
+  return motion::motion_offset(n / std::uint64_t(substeps), int(n % std::uint64_t(substeps)), r.seed,
+                               r.random_axis_order);
+}
+
+/// The partition offset of sub-step `substep` of tick `tick` (substep 0 without a motion model).
+constexpr BlockOffset step_offset(const StepRules& r, std::uint64_t tick, int substep) {
+  return step_offset(r, tick * std::uint64_t(substeps_of(r)) + std::uint64_t(substep));
+}
+
+/// The Rule of step `n` of type `Rule` (the type with_step picks for `r`).
+template <class Rule>
+constexpr Rule make_rule(const StepRules& r, std::uint64_t n) {
+  const BlockOffset offset = step_offset(r, n);
+  if constexpr (Rule::kMotion) {
+    const int substeps = r.motion.substeps;
+    return Rule{r.transitions, r.inert,
+                motion::sub_step(r.motion, r.materials, r.seed, n / std::uint64_t(substeps), int(n % std::uint64_t(substeps)),
+                                 r.random_symmetry),
+                offset, r.materials.outside};
+  } else {
+    return Rule{r.result, r.inert, r.seed, n, offset, r.materials.outside};
+  }
+}
+
+/// Calls fn(type_tag) with a value of the Rule type of `r`'s steps: one instantiation of the
+/// caller's path per Rule type.
+template <class Platform, class Fn>
+constexpr void with_rule_type(const StepRules& r, Fn&& fn) {
+  if (r.motion.enabled())
+    fn(static_cast<MotionRule<Platform>*>(nullptr));
+  else if (r.random_symmetry)
+    fn(static_cast<OneStepRule<true, Platform>*>(nullptr));
+  else
+    fn(static_cast<OneStepRule<false, Platform>*>(nullptr));
+}
+
+/// Builds the Rule of step `n` and calls fn(rule).
+template <class Platform, class Fn>
+constexpr void with_step(const StepRules& r, std::uint64_t n, Fn&& fn) {
+  with_rule_type<Platform>(r, [&](auto* tag) { fn(make_rule<std::remove_pointer_t<decltype(tag)>>(r, n)); });
+}
+
+/// Builds the Rules of steps `n` and `n + 1` and calls fn(first, second).
+template <class Platform, class Fn>
+constexpr void with_step_pair(const StepRules& r, std::uint64_t n, Fn&& fn) {
+  with_rule_type<Platform>(r, [&](auto* tag) {
+    using Rule = std::remove_pointer_t<decltype(tag)>;
+    fn(make_rule<Rule>(r, n), make_rule<Rule>(r, n + 1));
+  });
+}
+
+/// Builds the Rule of sub-step `substep` of tick `tick` (substep 0 without a motion model) and calls
+/// fn(rule).
+template <class Platform, class Fn>
+constexpr void with_rule(const StepRules& r, std::uint64_t tick, int substep, Fn&& fn) {
+  with_step<Platform>(r, tick * std::uint64_t(substeps_of(r)) + std::uint64_t(substep), fn);
+}
+
+}  // namespace granular

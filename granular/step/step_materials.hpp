@@ -1,0 +1,67 @@
+#pragma once
+/// @file step_materials.hpp
+/// What the block step reads of a rule set's material table, as plain integers that host and device
+/// code share: no step code names a material value, it asks this table.
+
+#include <cstdint>
+
+#include "granular/material.hpp"
+#include "granular/rule_set.hpp"
+
+namespace granular {
+
+/// Table codes of the motion model (motion_block.hpp): what its transition table is indexed by.
+inline constexpr std::uint32_t kCodeVoid = 0, kCodeObstacle = 1, kCodeGrain = 2, kCodeRoller = 3;
+
+/// The material table as the step reads it.
+struct StepMaterials {
+  std::uint32_t codes = 0;     ///< 4 bits per state: the table code of material m (kCodeVoid, kCodeObstacle, kCodeGrain)
+  std::uint32_t grains = 0;    ///< bit m set: material m is granular
+  std::uint32_t outside = 1;   ///< the state a cell outside the grid reads as (a static material)
+  std::uint16_t roll_chance[kMaterialCount] = {};  ///< GrainMotion::roll_chance per material
+  std::uint16_t topple_gain[kMaterialCount] = {};  ///< GrainMotion::topple_gain per material
+  std::uint16_t roll_cost[kMaterialCount] = {};    ///< GrainMotion::roll_cost per material
+  std::uint8_t pair_codes[64] = {};  ///< the codes of two cells (6 bits of a key) from their materials
+
+  /// The key of table codes of a key of materials (3 bits per cell, block order).
+  constexpr BlockKey code_key(BlockKey materials) const {
+    return BlockKey(pair_codes[materials & 63u]) | (BlockKey(pair_codes[(materials >> 6) & 63u]) << 6) |
+           (BlockKey(pair_codes[(materials >> 12) & 63u]) << 12) | (BlockKey(pair_codes[materials >> 18]) << 18);
+  }
+
+  /// The table code of material `m` (< 8).
+  constexpr std::uint32_t code(std::uint32_t m) const { return (codes >> (4 * m)) & 15u; }
+  /// True when material `m` (< 8) is granular.
+  constexpr bool is_grain(std::uint32_t m) const { return ((grains >> m) & 1u) != 0; }
+};
+
+/// The table code of a behaviour.
+constexpr std::uint32_t behaviour_code(Behaviour b) {
+  return b == Behaviour::Void ? kCodeVoid : b == Behaviour::Granular ? kCodeGrain : kCodeObstacle;
+}
+
+/// The step's view of a material table (validated: validate_rule_set).
+inline StepMaterials step_materials(const MaterialTable& table) {
+  StepMaterials m;
+  bool outside_found = false;
+  for (std::uint32_t s = 0; s < kMaterialCount; ++s) {
+    const MaterialDef& d = table[s];
+    m.codes |= behaviour_code(d.behaviour) << (4 * s);
+    if (d.behaviour == Behaviour::Granular) m.grains |= 1u << s;
+    if (d.behaviour == Behaviour::Static && !outside_found) {
+      m.outside = s;
+      outside_found = true;
+    }
+    m.roll_chance[s] = std::uint16_t(d.grain.roll_chance);
+    m.topple_gain[s] = std::uint16_t(d.grain.topple_gain);
+    m.roll_cost[s] = std::uint16_t(d.grain.roll_cost);
+  }
+  for (std::uint32_t pair = 0; pair < 64; ++pair)
+    m.pair_codes[pair] = std::uint8_t(m.code(pair & 7u) | (m.code(pair >> 3) << 3));
+  return m;
+}
+
+/// The key of a block's materials as table codes (3 bits per cell, block order).
+constexpr BlockKey code_key(const StepMaterials& m, const BlockCells& cells) { return m.code_key(encode_key(cells)); }
+
+}  // namespace granular

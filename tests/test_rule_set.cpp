@@ -1,0 +1,106 @@
+#include <doctest/doctest.h>
+
+#include <memory>
+
+#include "granular/errors.hpp"
+#include "granular/rule_presets.hpp"
+#include "granular/world.hpp"
+
+using namespace granular;
+
+namespace {
+
+/// A column of `material` cells in the middle of a void 8x8x8 world with a solid floor, stepped
+/// `ticks` ticks under `rules`; returns how many of them lie on the floor layer above it.
+std::uint64_t settled_on_floor(std::shared_ptr<const RuleSet> rules, std::uint8_t material, int ticks) {
+  WorldDef def;
+  def.size = {8, 8, 8};
+  def.backend = BackendKind::Cpu;
+  def.threads = 1;
+  def.rule_set = std::move(rules);
+  World world(def);
+  world.paint(Box{{0, 0, 0}, {8, 8, 1}}, Material::Solid);
+  world.paint(Box{{3, 3, 4}, {5, 5, 8}}, Material(material));
+  world.step(ticks);
+  const auto layer = world.read_region(Box{{0, 0, 1}, {8, 8, 2}});
+  std::uint64_t n = 0;
+  for (auto c : layer) n += c == material;
+  return n;
+}
+
+}  // namespace
+
+TEST_CASE("rule set: a preset is a value whose material table a game may change") {
+  const RuleSet paper = preset("paper");
+  CHECK(paper.materials[0].behaviour == Behaviour::Void);
+  CHECK(paper.materials[1].behaviour == Behaviour::Static);
+  CHECK(paper.materials[2].behaviour == Behaviour::Granular);
+  CHECK(paper.materials[2].name == "granular");
+  for (int s = 3; s < kMaterialCount; ++s) CHECK(paper.materials[std::size_t(s)].behaviour == Behaviour::Static);
+  const RuleSet inertial = preset("inertial-24");
+  CHECK(inertial.motion.substeps == 24);
+  CHECK(inertial.materials[2].grain.roll_cost == 160);
+  CHECK(rule_preset_names().size() == 5);
+  for (const auto& name : rule_preset_names()) CHECK(preset(name).name == name);
+}
+
+TEST_CASE("rule set: WorldDef::rule_set wins over WorldDef::rules, and a changed table changes the world") {
+  // State 5 is a static obstacle in the shipped table: a column of it stays in the air.
+  auto shipped = std::make_shared<const RuleSet>(preset("paper"));
+  CHECK(settled_on_floor(shipped, 5, 40) == 0);
+  // Made granular (a second sand), it falls and piles on the floor, with no change to the library.
+  RuleSet gravel = preset("paper");
+  gravel.name = "paper-with-gravel";
+  gravel.materials[5].name = "gravel";
+  gravel.materials[5].behaviour = Behaviour::Granular;
+  CHECK(settled_on_floor(std::make_shared<const RuleSet>(gravel), 5, 40) > 0);
+  // The same under the motion model (its step reads the table's grain motion per material).
+  RuleSet inertial = preset("inertial");
+  inertial.name = "inertial-with-gravel";
+  inertial.materials[5] = inertial.materials[2];
+  inertial.materials[5].name = "gravel";
+  CHECK(settled_on_floor(std::make_shared<const RuleSet>(inertial), 5, 40) > 0);
+  CHECK(settled_on_floor(std::make_shared<const RuleSet>(preset("inertial")), 5, 40) == 0);
+  // And WorldDef::rules is ignored when rule_set is set.
+  WorldDef def;
+  def.size = {8, 8, 8};
+  def.backend = BackendKind::Cpu;
+  def.rules = "no-such-preset";
+  def.rule_set = shipped;
+  CHECK(World(def).rules().name == "paper");
+}
+
+TEST_CASE("rule set: a table the step cannot run is refused, naming the field and value") {
+  auto make = [](const RuleSet& r) {
+    WorldDef def;
+    def.size = {8, 8, 8};
+    def.backend = BackendKind::Cpu;
+    def.rule_set = std::make_shared<const RuleSet>(r);
+    return World(def);
+  };
+  RuleSet r = preset("paper");
+  r.materials[3].behaviour = Behaviour::Void;
+  CHECK_THROWS_WITH_AS(make(r), doctest::Contains("RuleSet::materials[3].behaviour = void; only state 0 may be void"),
+                       RuleError);
+  r = preset("paper");
+  r.materials[0].behaviour = Behaviour::Granular;
+  CHECK_THROWS_WITH_AS(make(r), doctest::Contains("state 0 must be void"), RuleError);
+  r = preset("paper");
+  for (int s = 1; s < kMaterialCount; ++s) r.materials[std::size_t(s)].behaviour = Behaviour::Granular;
+  CHECK_THROWS_WITH_AS(make(r), doctest::Contains("no static material"), RuleError);
+  r = preset("inertial");
+  r.materials[2].grain.roll_chance = 300;
+  CHECK_THROWS_WITH_AS(make(r), doctest::Contains("RuleSet::materials[2].grain.roll_chance = 300"), RuleError);
+  r = preset("inertial");
+  r.motion.substeps = 12;
+  CHECK_THROWS_WITH_AS(make(r), doctest::Contains("RuleSet::motion.substeps = 12"), RuleError);
+  r = preset("paper");
+  r.materials[4].name = "solid";
+  CHECK_THROWS_WITH_AS(make(r), doctest::Contains("RuleSet::materials[4].name = 'solid' is used twice"), RuleError);
+  r = preset("paper");
+  r.materials[6].behaviour = Behaviour(9);
+  CHECK_THROWS_WITH_AS(make(r), doctest::Contains("RuleSet::materials[6].behaviour = 9 is not a Behaviour"), RuleError);
+  r = preset("paper");
+  r.transition = nullptr;
+  CHECK_THROWS_WITH_AS(make(r), doctest::Contains("RuleSet::transition is null"), RuleError);
+}
