@@ -231,7 +231,7 @@ int run(int argc, char** argv) {
     // (2) this backend's kernel: both rule sets right after the release (most 32-cell groups
     // uniform), and the paper rule mid-fall (N/2 ticks in: the falling column is rarefied into
     // alternating layers, so most blocks are mixed: the worst case for the uniform-group skip).
-    // The fused two-tick kernel (step_pair_kernel.cuh) runs the same states: one launch per 2
+    // The fused two-tick kernel (pair_kernel.cuh) runs the same states: one launch per 2
     // ticks, timed over the same number of ticks and reported per tick. chunk 0 is the backend's
     // own choice of chunk height; GRANULAR_BENCH_PAIR_CHUNKS="16,32,64" adds rows for fixed ones.
     struct Variant {

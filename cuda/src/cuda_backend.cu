@@ -51,21 +51,20 @@ cuda::DeviceInfo prepare_device(Int3 size) {
 /// once the device has finished (step() too unless a renderer's timelines are attached).
 ///
 /// Sparse stepping runs each step() call in one of two ways with the same result and the same
-/// sparse state (docs/ARCHITECTURE.md, "Activity tracking"): sparse ticks (one launch per tick over
-/// the awake bricks), or, when more than `dense_fraction` of the bricks were awake at the last tick
-/// the host knows of, dense-recording ticks (the dense kernels, fused pairs included, recording
-/// the sparse flags).
+/// sparse state (docs/ARCHITECTURE.md, "Activity tracking"): sparse steps (one launch per step over
+/// the awake bricks), or, when more than the rule set's fraction (CudaOptions::dense_fraction, or
+/// motion_dense_fraction with a motion model) of the bricks were awake at the last tick the host
+/// knows of, dense-recording steps (the dense kernels, fused pairs included, recording the sparse
+/// flags).
 ///
 /// Every path steps blocks through the one block step (step/block_step.hpp) with the Rule of the
-/// rule set: a motion rule set keeps the transition table on the device and steps each tick as
+/// rule set: a motion rule set keeps the motion table on the device and steps each tick as
 /// MotionParams::substeps sub-steps, fused in pairs by the pair kernel wherever two consecutive
-/// steps share their x and y offsets, exactly as the one-step rules fuse pairs of ticks.
+/// steps share their x and y offsets, as the one-step rules fuse pairs of ticks.
 class CudaBackend final : public Backend {
  public:
-  /// Uploads info.initial and derives the result table from info.lut on the device (keeping the
-  /// table there too when the rule set's motion model is enabled). info.cuda.dense_fraction (0..1)
-  /// is the awake fraction above which sparse stepping uses dense-recording ticks (0: always, 1:
-  /// never). The checks are make_cuda_backend's.
+  /// Uploads info.initial, derives the result table from info.lut on the device, and uploads the
+  /// motion table when the rule set's motion model is enabled. The checks are make_cuda_backend's.
   explicit CudaBackend(const BackendCreateInfo& info)
       : device_(prepare_device(info.initial.size())),
         size_(info.initial.size()),

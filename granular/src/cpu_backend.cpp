@@ -4,6 +4,7 @@
 #include <cstring>
 #include <map>
 #include <mutex>
+#include <tuple>
 
 #include "cpu_sparse_step.hpp"
 #include "cpu_step.hpp"
@@ -29,15 +30,18 @@ std::shared_ptr<const std::vector<BlockKey>> shared_result_table(const Lut& lut,
   return table;
 }
 
-/// Inert-key tables are 2 MiB: backends of one process share them per result table and variants.
-std::shared_ptr<const std::vector<std::uint64_t>> shared_inert_table(const Lut& lut, const std::vector<BlockKey>& result,
+/// Inert-key tables are 2 MiB: backends of one process share them per table and variants. A motion
+/// rule set's is derived for its rest keys only (derive_rest_inert_table), from the table itself;
+/// a one-step rule set's for every key, from its result table.
+std::shared_ptr<const std::vector<std::uint64_t>> shared_inert_table(const Lut& lut, const std::vector<BlockKey>* result,
                                                                       bool random_symmetry, int threads) {
   static std::mutex mutex;
-  static std::map<std::pair<std::uint64_t, bool>, std::weak_ptr<const std::vector<std::uint64_t>>> live;
+  static std::map<std::tuple<std::uint64_t, bool, bool>, std::weak_ptr<const std::vector<std::uint64_t>>> live;
   std::lock_guard lock(mutex);
-  auto& slot = live[{lut.content_hash(), random_symmetry}];
+  auto& slot = live[{lut.content_hash(), random_symmetry, result == nullptr}];
   if (auto table = slot.lock()) return table;
-  auto table = std::make_shared<const std::vector<std::uint64_t>>(derive_inert_table(result, random_symmetry, threads));
+  auto table = std::make_shared<const std::vector<std::uint64_t>>(
+      result ? derive_inert_table(*result, random_symmetry, threads) : derive_rest_inert_table(lut.entries(), random_symmetry));
   slot = table;
   return table;
 }
@@ -47,10 +51,10 @@ std::shared_ptr<const std::vector<std::uint64_t>> shared_inert_table(const Lut& 
 CpuBackend::CpuBackend(const BackendCreateInfo& info)
     : grid_(info.initial),
       lut_(info.lut),
-      result_(shared_result_table(*lut_, info.threads)),
+      result_(info.rules->motion.enabled() ? nullptr : shared_result_table(*lut_, info.threads)),
       sparse_(info.sparse),
       inert_(info.sparse && (info.rules->random_symmetry || info.rules->motion.enabled())
-                 ? shared_inert_table(*lut_, *result_, info.rules->random_symmetry, info.threads)
+                 ? shared_inert_table(*lut_, result_.get(), info.rules->random_symmetry, info.threads)
                  : nullptr),
       activity_(info.initial.size()),
       task_system_(info.task_system ? info.task_system : std::make_shared<ThreadPool>(info.threads)),
@@ -58,7 +62,7 @@ CpuBackend::CpuBackend(const BackendCreateInfo& info)
   const Int3 b = activity_.bricks();
   last_.total_bricks = std::uint64_t(b.x) * std::uint64_t(b.y) * std::uint64_t(b.z);
   const RuleSet& rules = *info.rules;
-  step_rules_.result = result_->data();
+  step_rules_.result = result_ ? result_->data() : nullptr;
   if (rules.motion.enabled()) {
     motion_table_ = derive_motion_table(lut_->entries());
     step_rules_.transitions = motion_table_.data();

@@ -41,7 +41,7 @@ class CpuBackend final : public Backend {
 
   Grid grid_;
   std::shared_ptr<const Lut> lut_;
-  std::shared_ptr<const std::vector<BlockKey>> result_;
+  std::shared_ptr<const std::vector<BlockKey>> result_;  ///< per key, the key after its transition (one-step rule sets)
   bool sparse_;
   std::shared_ptr<const std::vector<std::uint64_t>> inert_;  ///< inert-key bits (sparse, random symmetry or motion)
   std::vector<Transition> motion_table_;  ///< the motion table (motion rule sets; motion_table.hpp)

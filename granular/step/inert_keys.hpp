@@ -31,14 +31,20 @@ constexpr BlockKey variant_key(BlockKey key, int v) {
   return viewed;
 }
 
-/// True when no variant changes a block of key `key`: the result table (per key, the key after the
-/// transition) maps every variant's view of it to itself.
-constexpr bool key_is_inert(BlockKey key, bool random_symmetry, const BlockKey* result) {
+/// True when no variant changes a block of key `key`: `result(k)` (the key after the transition of
+/// key k) maps every variant's view of it to itself.
+template <class Result>
+constexpr bool key_is_inert_by(BlockKey key, bool random_symmetry, Result&& result) {
   for (int v = 0; v < rule_variant_count(random_symmetry); ++v) {
     const BlockKey viewed = variant_key(key, v);
-    if (result[viewed] != viewed) return false;
+    if (result(viewed) != viewed) return false;
   }
   return true;
+}
+
+/// key_is_inert_by with a result table (per key, the key after the transition).
+constexpr bool key_is_inert(BlockKey key, bool random_symmetry, const BlockKey* result) {
+  return key_is_inert_by(key, random_symmetry, [result](BlockKey k) { return result[k]; });
 }
 
 /// Words of an inert-key bit table (one bit per key).
@@ -46,6 +52,11 @@ inline constexpr std::uint32_t kInertTableWords = kBlockKeyCount / 64;
 
 /// The inert-key bit table of a result table: bit (k & 63) of word k >> 6 set when key k is inert.
 std::vector<std::uint64_t> derive_inert_table(std::span<const BlockKey> result, bool random_symmetry, int threads);
+
+/// The same table for the motion model's rest keys (motion::rest_key), from its transition table
+/// `lut`: only keys of the codes void, obstacle and grain are ever asked about, 3^8 = 6561 of them,
+/// so only their bits are derived (every other bit is 0).
+std::vector<std::uint64_t> derive_rest_inert_table(std::span<const Transition> lut, bool random_symmetry);
 
 /// Looks up key k in an inert-key bit table.
 constexpr bool is_inert(const std::uint64_t* table, BlockKey key) { return (table[key >> 6] >> (key & 63u)) & 1u; }

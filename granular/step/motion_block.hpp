@@ -172,13 +172,6 @@ constexpr bool laterally_free(std::uint64_t bytes, int i, const StepMaterials& m
   return true;
 }
 
-/// True when a block of 8 equal bytes `byte` may be skipped in sub-step `substep` as unchanged and
-/// quiet: void and obstacles. A uniform block of grains is never at rest (sub-step 0 gives its two
-/// layers different phases), so it is stepped, and noted, like any other.
-constexpr bool uniform_block_unchanged(std::uint32_t byte, const StepMaterials& materials) {
-  return !materials.is_grain(byte & kMaterialMask);
-}
-
 /// The block's 8 bytes (cell i in byte i) after sub-step `m` (see the file comment). `load(k)`
 /// reads the motion table's entry of motion table key k (kMotionTableKeys; a plain read on the CPU,
 /// a read-only cache load on a GPU).
