@@ -95,6 +95,8 @@ struct MotionRule {
   motion::SubStep sub;          ///< seed, tick, sub-step, materials
   BlockOffset offset;           ///< the sub-step's partition offset
   std::uint32_t outside;        ///< the state a cell outside the grid reads as
+  std::uint64_t resting_grains;  ///< the bytes of a block full of the table's first granular material
+                                 ///< at rest at this offset (rest_block); quiet at once
 
   /// The motion model.
   static constexpr bool kMotion = true;
@@ -115,6 +117,7 @@ struct MotionRule {
   /// True when the block stays as it is in every sub-step whatever the draws (motion::rest_key):
   /// then it cannot keep its brick awake.
   constexpr bool quiet(std::uint64_t before, std::uint64_t) const {
+    if (before == resting_grains) return true;  // the inside of a heap: the commonest quiet block
     bool at_rest = false;
     const BlockKey key = motion::rest_key(before, offset.z, sub.materials, at_rest);
     return at_rest && is_inert(inert, key);
@@ -147,7 +150,7 @@ constexpr Rule make_rule(const StepRules& r, std::uint64_t n) {
     return Rule{r.transitions, r.inert,
                 motion::sub_step(r.motion, r.materials, r.seed, n / std::uint64_t(substeps), int(n % std::uint64_t(substeps)),
                                  r.random_symmetry),
-                offset, r.materials.outside};
+                offset, r.materials.outside, motion::rest_block(r.materials, offset.z)};
   } else {
     return Rule{r.result, r.inert, r.seed, n, offset, r.materials.outside};
   }

@@ -163,6 +163,16 @@ constexpr BlockKey rest_key(std::uint64_t bytes, int offset_z, const StepMateria
   return key;
 }
 
+/// The bytes of a block full of the table's first granular material, every grain at rest (level
+/// 0, the phase rest_key asks for at partition z offset `offset_z`): its key is uniform, so inert, and
+/// it is quiet. 0 (a void block, quiet too) when the table has no granular material.
+constexpr std::uint64_t rest_block(const StepMaterials& materials, int offset_z) {
+  for (std::uint32_t m = 0; m < kMaterialCount; ++m)
+    if (materials.is_grain(m))
+      return m * kEveryByte | (offset_z == 0 ? 0x0000000080808080ull : 0x8080808000000000ull);
+  return 0;
+}
+
 /// True when the top-layer cell i of a block has only void beside it in the top layer: a grain
 /// there that falls is in free fall and gains speed, while one that moves down in contact with
 /// others (a dense flow) does not.
