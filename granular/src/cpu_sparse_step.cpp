@@ -90,12 +90,9 @@ class BrickStepper {
 
   /// A block fully inside the grid; rows r[0..3] are (y0,z0), (y0+1,z0), (y0,z0+1), (y0+1,z0+1).
   /// `straddle`: bit a set when the block reaches into the brick below the selected one along axis
-  /// a. What it sees goes to the caller's `non_inert` and `codes` (the bricks of changed cells,
-  /// see kBrickCodes), kept in registers over a row and handed over by flush(): branch-free like
-  /// the dense kernel's loop.
-  /// Returns the codes (see kBrickCodes) of the bricks of its changed cells, with kNonInertSeen set
-  /// when `check_quiet` and the block is not quiet. Values, not references, so the caller keeps them
-  /// in registers across the byte stores.
+  /// a. Returns the codes (see kBrickCodes) of the bricks of its changed cells, with kNonInertSeen
+  /// set when `check_quiet` and the block is not quiet; the caller ORs them over a row and hands
+  /// them over by flush(), branch-free like the dense kernel's loop.
   unsigned interior_block(std::uint8_t* const* r, int x0, int y0, int z0, unsigned straddle, bool check_quiet) const {
     const std::uint64_t v = load_pair(r[0] + x0) | (load_pair(r[1] + x0) << 16) | (load_pair(r[2] + x0) << 32) |
                             (load_pair(r[3] + x0) << 48);

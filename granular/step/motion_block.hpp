@@ -141,6 +141,12 @@ constexpr std::uint64_t with_phases(std::uint64_t bytes, const StepMaterials& ma
   return out;
 }
 
+/// The phase bits of a block whose cells are all grains at rest, at partition z offset `offset_z`
+/// (rest_phase of each cell's layer at sub-step 0): set in the layer that is the bottom one there.
+constexpr std::uint64_t rest_phase_bits(int offset_z) {
+  return offset_z == 0 ? 0x0000000080808080ull : 0x8080808000000000ull;
+}
+
 /// The key of a block's materials with every grain as code 2 and every obstacle as 1 (what the
 /// inert-key table is asked about), and whether every grain in it is at rest: level 0, and the
 /// phase sub-step 0 gives it (a block at offset z `offset_z` has its bottom layer at sub-step 0's
@@ -157,7 +163,7 @@ constexpr BlockKey rest_key(std::uint64_t bytes, int offset_z, const StepMateria
   const std::uint64_t grains = (x - kEveryByte) & ~x & (kEveryByte * 0x80u);
   // At rest: no motion level, and the phase bit set exactly in the grains whose layer at sub-step 0
   // is the bottom one (rest_phase): this layer when offset_z is 0, else the other.
-  const std::uint64_t bottom = offset_z == 0 ? 0x0000000080808080ull : 0x8080808000000000ull;
+  const std::uint64_t bottom = rest_phase_bits(offset_z);
   all_at_rest = (bytes & (kEveryByte * std::uint64_t(kMotionLevelMask << kMotionShift))) == 0 &&
                 (bytes & (kEveryByte * 0x80u)) == (grains & bottom);
   return key;
@@ -169,7 +175,7 @@ constexpr BlockKey rest_key(std::uint64_t bytes, int offset_z, const StepMateria
 constexpr std::uint64_t rest_block(const StepMaterials& materials, int offset_z) {
   for (std::uint32_t m = 0; m < kMaterialCount; ++m)
     if (materials.is_grain(m))
-      return m * kEveryByte | (offset_z == 0 ? 0x0000000080808080ull : 0x8080808000000000ull);
+      return m * kEveryByte | rest_phase_bits(offset_z);
   return 0;
 }
 
