@@ -113,7 +113,7 @@ void check_raw_rejected(const std::vector<std::uint8_t>& bytes, std::initializer
 TEST_CASE("raw: encoded layout is the documented header then one byte per cell") {
   Grid g({7, 5, 3});
   g.set({2, 3, 1}, Material::Granular);
-  g.set({6, 4, 2}, Material::Reserved7);
+  g.set({6, 4, 2}, Material::State7);
   const auto b = encode_raw(g);
   REQUIRE(b.size() == 20 + 7 * 5 * 3);
   CHECK(std::string(b.begin(), b.begin() + 4) == "GRAW");

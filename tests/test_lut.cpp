@@ -11,7 +11,7 @@ using namespace granular;
 
 namespace {
 
-constexpr std::uint8_t V = 0, S = 1, G = 2;
+constexpr std::uint8_t V = 0, S = 1, G = 2, L = 3, A = 4, R = 5;  // void, solid, sand, liquid, gas, gravel
 
 BlockCells after(const BlockCells& cells) {
   return apply_transition(cells, paper_transition(cells, default_materials()));
@@ -89,8 +89,38 @@ TEST_CASE("lut: the paper's rules: gravity first, then flow into a clear diagona
     const BlockCells in{V, V, V, V, S, S, S, S};
     CHECK(after(in) == in);
   }
-  SUBCASE("reserved states are obstacles until they get rules") {
-    const BlockCells in{3, 4, 5, 6, G, G, G, G};
+  SUBCASE("the presets' static states 6 and 7 are obstacles") {
+    const BlockCells in{6, 7, 6, 7, G, G, G, G};
+    CHECK(after(in) == in);
+  }
+}
+
+TEST_CASE("lut: the paper's rules move liquid, gas and gravel by the material table") {
+  SUBCASE("a liquid above void falls") {
+    CHECK(after({V, V, V, V, L, V, V, V}) == BlockCells{L, V, V, V, V, V, V, V});
+  }
+  SUBCASE("a liquid standing on liquid spreads sideways into void") {
+    CHECK(after({L, L, S, S, L, V, S, S}) == BlockCells{L, L, S, S, V, L, S, S});
+  }
+  SUBCASE("a liquid on a floor stays: a pool spreads to one layer and stops") {
+    const BlockCells in{S, S, S, S, L, V, V, V};
+    CHECK(after(in) == in);
+  }
+  SUBCASE("sand sinks through liquid, and a liquid falls through gas") {
+    CHECK(after({L, S, S, S, G, S, S, S}) == BlockCells{G, S, S, S, L, S, S, S});
+    CHECK(after({A, S, S, S, L, S, S, S}) == BlockCells{L, S, S, S, A, S, S, S});
+  }
+  SUBCASE("gas rises through void, and spreads under gas") {
+    CHECK(after({A, S, S, S, V, S, S, S}) == BlockCells{V, S, S, S, A, S, S, S});
+    CHECK(after({A, V, S, S, A, S, S, S}) == BlockCells{V, A, S, S, A, S, S, S});
+  }
+  SUBCASE("gas under a ceiling rises around its edge, and stays under a closed one") {
+    CHECK(after({A, V, S, S, S, V, S, S}) == BlockCells{V, V, S, S, S, A, S, S});
+    const BlockCells cup{A, S, S, S, S, S, S, S};
+    CHECK(after(cup) == cup);
+  }
+  SUBCASE("gravel on sand at rest stays: grains pass each other only while they move") {
+    const BlockCells in{G, S, S, S, R, S, S, S};
     CHECK(after(in) == in);
   }
 }
@@ -150,11 +180,17 @@ TEST_CASE("lut: the fingerprint follows the rule's behaviour, name, version and 
   changed.transition = &moves_solid;
   CHECK(rule_fingerprint(changed) != rule_fingerprint(*paper));
   RuleSet renamed = *paper;
-  renamed.materials[5].name = "gravel";
+  renamed.materials[5].name = "pebbles";
   CHECK(rule_fingerprint(renamed) != rule_fingerprint(*paper));
   RuleSet grain = *paper;
   grain.materials[2].grain.roll_cost = 7;
   CHECK(rule_fingerprint(grain) != rule_fingerprint(*paper));
+  RuleSet heavier = *paper;
+  heavier.materials[3].density = 5;
+  CHECK(rule_fingerprint(heavier) != rule_fingerprint(*paper));
+  RuleSet slower = *paper;
+  slower.materials[3].spread = 64;
+  CHECK(rule_fingerprint(slower) != rule_fingerprint(*paper));
   CHECK_THROWS_AS(make_rule_set("no-such-rules"), InvalidArgument);
   CHECK_THROWS_WITH(make_rule_set("no-such-rules"), doctest::Contains("paper, isotropic"));
 }

@@ -36,7 +36,17 @@ TEST_CASE("rule set: a preset is a value whose material table a game may change"
   CHECK(paper.materials[1].behaviour == Behaviour::Static);
   CHECK(paper.materials[2].behaviour == Behaviour::Granular);
   CHECK(paper.materials[2].name == "granular");
-  for (int s = 3; s < kMaterialCount; ++s) CHECK(paper.materials[std::size_t(s)].behaviour == Behaviour::Static);
+  CHECK(paper.materials[3].behaviour == Behaviour::Liquid);
+  CHECK(paper.materials[4].behaviour == Behaviour::Gas);
+  CHECK(paper.materials[5].behaviour == Behaviour::Granular);
+  CHECK(paper.materials[5].name == "gravel");
+  CHECK(paper.materials[6].behaviour == Behaviour::Static);
+  CHECK(paper.materials[7].behaviour == Behaviour::Static);
+  // Density order: gas < void < liquid < sand < gravel.
+  CHECK(paper.materials[4].density < 0);
+  CHECK(paper.materials[0].density == 0);
+  CHECK(paper.materials[3].density < paper.materials[2].density);
+  CHECK(paper.materials[2].density < paper.materials[5].density);
   const RuleSet inertial = preset("inertial-24");
   CHECK(inertial.motion.substeps == 24);
   CHECK(inertial.materials[2].grain.roll_cost == 160);
@@ -45,22 +55,23 @@ TEST_CASE("rule set: a preset is a value whose material table a game may change"
 }
 
 TEST_CASE("rule set: WorldDef::rule_set wins over WorldDef::rules, and a changed table changes the world") {
-  // State 5 is a static obstacle in the shipped table: a column of it stays in the air.
+  // State 6 is a static obstacle in the shipped table: a column of it stays in the air.
   auto shipped = std::make_shared<const RuleSet>(preset("paper"));
-  CHECK(settled_on_floor(shipped, 5, 40) == 0);
-  // Made granular (a second sand), it falls and piles on the floor, with no change to the library.
-  RuleSet gravel = preset("paper");
-  gravel.name = "paper-with-gravel";
-  gravel.materials[5].name = "gravel";
-  gravel.materials[5].behaviour = Behaviour::Granular;
-  CHECK(settled_on_floor(std::make_shared<const RuleSet>(gravel), 5, 40) > 0);
+  CHECK(settled_on_floor(shipped, 6, 40) == 0);
+  // Made granular (a game's own grain), it falls and piles on the floor, with no change to the library.
+  RuleSet pebbles = preset("paper");
+  pebbles.name = "paper-with-pebbles";
+  pebbles.materials[6].name = "pebbles";
+  pebbles.materials[6].behaviour = Behaviour::Granular;
+  pebbles.materials[6].density = 3;
+  CHECK(settled_on_floor(std::make_shared<const RuleSet>(pebbles), 6, 40) > 0);
   // The same under the motion model (its step reads the table's grain motion per material).
   RuleSet inertial = preset("inertial");
-  inertial.name = "inertial-with-gravel";
-  inertial.materials[5] = inertial.materials[2];
-  inertial.materials[5].name = "gravel";
-  CHECK(settled_on_floor(std::make_shared<const RuleSet>(inertial), 5, 40) > 0);
-  CHECK(settled_on_floor(std::make_shared<const RuleSet>(preset("inertial")), 5, 40) == 0);
+  inertial.name = "inertial-with-pebbles";
+  inertial.materials[6] = inertial.materials[2];
+  inertial.materials[6].name = "pebbles";
+  CHECK(settled_on_floor(std::make_shared<const RuleSet>(inertial), 6, 40) > 0);
+  CHECK(settled_on_floor(std::make_shared<const RuleSet>(preset("inertial")), 6, 40) == 0);
   // And WorldDef::rules is ignored when rule_set is set.
   WorldDef def;
   def.size = {8, 8, 8};
@@ -86,8 +97,26 @@ TEST_CASE("rule set: a table the step cannot run is refused, naming the field an
   r.materials[0].behaviour = Behaviour::Granular;
   CHECK_THROWS_WITH_AS(make(r), doctest::Contains("state 0 must be void"), RuleError);
   r = preset("paper");
-  for (int s = 1; s < kMaterialCount; ++s) r.materials[std::size_t(s)].behaviour = Behaviour::Granular;
+  for (int s = 1; s < kMaterialCount; ++s) {
+    r.materials[std::size_t(s)].behaviour = Behaviour::Granular;
+    r.materials[std::size_t(s)].density = 3;
+  }
   CHECK_THROWS_WITH_AS(make(r), doctest::Contains("no static material"), RuleError);
+  r = preset("paper");
+  r.materials[4].density = 2;
+  CHECK_THROWS_WITH_AS(make(r), doctest::Contains("RuleSet::materials[4].density = 2 for a gas material"), RuleError);
+  r = preset("paper");
+  r.materials[3].density = 0;
+  CHECK_THROWS_WITH_AS(make(r), doctest::Contains("RuleSet::materials[3].density = 0 for a liquid material"), RuleError);
+  r = preset("paper");
+  r.materials[5].density = 65;
+  CHECK_THROWS_WITH_AS(make(r), doctest::Contains("RuleSet::materials[5].density = 65; densities are -64..64"), RuleError);
+  r = preset("paper");
+  r.materials[3].spread = -1;
+  CHECK_THROWS_WITH_AS(make(r), doctest::Contains("RuleSet::materials[3].spread = -1"), RuleError);
+  r = preset("paper");
+  r.materials[3].colour = 0x1000000;
+  CHECK_THROWS_WITH_AS(make(r), doctest::Contains("RuleSet::materials[3].colour = 16777216"), RuleError);
   r = preset("inertial");
   r.materials[2].grain.roll_chance = 300;
   CHECK_THROWS_WITH_AS(make(r), doctest::Contains("RuleSet::materials[2].grain.roll_chance = 300"), RuleError);

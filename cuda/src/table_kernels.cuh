@@ -10,8 +10,8 @@
 
 #include "cuda_check.cuh"
 #include "granular/block.hpp"
+#include "step/fluid_block.hpp"
 #include "step/motion_block.hpp"
-#include "step/paper_rule.hpp"
 #include "step/step_materials.hpp"
 
 namespace granular::cuda {
@@ -19,11 +19,11 @@ namespace granular::cuda {
 /// Threads per CUDA block of the table kernels.
 inline constexpr int kTableThreads = 256;
 
-/// out[k] = paper_rule(code key of k): the very function the CPU's "paper" rule evaluates, on the
-/// material table `materials`.
+/// out[k] = the one-step transition of k (fluid::one_step_transition: gravity and flow, then the fluid
+/// pass): the very function the CPU's "paper" rule evaluates, on the material table `materials`.
 static __global__ void paper_lut_kernel(Transition* out, StepMaterials materials) {
   const std::uint32_t key = blockIdx.x * blockDim.x + threadIdx.x;
-  if (key < kBlockKeyCount) out[key] = rules::paper_rule(code_key(materials, decode_key(key)));
+  if (key < kBlockKeyCount) out[key] = fluid::one_step_transition(key, materials);
 }
 
 /// out[k] = motion::motion_rule(k): the very function the CPU's motion rule sets evaluate.

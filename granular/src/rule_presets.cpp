@@ -5,6 +5,7 @@
 
 #include "granular/errors.hpp"
 #include "granular/material.hpp"
+#include "step/fluid_block.hpp"
 #include "step/motion_block.hpp"
 #include "step/paper_rule.hpp"
 #include "step/step_materials.hpp"
@@ -17,6 +18,22 @@ namespace {
 /// 160/256, which puts the full-size poured cone's angle at 34.6 degrees, near dry sand's 33 (tuned on
 /// the accuracy suite's cone on the GPU: 128 gives 29.4, 192 gives 36.4); every moving grain may roll.
 constexpr GrainMotion kInertialGrain{.topple_gain = 256, .roll_cost = 160, .roll_chance = 256};
+
+/// Density ranks of the shipped materials: gas < void (0) < liquid < sand < gravel.
+constexpr int kGasDensity = -1, kLiquidDensity = 2, kSandDensity = 3, kGravelDensity = 4;
+
+/// Liquid under a motion model: it falls and topples as sand does, and rolls on almost for free, so a
+/// falling mass of it runs out over a floor; the one-step rules give it no motion (all zero).
+constexpr GrainMotion liquid_motion(GrainMotion sand) {
+  if (sand.roll_chance == 0) return {};
+  return GrainMotion{.topple_gain = 256, .roll_cost = 16, .roll_chance = 256};
+}
+
+/// Gravel under a motion model: a roll costs a level more often than sand's, so its cone is steeper.
+constexpr GrainMotion gravel_motion(GrainMotion sand) {
+  if (sand.roll_chance == 0) return {};
+  return GrainMotion{.topple_gain = 256, .roll_cost = 256, .roll_chance = 256};
+}
 
 /// One preset of the registry.
 struct PresetEntry {
@@ -60,7 +77,7 @@ RuleSet make_preset(const PresetEntry& e) {
 }  // namespace
 
 Transition paper_transition(const BlockCells& cells, const MaterialTable& materials) {
-  return rules::paper_rule(code_key(step_materials(materials), cells));
+  return fluid::one_step_transition(encode_key(cells), step_materials(materials));
 }
 
 Transition motion_transition(const BlockCells& codes, const MaterialTable&) { return motion::motion_rule(encode_key(codes)); }
@@ -71,9 +88,23 @@ MaterialTable default_materials(GrainMotion grain) {
     t[std::size_t(s)].name = std::string(material_name(Material(s)));
     t[std::size_t(s)].behaviour = Behaviour::Static;
   }
-  t[to_cell(Material::Void)].behaviour = Behaviour::Void;
-  t[to_cell(Material::Granular)].behaviour = Behaviour::Granular;
-  t[to_cell(Material::Granular)].grain = grain;
+  auto row = [&](Material m, Behaviour b, int density, std::uint32_t colour) -> MaterialDef& {
+    MaterialDef& d = t[to_cell(m)];
+    d.behaviour = b;
+    d.density = density;
+    d.colour = colour;
+    return d;
+  };
+  row(Material::Void, Behaviour::Void, 0, 0x000000);
+  row(Material::Solid, Behaviour::Static, 0, 0x8C8C94);
+  row(Material::Granular, Behaviour::Granular, kSandDensity, 0xD9B873).grain = grain;
+  MaterialDef& liquid = row(Material::Liquid, Behaviour::Liquid, kLiquidDensity, 0x2E6FD9);
+  liquid.grain = liquid_motion(grain);
+  liquid.spread = 256;
+  row(Material::Gas, Behaviour::Gas, kGasDensity, 0xD8E6C8).spread = 256;
+  row(Material::Gravel, Behaviour::Granular, kGravelDensity, 0x6E6A64).grain = gravel_motion(grain);
+  row(Material::State6, Behaviour::Static, 0, 0xA0522D);
+  row(Material::State7, Behaviour::Static, 0, 0x7A4FA0);
   return t;
 }
 

@@ -13,6 +13,8 @@ const char* behaviour_name(Behaviour b) noexcept {
     case Behaviour::Void: return "void";
     case Behaviour::Static: return "static";
     case Behaviour::Granular: return "granular";
+    case Behaviour::Liquid: return "liquid";
+    case Behaviour::Gas: return "gas";
   }
   return "invalid";
 }
@@ -34,9 +36,9 @@ void validate_rule_set(const RuleSet& rules) {
   for (int s = 0; s < kMaterialCount; ++s) {
     const MaterialDef& d = rules.materials[std::size_t(s)];
     const std::string field = "RuleSet::materials[" + std::to_string(s) + "]";
-    if (d.behaviour != Behaviour::Void && d.behaviour != Behaviour::Static && d.behaviour != Behaviour::Granular)
+    if (std::uint8_t(d.behaviour) > std::uint8_t(Behaviour::Gas))
       throw RuleError(who + field + ".behaviour = " + std::to_string(int(d.behaviour)) +
-                      " is not a Behaviour; use Void, Static or Granular");
+                      " is not a Behaviour; use Void, Static, Granular, Liquid or Gas");
     if (d.name.empty()) throw RuleError(who + field + ".name is empty; every state needs a name");
     if (!names.insert(d.name).second) throw RuleError(who + field + ".name = '" + d.name + "' is used twice");
     if ((s == 0) != (d.behaviour == Behaviour::Void))
@@ -51,6 +53,17 @@ void validate_rule_set(const RuleSet& rules) {
     chance(d.grain.topple_gain, "topple_gain");
     chance(d.grain.roll_cost, "roll_cost");
     chance(d.grain.roll_chance, "roll_chance");
+    if (d.spread < 0 || d.spread > 256)
+      throw RuleError(who + field + ".spread = " + std::to_string(d.spread) + "; chances are out of 256 (0..256)");
+    if (d.colour > 0xFFFFFFu)
+      throw RuleError(who + field + ".colour = " + std::to_string(d.colour) + "; a colour is 0xRRGGBB (0..16777215)");
+    if (d.density < -64 || d.density > 64)
+      throw RuleError(who + field + ".density = " + std::to_string(d.density) + "; densities are -64..64");
+    const bool mobile = d.behaviour == Behaviour::Granular || d.behaviour == Behaviour::Liquid;
+    if ((d.behaviour == Behaviour::Void && d.density != 0) || (d.behaviour == Behaviour::Gas && d.density >= 0) ||
+        (mobile && d.density <= 0))
+      throw RuleError(who + field + ".density = " + std::to_string(d.density) + " for a " + behaviour_name(d.behaviour) +
+                      " material; void is 0, a gas below 0 and a granular or liquid material above 0");
   }
   if (!any_static)
     throw RuleError(who + "RuleSet::materials has no static material; cells outside the grid read as one");
@@ -75,6 +88,7 @@ std::uint64_t rule_fingerprint(const RuleSet& rules) {
     add_text(d.name);
     h = mix64(h ^ (std::uint64_t(d.behaviour) << 56) ^ std::uint64_t(d.grain.topple_gain) ^
               (std::uint64_t(d.grain.roll_cost) << 16) ^ (std::uint64_t(d.grain.roll_chance) << 32));
+    h = mix64(h ^ (std::uint64_t(std::uint32_t(d.density)) << 20) ^ std::uint64_t(d.spread));
   }
   if (!rules.transition) return h;
   // Every block over the three simulated states.

@@ -25,6 +25,7 @@
 #include "granular/geometry.hpp"
 #include "granular/motion.hpp"
 #include "step/block_bytes.hpp"
+#include "step/fluid_block.hpp"
 #include "step/inert_keys.hpp"
 #include "step/motion_block.hpp"
 #include "step/step_materials.hpp"
@@ -103,9 +104,9 @@ struct MotionRule {
   /// Cell bytes hold a grain's motion state above its material.
   static constexpr std::uint64_t kCellMask = ~std::uint64_t(0);
 
-  /// A block of 8 equal grain bytes may change (sub-step 0 sets the phases of its two layers apart);
-  /// one of any other material never does.
-  constexpr bool steps_uniform(std::uint32_t byte) const { return sub.materials.is_grain(byte & kMaterialMask); }
+  /// A block of 8 equal faller bytes (granular or liquid) may change (sub-step 0 sets the phases of its
+  /// two layers apart); one of any other material never does (a gas has no denser fluid to pass).
+  constexpr bool steps_uniform(std::uint32_t byte) const { return sub.materials.is_faller(byte & kMaterialMask); }
 
   /// The block's bytes after the sub-step. After sub-step 1 only a top-layer grain at a motion level
   /// of 2 or more takes part (motion_window), so a block without one is left at once.
@@ -114,13 +115,16 @@ struct MotionRule {
     return motion::step_block(bytes, sub, x0, y0, z0, [this](BlockKey key) { return Platform::load(table + key); });
   }
 
-  /// True when the block stays as it is in every sub-step whatever the draws (motion::rest_key):
-  /// then it cannot keep its brick awake.
+  /// True when the block stays as it is in every sub-step whatever the draws (motion::rest_key, and
+  /// fluid::may_move for its liquids and gases): then it cannot keep its brick awake.
   constexpr bool quiet(std::uint64_t before, std::uint64_t) const {
     if (before == resting_grains) return true;  // the inside of a heap: the commonest quiet block
     bool at_rest = false;
     const BlockKey key = motion::rest_key(before, offset.z, sub.materials, at_rest);
-    return at_rest && is_inert(inert, key);
+    if (!at_rest || !is_inert(inert, key)) return false;
+    const StepMaterials& mats = sub.materials;
+    return (mats.liquids | mats.gases) == 0 || !mats.any_fluid_material(pack_key(before & (kEveryByte * kMaterialMask))) ||
+           !fluid::may_move(before, mats);
   }
 };
 

@@ -37,6 +37,7 @@
 #include "granular/block.hpp"
 #include "granular/motion.hpp"
 #include "step/block_bytes.hpp"
+#include "step/fluid_block.hpp"
 #include "step/paper_rule.hpp"
 #include "step/step_materials.hpp"
 
@@ -135,7 +136,7 @@ constexpr std::uint64_t with_phases(std::uint64_t bytes, const StepMaterials& ma
   std::uint64_t out = 0;
   for (int i = 0; i < 8; ++i) {
     std::uint32_t byte = std::uint32_t(bytes >> (8 * i)) & 0xFFu;
-    if (materials.is_grain(byte & kMaterialMask)) byte = (byte & ~std::uint32_t(kMotionPhaseBit)) | rest_phase(i);
+    if (materials.is_faller(byte & kMaterialMask)) byte = (byte & ~std::uint32_t(kMotionPhaseBit)) | rest_phase(i);
     out |= std::uint64_t(byte) << (8 * i);
   }
   return out;
@@ -174,7 +175,7 @@ constexpr BlockKey rest_key(std::uint64_t bytes, int offset_z, const StepMateria
 /// it is quiet. 0 (a void block, quiet too) when the table has no granular material.
 constexpr std::uint64_t rest_block(const StepMaterials& materials, int offset_z) {
   for (std::uint32_t m = 0; m < kMaterialCount; ++m)
-    if (materials.is_grain(m))
+    if (materials.is_granular(m))
       return m * kEveryByte | rest_phase_bits(offset_z);
   return 0;
 }
@@ -196,17 +197,22 @@ constexpr std::uint64_t step_block(std::uint64_t bytes, const SubStep& m, int x0
   const StepMaterials& mats = m.materials;
   const int s = m.substep;
   if (s == 0) bytes = with_phases(bytes, mats);
-  // Which top-layer grains take part: only they ever move or change, so a block without one is
-  // left as it is before its random word is drawn.
+  // Which cells take part: top-layer fallers inside their window, and in sub-steps 0 and 1 bottom-
+  // layer gases. Only they ever start a move or change, so a block without one is left as it is
+  // before its random word is drawn.
   unsigned takes_part = 0;
   for (int i = 4; i < 8; ++i) {
     const std::uint32_t byte = std::uint32_t(bytes >> (8 * i)) & 0xFFu;
-    if (!mats.is_grain(byte & kMaterialMask)) continue;
+    if (!mats.is_faller(byte & kMaterialMask)) continue;
     const int level = int((byte >> kMotionShift) & kMotionLevelMask);
     const int start = (byte & kMotionPhaseBit) ? 1 : 0;
     if (s >= start && s - start < motion_window(level)) takes_part |= 1u << i;
   }
-  if (takes_part == 0) return bytes;
+  unsigned gas_turn = 0;
+  if (s < 2 && mats.gases != 0)
+    for (int i = 0; i < 4; ++i)
+      if (mats.is_gas(std::uint32_t(bytes >> (8 * i)) & kMaterialMask)) gas_turn |= 1u << i;
+  if ((takes_part | gas_turn) == 0) return bytes;
   const std::uint64_t random = block_random(m.seed, m.tick * std::uint64_t(m.substeps) + std::uint64_t(s), x0, y0, z0);
   BlockKey key = 0;
   for (int i = 0; i < 8; ++i) {
@@ -227,11 +233,13 @@ constexpr std::uint64_t step_block(std::uint64_t bytes, const SubStep& m, int x0
   const int symmetry = m.random_symmetry ? int(random & 7u) : 0;
   std::uint32_t viewed = 0;  // the motion table key of the block in the drawn frame
   for (int i = 0; i < 8; ++i) viewed |= ((key >> (3 * i)) & 3u) << (2 * symmetry_image(i, symmetry));
-  const Transition t = load(viewed);
+  const Transition t = takes_part != 0 ? load(viewed) : kIdentityTransition;
   const int max_level = MotionParams{.substeps = m.substeps}.max_level();
   std::uint64_t out = 0;
+  unsigned movers = 0;  // who may start a move in the fluid pass: cells that took part and stayed
   for (int i = 0; i < 8; ++i) {
     const int dest = symmetry_preimage(destination(t, symmetry_image(i, symmetry)), symmetry);
+    if (dest == i) movers |= (takes_part | gas_turn) & (1u << i);
     std::uint32_t byte = std::uint32_t(bytes >> (8 * i)) & 0xFFu;
     if ((takes_part >> i) & 1u) {
       const std::uint32_t material = byte & kMaterialMask;
@@ -252,7 +260,11 @@ constexpr std::uint64_t step_block(std::uint64_t bytes, const SubStep& m, int x0
     }
     out |= std::uint64_t(byte) << (8 * dest);
   }
-  return out;
+  if (((mats.liquids | mats.gases) == 0) || !mats.any_fluid_material(pack_key(out & (kEveryByte * kMaterialMask))))
+    return out;
+  const std::uint64_t draws =
+      block_random(m.seed ^ fluid::kDrawSalt, m.tick * std::uint64_t(m.substeps) + std::uint64_t(s), x0, y0, z0);
+  return fluid::fluid_pass<true>(out, movers, symmetry, draws, mats);
 }
 
 }  // namespace granular::motion

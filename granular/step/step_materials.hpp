@@ -15,12 +15,19 @@ inline constexpr std::uint32_t kCodeVoid = 0, kCodeObstacle = 1, kCodeGrain = 2,
 
 /// The material table as the step reads it.
 struct StepMaterials {
-  std::uint32_t codes = 0;     ///< 4 bits per state: the table code of material m (kCodeVoid, kCodeObstacle, kCodeGrain)
-  std::uint32_t grains = 0;    ///< bit m set: material m is granular
+  std::uint32_t codes = 0;     ///< 4 bits per state: the table code of material m (kCodeVoid, kCodeObstacle,
+                               ///< kCodeGrain); liquids are grains and gases void to the gravity-and-flow table
+  std::uint32_t fallers = 0;   ///< bit m set: material m falls as a grain (granular or liquid) and carries a
+                               ///< motion state under a motion model
+  std::uint32_t granular = 0;  ///< bit m set: material m is granular
+  std::uint32_t liquids = 0;   ///< bit m set: material m is a liquid
+  std::uint32_t gases = 0;     ///< bit m set: material m is a gas
   std::uint32_t outside = 1;   ///< the state a cell outside the grid reads as (a static material)
   std::uint16_t roll_chance[kMaterialCount] = {};  ///< GrainMotion::roll_chance per material
   std::uint16_t topple_gain[kMaterialCount] = {};  ///< GrainMotion::topple_gain per material
   std::uint16_t roll_cost[kMaterialCount] = {};    ///< GrainMotion::roll_cost per material
+  std::uint16_t spread[kMaterialCount] = {};       ///< MaterialDef::spread per material
+  std::int8_t density[kMaterialCount] = {};        ///< MaterialDef::density per material (static: unused)
   std::uint8_t pair_codes[64] = {};  ///< the codes of two cells (6 bits of a key) from their materials
 
   /// The key of table codes of a key of materials (3 bits per cell, block order).
@@ -31,13 +38,36 @@ struct StepMaterials {
 
   /// The table code of material `m` (< 8).
   constexpr std::uint32_t code(std::uint32_t m) const { return (codes >> (4 * m)) & 15u; }
+  /// True when material `m` (< 8) falls as a grain (granular or liquid).
+  constexpr bool is_faller(std::uint32_t m) const { return ((fallers >> m) & 1u) != 0; }
   /// True when material `m` (< 8) is granular.
-  constexpr bool is_grain(std::uint32_t m) const { return ((grains >> m) & 1u) != 0; }
+  constexpr bool is_granular(std::uint32_t m) const { return ((granular >> m) & 1u) != 0; }
+  /// True when material `m` (< 8) is a liquid.
+  constexpr bool is_liquid(std::uint32_t m) const { return ((liquids >> m) & 1u) != 0; }
+  /// True when material `m` (< 8) is a gas.
+  constexpr bool is_gas(std::uint32_t m) const { return ((gases >> m) & 1u) != 0; }
+  /// True when material `m` (< 8) is void.
+  constexpr bool is_void(std::uint32_t m) const { return code(m) == kCodeVoid && !is_gas(m); }
+  /// True when material `m` (< 8) is a fluid: void, a liquid or a gas.
+  constexpr bool is_fluid(std::uint32_t m) const { return code(m) == kCodeVoid || is_liquid(m); }
+  /// True when the block's materials (3 bits per cell) hold a liquid or a gas.
+  constexpr bool any_fluid_material(std::uint32_t materials_key) const {
+    for (int i = 0; i < 8; ++i)
+      if ((((liquids | gases) >> ((materials_key >> (3 * i)) & 7u)) & 1u) != 0) return true;
+    return false;
+  }
 };
 
-/// The table code of a behaviour.
+/// The gravity-and-flow table code of a behaviour: a liquid falls and topples as a grain does, and
+/// grains and liquids fall through a gas as through void (fluid_block.hpp moves what is left).
 constexpr std::uint32_t behaviour_code(Behaviour b) {
-  return b == Behaviour::Void ? kCodeVoid : b == Behaviour::Granular ? kCodeGrain : kCodeObstacle;
+  switch (b) {
+    case Behaviour::Void:
+    case Behaviour::Gas: return kCodeVoid;
+    case Behaviour::Granular:
+    case Behaviour::Liquid: return kCodeGrain;
+    default: return kCodeObstacle;
+  }
 }
 
 /// The step's view of a material table (validated: validate_rule_set).
@@ -47,7 +77,10 @@ inline StepMaterials step_materials(const MaterialTable& table) {
   for (std::uint32_t s = 0; s < kMaterialCount; ++s) {
     const MaterialDef& d = table[s];
     m.codes |= behaviour_code(d.behaviour) << (4 * s);
-    if (d.behaviour == Behaviour::Granular) m.grains |= 1u << s;
+    if (d.behaviour == Behaviour::Granular || d.behaviour == Behaviour::Liquid) m.fallers |= 1u << s;
+    if (d.behaviour == Behaviour::Granular) m.granular |= 1u << s;
+    if (d.behaviour == Behaviour::Liquid) m.liquids |= 1u << s;
+    if (d.behaviour == Behaviour::Gas) m.gases |= 1u << s;
     if (d.behaviour == Behaviour::Static && !outside_found) {
       m.outside = s;
       outside_found = true;
@@ -55,6 +88,8 @@ inline StepMaterials step_materials(const MaterialTable& table) {
     m.roll_chance[s] = std::uint16_t(d.grain.roll_chance);
     m.topple_gain[s] = std::uint16_t(d.grain.topple_gain);
     m.roll_cost[s] = std::uint16_t(d.grain.roll_cost);
+    m.spread[s] = std::uint16_t(d.spread);
+    m.density[s] = std::int8_t(d.density);
   }
   for (std::uint32_t pair = 0; pair < 64; ++pair)
     m.pair_codes[pair] = std::uint8_t(m.code(pair & 7u) | (m.code(pair >> 3) << 3));

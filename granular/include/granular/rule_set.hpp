@@ -20,16 +20,26 @@ enum class Behaviour : std::uint8_t {
   Void = 0,      ///< empty space: mobile cells move into it
   Static = 1,    ///< never moved by any rule (walls, bowls, obstacles)
   Granular = 2,  ///< falls under gravity and topples into heaps (with the motion model: inertia, rolling)
+  Liquid = 3,    ///< falls and topples as a grain does, and also spreads sideways over liquid (fluid_block.hpp)
+  Gas = 4,       ///< rises through every denser fluid (void, liquids) and spreads sideways under gas
 };
 
-/// The lower-case name of a behaviour ("void", "static", "granular").
+/// The lower-case name of a behaviour ("void", "static", "granular", "liquid", "gas").
 const char* behaviour_name(Behaviour b) noexcept;
 
 /// One row of the material table: one cell state.
 struct MaterialDef {
   std::string name;                         ///< lower-case name, unique in the table ("sand")
   Behaviour behaviour = Behaviour::Static;  ///< how the step treats it
-  GrainMotion grain;                        ///< granular materials under a motion model: rolling and level changes
+  GrainMotion grain;                        ///< granular and liquid materials under a motion model: rolling and
+                                            ///< level changes
+  int density = 0;  ///< density rank, -64..64: a mobile cell above a lighter one sinks through it (void is 0,
+                    ///< so a gas is below 0 and a granular or liquid material above it). Two granular
+                    ///< materials pass each other only while one of them moves (level above 0).
+  int spread = 0;   ///< liquids: chance out of 256 that a liquid standing on liquid moves sideways into a
+                    ///< lighter fluid beside it when it takes part in a step; gases the same under gas
+                    ///< (0: never spreads; unused by the other behaviours)
+  std::uint32_t colour = 0x808080;  ///< display colour 0xRRGGBB for viewers and tools (no effect on the step)
 };
 
 /// The material table: row m describes cell state m.
@@ -75,8 +85,10 @@ std::uint8_t fixed_states(const RuleSet& rules);
 
 /// Throws RuleError naming the field and value when `rules` cannot be stepped: no transition, a
 /// material table without exactly one void material and at least one static one, an empty or
-/// duplicate material name, a behaviour out of range, a grain motion chance outside 0..256, or motion
-/// parameters out of range (MotionParams::substeps 1, or a multiple of 8 up to 32).
+/// duplicate material name, a behaviour out of range, a grain motion or spread chance outside 0..256,
+/// a density out of -64..64 or of the wrong sign for its behaviour (void 0, gas below 0, granular and
+/// liquid above 0), a colour above 0xFFFFFF, or motion parameters out of range (MotionParams::substeps
+/// 1, or a multiple of 8 up to 32).
 void validate_rule_set(const RuleSet& rules);
 
 /// A 64-bit identity of a rule set's behaviour: its name, version, flags, material table and motion

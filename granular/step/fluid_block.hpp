@@ -1,0 +1,191 @@
+#pragma once
+/// @file fluid_block.hpp
+/// The fluid pass: what liquids and gases do in a block after gravity and flow (paper_rule, and the
+/// motion model's table) have moved the grains. That first pass sees a liquid as a grain (it falls,
+/// topples and, under a motion model, accelerates and rolls as one) and a gas as void (grains and
+/// liquids fall through it). This pass then moves, in this order, in the block's (symmetry-)viewed frame:
+///  1. Density: in each column, a mobile cell above a lighter mobile one changes places with it
+///     (MaterialDef::density; void is 0). The top cell starts the move when it is a faller (granular
+///     or liquid) taking part in the step, so sand sinks through water and water through oil; the
+///     bottom cell starts it when it is a gas taking part, so gas rises through void and liquid. Two
+///     granular materials pass each other only while one of them moves (motion level above 0), so a
+///     bed of sand and gravel sorts by density only while it is shaken. A faller that sinks here
+///     drops to motion level 0: it moves through something denser than void at a speed of its own.
+///  2. Liquid spread: a liquid in the top layer taking part, standing on a liquid, moves sideways
+///     (preference: the x neighbour, then y, then the diagonal) with chance MaterialDef::spread / 256:
+///     into a top cell of void, or while it moves (motion level above 0) of any lighter fluid. A liquid
+///     standing on a grain or a static cell does not, so a pool on a floor spreads to one layer and
+///     stops, and a settled pool is inert. A liquid surface whose top layer is partly filled keeps
+///     moving: its cells cannot tell a bump of one cell from the partial layer of a level surface.
+///  3. Gas spread: a gas in the bottom layer taking part, under a gas, moves sideways into a bottom
+///     cell of a denser fluid with chance spread / 256 (the mirror of 2: a gas pocket spreads to one
+///     layer under a ceiling).
+///  4. Gas around a ceiling: a gas in the bottom layer taking part that cannot rise (a static cell, a
+///     grain or a gas above it) moves diagonally up into a top cell of another column when that cell
+///     and the one below it are denser fluids (the mirror of the grains' topple).
+/// A cell moves at most once per pass, and only cells the caller names as movers start a move.
+/// Every move is an exchange of two cells, so the pass is a permutation: each material is conserved.
+///
+/// What the block cannot express: a cell holds one material, so a liquid does not seep into the
+/// pores of a sand bed (there are none at this scale); it stands on loose sand as on a floor, and
+/// sand poured into it sinks through it, displacing it upward.
+
+#include <cstdint>
+
+#include "granular/block.hpp"
+#include "granular/motion.hpp"
+#include "step/block_bytes.hpp"
+#include "step/paper_rule.hpp"
+#include "step/step_materials.hpp"
+
+namespace granular::fluid {
+
+/// Salt of the block random word of the fluid pass's chance draws (block_random(seed ^ salt, ...)).
+inline constexpr std::uint64_t kDrawSalt = 0x466C756964447261ull;
+
+/// The material of byte p of a block.
+constexpr std::uint32_t material_at(std::uint64_t bytes, int p) { return std::uint32_t(bytes >> (8 * p)) & kMaterialMask; }
+
+/// The bytes with bytes p and q exchanged.
+constexpr std::uint64_t exchange(std::uint64_t bytes, int p, int q) {
+  const std::uint64_t a = (bytes >> (8 * p)) & 0xFFu, b = (bytes >> (8 * q)) & 0xFFu;
+  const std::uint64_t cleared = bytes & ~((0xFFull << (8 * p)) | (0xFFull << (8 * q)));
+  return cleared | (a << (8 * q)) | (b << (8 * p));
+}
+
+/// True when a cell of material `m` above one of material `below` (both in one column) may change
+/// places with it in the density step, given who may start the move: `top_moves` (the top cell is a
+/// mover) and `bottom_moves`. `levels` says whether either cell has a motion level above 0.
+constexpr bool sinks(const StepMaterials& mats, std::uint32_t m, std::uint32_t below, bool top_moves, bool bottom_moves,
+                     bool levels) {
+  if (mats.code(m) == kCodeObstacle || mats.code(below) == kCodeObstacle) return false;  // a static cell
+  if (mats.density[m] <= mats.density[below]) return false;
+  if (mats.is_granular(m) && mats.is_granular(below) && !levels) return false;
+  return (top_moves && mats.is_faller(m)) || (bottom_moves && mats.is_gas(below));
+}
+
+/// True when the step treats material `m` as a fluid that a denser fluid may displace sideways or a
+/// gas may rise into: void, a gas or a liquid.
+constexpr bool fluid(const StepMaterials& mats, std::uint32_t m) { return mats.is_fluid(m); }
+
+/// The fluid pass on a block's bytes (see the file comment). `movers` has bit p set when the cell at
+/// p may start a move (the caller decides who takes part in this step). `symmetry` is the block's
+/// horizontal symmetry (block.hpp: view position symmetry_image(p, s) holds cell p). `draws` holds
+/// one chance draw per cell (byte p for the cell at p; a move with chance c happens when the draw is
+/// below c, so 0 in every byte makes every chance above 0 certain). With `kLevels`, bits 3..6 of a
+/// byte are a faller's motion level, set to 0 when it sinks in step 1; without, the high bits are
+/// carried along untouched (a table build tags each byte with its cell index there).
+template <bool kLevels>
+constexpr std::uint64_t fluid_pass(std::uint64_t bytes, std::uint32_t movers, int symmetry, std::uint64_t draws,
+                                   const StepMaterials& mats) {
+  constexpr std::uint64_t kLevelBits = std::uint64_t(kMotionLevelMask) << kMotionShift;
+  auto at = [&](int view) { return symmetry_preimage(view, symmetry); };
+  auto level_above_zero = [&](int p) { return kLevels && ((bytes >> (8 * p)) & kLevelBits) != 0; };
+  auto draw_allows = [&](int p, std::uint32_t m) { return int((draws >> (8 * p)) & 0xFFu) < int(mats.spread[m]); };
+  // 1. Density, column by column.
+  for (int column = 0; column < 4; ++column) {
+    const int top = at(column + 4), bottom = at(column);
+    const std::uint32_t m = material_at(bytes, top), below = material_at(bytes, bottom);
+    const bool levels = level_above_zero(top) || level_above_zero(bottom);
+    if (!sinks(mats, m, below, ((movers >> top) & 1u) != 0, ((movers >> bottom) & 1u) != 0, levels)) continue;
+    bytes = exchange(bytes, top, bottom);
+    if constexpr (kLevels) bytes &= ~(kLevelBits << (8 * bottom));
+    movers &= ~((1u << top) | (1u << bottom));
+  }
+  // 2. Liquid spread in the top layer, 3. gas spread and 4. gas around a ceiling in the bottom layer.
+  for (int column = 0; column < 4; ++column) {
+    const int top = at(column + 4), bottom = at(column);
+    const std::uint32_t m = material_at(bytes, top), below = material_at(bytes, bottom);
+    const bool moving = !kLevels || level_above_zero(top);
+    if (((movers >> top) & 1u) != 0 && mats.is_liquid(m) && mats.is_liquid(below) && draw_allows(top, m)) {
+      for (int flip = 1; flip <= 3; ++flip) {
+        const int target = at((column ^ flip) + 4);
+        const std::uint32_t t = material_at(bytes, target);
+        if (fluid(mats, t) && mats.density[t] < mats.density[m] && (moving || mats.is_void(t))) {
+          bytes = exchange(bytes, top, target);
+          movers &= ~((1u << top) | (1u << target));
+          break;
+        }
+      }
+    }
+  }
+  for (int column = 0; column < 4; ++column) {
+    const int top = at(column + 4), bottom = at(column);
+    const std::uint32_t m = material_at(bytes, bottom), above = material_at(bytes, top);
+    if (((movers >> bottom) & 1u) == 0 || !mats.is_gas(m)) continue;
+    const bool capped = !(fluid(mats, above) && mats.density[above] > mats.density[m]);
+    if (!capped) continue;
+    bool moved = false;
+    if (mats.is_gas(above) && draw_allows(bottom, m)) {
+      for (int flip = 1; flip <= 3 && !moved; ++flip) {
+        const int target = at(column ^ flip);
+        const std::uint32_t t = material_at(bytes, target);
+        if (fluid(mats, t) && mats.density[t] > mats.density[m]) {
+          bytes = exchange(bytes, bottom, target);
+          movers &= ~((1u << bottom) | (1u << target));
+          moved = true;
+        }
+      }
+    }
+    for (int flip = 1; flip <= 3 && !moved; ++flip) {
+      const int target_top = at((column ^ flip) + 4), target_bottom = at(column ^ flip);
+      const std::uint32_t t = material_at(bytes, target_top), u = material_at(bytes, target_bottom);
+      if (fluid(mats, t) && mats.density[t] > mats.density[m] && fluid(mats, u) && mats.density[u] > mats.density[m]) {
+        bytes = exchange(bytes, bottom, target_top);
+        movers &= ~((1u << bottom) | (1u << target_top));
+        moved = true;
+      }
+    }
+  }
+  return bytes;
+}
+
+/// True when the fluid pass could change a block of these bytes for some choice of movers, symmetry
+/// and draws (given its grains' motion levels): the fluid half of a block's quiet test.
+constexpr bool may_move(std::uint64_t bytes, const StepMaterials& mats) {
+  constexpr std::uint64_t kLevelBits = std::uint64_t(kMotionLevelMask) << kMotionShift;
+  for (int column = 0; column < 4; ++column) {
+    const int top = column + 4, bottom = column;
+    const std::uint32_t m = material_at(bytes, top), below = material_at(bytes, bottom);
+    const bool levels = ((bytes >> (8 * top)) & kLevelBits) != 0 || ((bytes >> (8 * bottom)) & kLevelBits) != 0;
+    if (sinks(mats, m, below, true, true, levels)) return true;
+    const bool moving = ((bytes >> (8 * top)) & kLevelBits) != 0;
+    if (mats.is_liquid(m) && mats.is_liquid(below) && mats.spread[m] > 0)
+      for (int other = 4; other < 8; ++other) {
+        const std::uint32_t t = material_at(bytes, other);
+        if (other != top && fluid(mats, t) && mats.density[t] < mats.density[m] &&
+            (moving || mats.is_void(t)))
+          return true;
+      }
+    if (mats.is_gas(below)) {
+      const bool capped = !(fluid(mats, m) && mats.density[m] > mats.density[below]);
+      if (!capped) continue;
+      for (int other = 0; other < 4; ++other) {
+        if (other == bottom) continue;
+        const std::uint32_t t = material_at(bytes, other + 4), u = material_at(bytes, other);
+        const bool denser_below = fluid(mats, u) && mats.density[u] > mats.density[below];
+        if (mats.is_gas(m) && mats.spread[below] > 0 && denser_below) return true;
+        if (denser_below && fluid(mats, t) && mats.density[t] > mats.density[below]) return true;
+      }
+    }
+  }
+  return false;
+}
+
+/// The one-step rules' transition of a block of materials (`key`, 3 bits per cell): gravity and flow
+/// (rules::paper_rule on the table codes) then the fluid pass with every cell a mover and every chance
+/// above 0 certain, in the table's own frame (the step applies the random symmetry around the lookup).
+constexpr Transition one_step_transition(BlockKey key, const StepMaterials& mats) {
+  const Transition first = rules::paper_rule(mats.code_key(key));
+  if (!mats.any_fluid_material(key)) return first;
+  // The bytes after the first pass, each tagged with the cell it came from (bits 3..5).
+  std::uint64_t bytes = 0;
+  for (int i = 0; i < 8; ++i)
+    bytes |= std::uint64_t(((key >> (3 * i)) & 7u) | (std::uint32_t(i) << 3)) << (8 * destination(first, i));
+  bytes = fluid_pass<false>(bytes, 0xFFu, 0, 0, mats);
+  Transition t = 0;
+  for (int p = 0; p < 8; ++p) t |= Transition(p) << (3 * ((bytes >> (8 * p + 3)) & 7u));
+  return t;
+}
+
+}  // namespace granular::fluid
