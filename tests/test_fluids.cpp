@@ -3,6 +3,7 @@
 #include <cmath>
 #include <memory>
 
+#include "granular/errors.hpp"
 #include "granular/rule_presets.hpp"
 #include "granular/world.hpp"
 
@@ -134,4 +135,51 @@ TEST_CASE("fluids: gas rising to a closed ceiling spreads under it to one layer"
   CHECK(gas.min_z == 19);
   CHECK(gas.max_z == 19);
   CHECK(world.activity().active_bricks == 0);
+}
+
+TEST_CASE("fluids: a game's own material: oil, a liquid lighter than water, added as a row of a copied rule set") {
+  RuleSet rules = preset("inertial-24");
+  rules.name = "inertial-24-with-oil";
+  MaterialDef& oil = rules.materials[6];
+  oil = rules.materials[to_cell(Material::Liquid)];  // a liquid, moving as water does...
+  oil.name = "oil";
+  oil.density = 1;  // ...but lighter than water (2), heavier than void (0)
+  oil.spread = 128;
+  oil.colour = 0x3A2A10;
+  World world(fluid_world({24, 24, 32}, std::make_shared<const RuleSet>(rules)));
+  world.paint(Box{{0, 0, 0}, {24, 24, 1}}, Material::Solid);
+  world.paint(Box{{0, 0, 1}, {24, 24, 6}}, Material::State6);   // oil at the bottom...
+  world.paint(Box{{0, 0, 6}, {24, 24, 11}}, Material::Liquid);  // ...under water
+  const MaterialCounts before = world.count();
+  world.step(500);
+  const Layer oil_layer = layer_of(world, 6), water = layer_of(world, cell(Material::Liquid));
+  MESSAGE("oil z " << oil_layer.min_z << ".." << oil_layer.max_z << " (mean " << oil_layer.mean_z << "), water z "
+                   << water.min_z << ".." << water.max_z << " (mean " << water.mean_z << ")");
+  CHECK(world.count() == before);
+  CHECK(oil_layer.mean_z > water.mean_z);
+  CHECK(oil_layer.min_z >= water.max_z - 1);
+}
+
+TEST_CASE("fluids: shaking a bed of gravel on sand again and again sorts the heavier gravel below") {
+  World world(fluid_world({16, 16, 24}));
+  world.paint(Box{{0, 0, 0}, {16, 16, 1}}, Material::Solid);
+  world.paint(Box{{0, 0, 1}, {16, 16, 5}}, Material::Granular);
+  world.paint(Box{{0, 0, 5}, {16, 16, 9}}, Material::Gravel);
+  const MaterialCounts before = world.count();
+  world.step(50);
+  const double gravel_before = layer_of(world, cell(Material::Gravel)).mean_z;
+  CHECK(gravel_before > layer_of(world, cell(Material::Granular)).mean_z);  // at rest, gravel stays on top
+  std::int64_t shaken = 0;
+  for (int t = 0; t < 300; ++t) {
+    shaken += world.shake(Sphere{{8, 8, 5}, 12}, 4).cells_shaken;
+    world.step(1);
+  }
+  world.step(100);
+  const Layer gravel = layer_of(world, cell(Material::Gravel)), sand = layer_of(world, cell(Material::Granular));
+  MESSAGE("gravel mean z " << gravel_before << " -> " << gravel.mean_z << ", sand " << sand.mean_z << "; " << shaken
+                           << " cells shaken");
+  CHECK(world.count() == before);
+  CHECK(gravel.mean_z < sand.mean_z);
+  CHECK_THROWS_AS(world.shake(Sphere{{8, 8, 5}, 4}, 0), InvalidArgument);
+  CHECK_THROWS_AS(world.shake(Sphere{{8, 8, 5}, 4}, 13), InvalidArgument);
 }

@@ -16,6 +16,7 @@
 #include "granular/rule_set.hpp"
 #include "granular/task_system.hpp"
 #include "granular/threads.hpp"
+#include "step/step_materials.hpp"
 #include "tool_region.hpp"
 
 namespace granular {
@@ -362,38 +363,44 @@ std::vector<std::uint8_t> World::read_cells(const Box& region) const {
 ChangeReport World::write_materials(const Box& region, std::vector<std::uint8_t>& cells,
                                     std::span<const std::uint8_t> after) {
   ChangeReport report;
-  // The bricks of the region, flagged when they hold a changed cell.
+  std::vector<std::uint8_t> touched(cells.size(), 0);
+  for (std::size_t i = 0; i < cells.size(); ++i) {
+    const std::uint8_t was = cells[i] & kMaterialMask;
+    if (was == after[i]) continue;
+    ++report.cells_changed;
+    ++report.removed[was];
+    ++report.added[after[i]];
+    cells[i] = after[i];
+    touched[i] = 1;
+  }
+  if (report.cells_changed > 0) write_cells(region, cells, touched);
+  return report;
+}
+
+void World::write_cells(const Box& region, std::span<const std::uint8_t> cells, std::span<const std::uint8_t> touched) {
+  // The bricks of the region, flagged when they hold a touched cell.
   const Int3 n = granular::brick_counts(size_);
   const Int3 lo{region.min.x / kBrickSize, region.min.y / kBrickSize, region.min.z / kBrickSize};
   const Int3 span{(region.max.x - 1) / kBrickSize - lo.x + 1, (region.max.y - 1) / kBrickSize - lo.y + 1,
                   (region.max.z - 1) / kBrickSize - lo.z + 1};
-  std::vector<std::uint8_t> touched(std::size_t(span.x) * std::size_t(span.y) * std::size_t(span.z), 0);
+  std::vector<std::uint8_t> flagged(std::size_t(span.x) * std::size_t(span.y) * std::size_t(span.z), 0);
   std::size_t i = 0;
   for (int z = region.min.z; z < region.max.z; ++z)
     for (int y = region.min.y; y < region.max.y; ++y) {
       const std::size_t row = (std::size_t(z / kBrickSize - lo.z) * std::size_t(span.y) +
                                std::size_t(y / kBrickSize - lo.y)) * std::size_t(span.x);
-      for (int x = region.min.x; x < region.max.x; ++x, ++i) {
-        const std::uint8_t was = cells[i] & kMaterialMask;
-        if (was == after[i]) continue;
-        ++report.cells_changed;
-        ++report.removed[was];
-        ++report.added[after[i]];
-        cells[i] = after[i];
-        touched[row + std::size_t(x / kBrickSize - lo.x)] = 1;
-      }
+      for (int x = region.min.x; x < region.max.x; ++x, ++i)
+        if (touched[i]) flagged[row + std::size_t(x / kBrickSize - lo.x)] = 1;
     }
-  if (report.cells_changed == 0) return report;
   std::vector<std::uint32_t> bricks;  // ascending: z, then y, then x
   for (int bz = 0; bz < span.z; ++bz)
     for (int by = 0; by < span.y; ++by)
       for (int bx = 0; bx < span.x; ++bx)
-        if (touched[(std::size_t(bz) * std::size_t(span.y) + std::size_t(by)) * std::size_t(span.x) + std::size_t(bx)])
+        if (flagged[(std::size_t(bz) * std::size_t(span.y) + std::size_t(by)) * std::size_t(span.x) + std::size_t(bx)])
           bricks.push_back(std::uint32_t(
               (std::size_t(lo.z + bz) * std::size_t(n.y) + std::size_t(lo.y + by)) * std::size_t(n.x) + std::size_t(lo.x + bx)));
   mark_bricks(bricks);
   live().write(region, cells, bricks);
-  return report;
 }
 
 ChangeReport World::commit_region(const Box& region, bool clipped, std::vector<std::uint8_t>& cells,
@@ -410,10 +417,42 @@ ChangeReport World::dig(const Sphere& sphere) {
   const Box region = sphere_region(sphere, size_, "dig", clipped);
   auto cells = read_cells(region);
   auto after = materials_of(cells);
+  const MaterialTable& table = rules().materials;
   for_each_cell_in_sphere(region, sphere, [&](std::size_t i, Int3) {
-    if (after[i] != to_cell(Material::Solid)) after[i] = to_cell(Material::Void);
+    if (table[after[i]].behaviour != Behaviour::Static) after[i] = to_cell(Material::Void);
   });
   return commit_region(region, clipped, cells, after);
+}
+
+ChangeReport World::shake(const Sphere& sphere, int level) {
+  const MotionParams& motion = rules().motion;
+  if (!motion.enabled())
+    throw InvalidArgument("shake: rule set '" + rules().name +
+                          "' has no motion model (MotionParams::substeps 1), so its cells have no motion level to set");
+  if (level < 1 || level > motion.max_level())
+    throw InvalidArgument("shake: level = " + std::to_string(level) + " is outside 1.." +
+                          std::to_string(motion.max_level()) + " (the rule set's highest motion level)");
+  bool clipped = false;
+  const Box region = sphere_region(sphere, size_, "shake", clipped);
+  auto cells = read_cells(region);
+  const StepMaterials mats = step_materials(rules().materials);
+  ChangeReport report;
+  report.region = region;
+  report.clipped = clipped;
+  std::vector<std::uint8_t> touched_cells(cells.size(), 0);
+  for_each_cell_in_sphere(region, sphere, [&](std::size_t i, Int3) {
+    const std::uint8_t m = cell_material(cells[i]);
+    if (!mats.is_faller(m)) return;
+    const std::uint8_t shaken = std::uint8_t((cells[i] & ~(kMotionLevelMask << kMotionShift)) | (level << kMotionShift));
+    if (shaken == cells[i]) return;
+    cells[i] = shaken;
+    touched_cells[i] = 1;
+    ++report.cells_shaken;
+  });
+  ++tool_calls_;
+  if (report.cells_shaken == 0) return report;
+  write_cells(region, cells, touched_cells);
+  return report;
 }
 
 ChangeReport World::pour(Vec3 center, double radius, Material material, std::int64_t amount) {

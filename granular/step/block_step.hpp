@@ -123,8 +123,7 @@ struct MotionRule {
     const BlockKey key = motion::rest_key(before, offset.z, sub.materials, at_rest);
     if (!at_rest || !is_inert(inert, key)) return false;
     const StepMaterials& mats = sub.materials;
-    return (mats.liquids | mats.gases) == 0 || !mats.any_fluid_material(pack_key(before & (kEveryByte * kMaterialMask))) ||
-           !fluid::may_move(before, mats);
+    return !mats.fluid_pass_applies(present_materials(before)) || !fluid::may_move(before, mats);
   }
 };
 

@@ -177,7 +177,7 @@ constexpr bool may_move(std::uint64_t bytes, const StepMaterials& mats) {
 /// above 0 certain, in the table's own frame (the step applies the random symmetry around the lookup).
 constexpr Transition one_step_transition(BlockKey key, const StepMaterials& mats) {
   const Transition first = rules::paper_rule(mats.code_key(key));
-  if (!mats.any_fluid_material(key)) return first;
+  if (!mats.fluid_pass_applies(present_materials(unpack_key(key)))) return first;
   // The bytes after the first pass, each tagged with the cell it came from (bits 3..5).
   std::uint64_t bytes = 0;
   for (int i = 0; i < 8; ++i)

@@ -260,8 +260,7 @@ constexpr std::uint64_t step_block(std::uint64_t bytes, const SubStep& m, int x0
     }
     out |= std::uint64_t(byte) << (8 * dest);
   }
-  if (((mats.liquids | mats.gases) == 0) || !mats.any_fluid_material(pack_key(out & (kEveryByte * kMaterialMask))))
-    return out;
+  if (!mats.fluid_pass_applies(present_materials(out))) return out;
   const std::uint64_t draws =
       block_random(m.seed ^ fluid::kDrawSalt, m.tick * std::uint64_t(m.substeps) + std::uint64_t(s), x0, y0, z0);
   return fluid::fluid_pass<true>(out, movers, symmetry, draws, mats);

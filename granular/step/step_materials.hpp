@@ -6,6 +6,7 @@
 #include <cstdint>
 
 #include "granular/material.hpp"
+#include "granular/motion.hpp"
 #include "granular/rule_set.hpp"
 
 namespace granular {
@@ -50,11 +51,11 @@ struct StepMaterials {
   constexpr bool is_void(std::uint32_t m) const { return code(m) == kCodeVoid && !is_gas(m); }
   /// True when material `m` (< 8) is a fluid: void, a liquid or a gas.
   constexpr bool is_fluid(std::uint32_t m) const { return code(m) == kCodeVoid || is_liquid(m); }
-  /// True when the block's materials (3 bits per cell) hold a liquid or a gas.
-  constexpr bool any_fluid_material(std::uint32_t materials_key) const {
-    for (int i = 0; i < 8; ++i)
-      if ((((liquids | gases) >> ((materials_key >> (3 * i)) & 7u)) & 1u) != 0) return true;
-    return false;
+  /// True when the fluid pass (fluid_block.hpp) may move something in a block holding the materials
+  /// of `present` (bit m set for each material m in it): a liquid or a gas, or two granular materials.
+  constexpr bool fluid_pass_applies(std::uint32_t present) const {
+    const std::uint32_t grains = present & granular;
+    return (present & (liquids | gases)) != 0 || (grains & (grains - 1)) != 0;
   }
 };
 
@@ -94,6 +95,13 @@ inline StepMaterials step_materials(const MaterialTable& table) {
   for (std::uint32_t pair = 0; pair < 64; ++pair)
     m.pair_codes[pair] = std::uint8_t(m.code(pair & 7u) | (m.code(pair >> 3) << 3));
   return m;
+}
+
+/// Bit m set for each material m among a block's 8 cell bytes (the material in each byte's low 3 bits).
+constexpr std::uint32_t present_materials(std::uint64_t bytes) {
+  std::uint32_t present = 0;
+  for (int i = 0; i < 8; ++i) present |= 1u << ((bytes >> (8 * i)) & kMaterialMask);
+  return present;
 }
 
 /// The key of a block's materials as table codes (3 bits per cell, block order).

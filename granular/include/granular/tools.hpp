@@ -1,6 +1,6 @@
 #pragma once
 /// @file tools.hpp
-/// What a tool (dig, pour, paint) did to the world.
+/// What a tool (dig, pour, paint, shake) did to the world.
 
 #include <cstdint>
 
@@ -16,6 +16,7 @@ struct ChangeReport {
   MaterialCounts removed{};        ///< cells that stopped being each material
   Box region{};                    ///< the in-grid box the tool covered (may be smaller than asked: see clipped)
   bool clipped = false;            ///< true when part of the tool's region lay outside the grid
+  std::int64_t cells_shaken = 0;   ///< cells the tool set moving (World::shake; no material changes)
 };
 
 }  // namespace granular

@@ -65,9 +65,17 @@ class World {
   /// True when the transition table was loaded from the on-disk cache (or shared in-process).
   bool lut_from_cache() const { return lut_from_cache_; }
 
-  /// Removes every grain (any material but solid and void) whose cell centre lies in `sphere`.
+  /// Removes every mobile cell (a granular, liquid or gas material of the rule set's table: static
+  /// ones stay) whose cell centre lies in `sphere`.
   /// Throws InvalidArgument for a non-finite centre, radius <= 0, or a sphere that misses the grid.
   ChangeReport dig(const Sphere& sphere);
+  /// Sets every granular and liquid cell whose centre lies in `sphere` moving at motion level `level`
+  /// (1 .. MotionParams::max_level()), as if thrown: it rolls and topples on, and grains of two
+  /// densities pass each other while one of them moves, so shaking a mixed bed again and again sorts
+  /// the heavier grain below. Changes no material (ChangeReport::cells_shaken counts the cells).
+  /// Throws InvalidArgument for a rule set without a motion model, a level out of range, or a sphere
+  /// as dig refuses.
+  ChangeReport shake(const Sphere& sphere, int level);
   /// Turns up to `amount` void cells inside the sphere (centre, radius) into `material`, chosen
   /// pseudo-randomly (deterministic for the world's seed and tick). Throws InvalidArgument for
   /// void or an invalid material, amount < 0, or a region missing the grid.
@@ -141,6 +149,8 @@ class World {
   // nothing it does not change in materials (a sleeping brick stays exact). `cells` ends holding the
   // bytes written. Returns the cells changed per material (region and clipped left unset).
   ChangeReport write_materials(const Box& region, std::vector<std::uint8_t>& cells, std::span<const std::uint8_t> after);
+  // Writes the cells of `region` (whole bytes) and wakes the bricks holding a cell flagged in `touched`.
+  void write_cells(const Box& region, std::span<const std::uint8_t> cells, std::span<const std::uint8_t> touched);
   void mark_bricks(std::span<const std::uint32_t> bricks) const;
   void take_step_changes() const;
   // A tool's write_materials, with its region and clipping in the report; counts the tool call.
