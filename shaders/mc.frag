@@ -1,18 +1,17 @@
 #version 460
-// Marching cubes, shading: sun + sky on the interpolated density-gradient normal, brush highlight.
+// Marching cubes, shading: sun + sky on the interpolated density-gradient normal, a liquid's glint,
+// the brush highlight; translucent looks keep their coverage in alpha (the translucent pass blends).
 #include "view.glsl"
-layout(location = 0) in vec3 in_color;
+#define MATERIALS_BINDING 5
+#include "materials.glsl"
+#include "shading.glsl"
+layout(location = 0) in vec4 in_color;
 layout(location = 1) in vec3 in_normal;
 layout(location = 2) in vec3 in_position;
+layout(location = 3) flat in uint in_look;
 layout(location = 0) out vec4 out_color;
 
-const vec3 kSun = normalize(vec3(0.45, 0.30, 0.84));
-
 void main() {
-  vec3 n = normalize(in_normal);
-  float diffuse = max(dot(n, kSun), 0.0);
-  float sky = 0.5 + 0.5 * n.z;
-  vec3 color = in_color * (0.72 * diffuse + 0.38 * sky);
-  if (pc.eye.w > 0.0 && distance(in_position, pc.brush.xyz) < pc.eye.w) color = mix(color, vec3(1.0, 0.35, 0.2), 0.35);
-  out_color = vec4(color, 1.0);
+  vec3 color = shade(in_color.rgb, in_look, normalize(in_normal), 1.0, normalize(pc.eye.xyz - in_position));
+  out_color = vec4(brush_highlight(color, in_position), in_color.a);
 }

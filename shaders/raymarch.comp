@@ -1,8 +1,11 @@
 #version 460
 // Ray-march renderer: one invocation per pixel walks the grid cell by cell (3D DDA, Amanatides &
-// Woo) from the eye until the first non-void cell, crossing empty bricks (brick_occupancy.comp) in
-// one step, and shades the cell like the cube renderer does (face normal, sun + sky, ambient
-// occlusion from the cells around the hit face). No geometry.
+// Woo) from the eye, crossing empty bricks (brick_occupancy.comp) in one step, until the first
+// opaque cell, which it shades like the cube renderer does (face normal, sun + sky, ambient
+// occlusion from the opaque cells around the hit face). Liquids and gases are seen through: where
+// the ray enters one, its surface is shaded and covers part of what lies behind (liquid glints);
+// inside, each cell crossed absorbs in proportion to the path's length in it (Beer-Lambert), a
+// liquid strongly, a gas faintly. No geometry.
 #extension GL_EXT_shader_8bit_storage : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int8 : require
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -10,11 +13,20 @@ layout(local_size_x = 8, local_size_y = 8) in;
 layout(std430, set = 0, binding = 0) readonly buffer Cells { uint8_t cells[]; };
 layout(set = 0, binding = 1, rgba8) uniform writeonly image2D color_out;
 layout(std430, set = 0, binding = 3) readonly buffer Occupancy { uint occupancy[]; };
+#define MATERIALS_BINDING 4
 #include "cells.glsl"
+#include "materials.glsl"
+#include "shading.glsl"
 
 const vec3 kBackground = vec3(0.62, 0.72, 0.84);
 
-float occupied(ivec3 p) { return cell_at(p) != 0u ? 1.0 : 0.0; }
+float occluder(ivec3 p) { return look_of(cell_at(p)) == kLookOpaque ? 1.0 : 0.0; }
+
+// Fraction of the light a surface of look `look` reflects where the ray enters it.
+float entry_coverage(uint look) { return look == kLookLiquid ? 0.35 : 0.10; }
+
+// Absorption per cell of path inside a medium of look `look`.
+float absorption(uint look) { return look == kLookLiquid ? 0.12 : 0.035; }
 
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
@@ -28,7 +40,8 @@ void main() {
   vec3 t0 = (vec3(0.0) - origin) * inv, t1 = (vec3(pc.grid.xyz) - origin) * inv;
   float t_enter = max(max(min(t0.x, t1.x), min(t0.y, t1.y)), max(min(t0.z, t1.z), 0.0));
   float t_exit = min(min(max(t0.x, t1.x), max(t0.y, t1.y)), max(t0.z, t1.z));
-  vec3 color = kBackground;
+  vec3 gathered = vec3(0.0);  // light reaching the eye from what the ray crossed so far
+  float transmitted = 1.0;    // fraction of what lies further along that still reaches the eye
   if (t_enter < t_exit) {
     vec3 start = origin + direction * (t_enter + 1e-4);
     ivec3 cell = clamp(ivec3(floor(start)), ivec3(0), pc.grid.xyz - 1);
@@ -36,6 +49,8 @@ void main() {
     vec3 next_boundary = vec3(cell) + max(vec3(step_dir), vec3(0.0));
     vec3 t_max = (next_boundary - origin) * inv;
     vec3 t_delta = abs(inv);
+    float t_cell = t_enter;  // where the ray entered the current cell
+    uint medium = 0u;        // the translucent material the ray is inside (0: none)
     // The axis of the face the ray entered the grid through (the normal if the first cell is hit).
     float tx = min(t0.x, t1.x), ty = min(t0.y, t1.y), tz = min(t0.z, t1.z);
     int axis = (tx >= ty && tx >= tz) ? 0 : (ty >= tz ? 1 : 2);
@@ -55,25 +70,46 @@ void main() {
         next[axis] = step_dir[axis] > 0 ? int(high[axis]) : int(low[axis]) - 1;
         cell = next;
         t_max = (vec3(cell) + max(vec3(step_dir), vec3(0.0)) - origin) * inv;
+        t_cell = t_leave;
+        medium = 0u;
         continue;
       }
       uint material = material_of(cells[cell_index(cell)]);
-      if (material != 0u) {
+      uint look = look_of(material);
+      if (look != kLookVoid) {
         ivec3 n = ivec3(0);
         n[axis] = -step_dir[axis];
-        ivec3 front = cell + n;
-        int u_axis = (axis + 1) % 3, v_axis = (axis + 2) % 3;
-        ivec3 du = ivec3(0), dv = ivec3(0);
-        du[u_axis] = 1;
-        dv[v_axis] = 1;
-        float around = occupied(front + du) + occupied(front - du) + occupied(front + dv) + occupied(front - dv);
-        float diagonal = occupied(front + du + dv) + occupied(front + du - dv) + occupied(front - du + dv) +
-                         occupied(front - du - dv);
-        float occlusion = 1.0 - 0.09 * around - 0.045 * diagonal;
-        color = shade(material_color(material, cell), vec3(n), occlusion);
-        if (pc.eye.w > 0.0 && distance(vec3(cell) + 0.5, pc.brush.xyz) < pc.eye.w) color = mix(color, vec3(1.0, 0.35, 0.2), 0.35);
-        break;
+        if (look == kLookOpaque) {
+          ivec3 front = cell + n;
+          int u_axis = (axis + 1) % 3, v_axis = (axis + 2) % 3;
+          ivec3 du = ivec3(0), dv = ivec3(0);
+          du[u_axis] = 1;
+          dv[v_axis] = 1;
+          float around = occluder(front + du) + occluder(front - du) + occluder(front + dv) + occluder(front - dv);
+          float diagonal = occluder(front + du + dv) + occluder(front + du - dv) + occluder(front - du + dv) +
+                           occluder(front - du - dv);
+          float occlusion = 1.0 - 0.09 * around - 0.045 * diagonal;
+          vec3 color = shade(material_color(material, cell), look, vec3(n), occlusion, -direction);
+          gathered += transmitted * brush_highlight(color, vec3(cell) + 0.5);
+          transmitted = 0.0;
+          break;
+        }
+        vec3 albedo = material_color(material, cell);
+        if (material != medium) {
+          float coverage = entry_coverage(look);
+          gathered += transmitted * coverage * brush_highlight(shade(albedo, look, vec3(n), 1.0, -direction), vec3(cell) + 0.5);
+          transmitted *= 1.0 - coverage;
+        }
+        float t_next = min(min(t_max.x, t_max.y), t_max.z);
+        float absorbed = 1.0 - exp(-absorption(look) * max(t_next - t_cell, 0.0));
+        gathered += transmitted * absorbed * albedo * 0.8;  // the medium's own colour, lit from all around
+        transmitted *= 1.0 - absorbed;
+        medium = material;
+        if (transmitted < 0.01) break;
+      } else {
+        medium = 0u;
       }
+      t_cell = min(min(t_max.x, t_max.y), t_max.z);
       if (t_max.x < t_max.y && t_max.x < t_max.z) {
         cell.x += step_dir.x; t_max.x += t_delta.x; axis = 0;
       } else if (t_max.y < t_max.z) {
@@ -83,5 +119,5 @@ void main() {
       }
     }
   }
-  imageStore(color_out, pixel, vec4(color, 1.0));
+  imageStore(color_out, pixel, vec4(gathered + transmitted * kBackground, 1.0));
 }

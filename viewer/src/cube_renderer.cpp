@@ -5,6 +5,7 @@
 
 #include "cell_buffer.hpp"
 #include "granular/activity.hpp"
+#include "material_palette.hpp"
 #include "vulkan_check.hpp"
 #include "vulkan_context.hpp"
 
@@ -33,22 +34,39 @@ std::uint32_t checked_bricks(const VulkanContext& context, std::uint32_t bricks)
 
 }  // namespace
 
-CubeRenderer::CubeRenderer(const VulkanContext& context, const CellBuffer& cells, VkRenderPass target_pass)
+/// Storage buffers 0-3 (cells, brick list, instances, draws), the material palette at 4.
+std::vector<VkDescriptorType> binding_types() {
+  std::vector<VkDescriptorType> types(4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
+  types.push_back(VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER);
+  return types;
+}
+
+GraphicsOptions translucent_options() {
+  GraphicsOptions options;
+  options.blend = true;
+  options.depth_write = false;
+  return options;
+}
+
+CubeRenderer::CubeRenderer(const VulkanContext& context, const CellBuffer& cells, const MaterialPalette& palette,
+                           VkRenderPass target_pass)
     : context_(context),
       cells_(cells),
       brick_counts_(granular::brick_counts(cells.size())),
       brick_total_(checked_bricks(context, total_of(brick_counts_))),
       instances_(context, brick_total_ * kInstancesPerBrick * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryKind::DeviceLocal),
-      draws_(context, VkDeviceSize(brick_total_) * sizeof(VkDrawIndirectCommand),
+      draws_(context, 2 * VkDeviceSize(brick_total_) * sizeof(VkDrawIndirectCommand),
              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
              MemoryKind::DeviceLocal),
-      sets_(context.device(), std::vector<VkDescriptorType>(4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER)),
+      sets_(context.device(), binding_types()),
       rebuild_(context, brick_counts_, sets_, 1),
       build_(context.device(), sets_.layout(), "cube_build.comp"),
-      draw_pipeline_(context.device(), sets_.layout(), target_pass, "cube.vert", "cube.frag") {
+      draw_pipeline_(context.device(), sets_.layout(), target_pass, "cube.vert", "cube.frag"),
+      translucent_pipeline_(context.device(), sets_.layout(), target_pass, "cube.vert", "cube.frag", translucent_options()) {
   sets_.write_buffer(0, cells.buffer());
   sets_.write_buffer(2, instances_.buffer());
   sets_.write_buffer(3, draws_.buffer());
+  sets_.write_buffer(4, palette.buffer());
 }
 
 CubeRenderer::~CubeRenderer() = default;
@@ -73,9 +91,13 @@ std::uint64_t CubeRenderer::prepare(VkCommandBuffer commands, const FrameView& v
 }
 
 void CubeRenderer::draw(VkCommandBuffer commands, const FrameView& view) {
+  constexpr std::uint32_t stride = sizeof(VkDrawIndirectCommand);
   draw_pipeline_.bind(commands, VK_PIPELINE_BIND_POINT_GRAPHICS, sets_.set(view.slot));
   vkCmdPushConstants(commands, draw_pipeline_.layout(), VK_SHADER_STAGE_ALL, 0, sizeof(ViewConstants), &view.raster);
-  vkCmdDrawIndirect(commands, draws_.buffer(), 0, brick_total_, sizeof(VkDrawIndirectCommand));
+  vkCmdDrawIndirect(commands, draws_.buffer(), 0, brick_total_, stride);
+  translucent_pipeline_.bind(commands, VK_PIPELINE_BIND_POINT_GRAPHICS, sets_.set(view.slot));
+  vkCmdPushConstants(commands, translucent_pipeline_.layout(), VK_SHADER_STAGE_ALL, 0, sizeof(ViewConstants), &view.raster);
+  vkCmdDrawIndirect(commands, draws_.buffer(), VkDeviceSize(brick_total_) * stride, brick_total_, stride);
 }
 
 }  // namespace viewer

@@ -1,9 +1,12 @@
 #pragma once
 /// @file cube_renderer.hpp
-/// Instanced cubes: a compute pass lists, per brick, the non-void cells with a void face neighbour
-/// into the brick's fixed slot of the instance buffer and writes the brick's indirect draw command;
-/// one multi-draw-indirect then draws 36 vertices per instance. Only the bricks that changed (and
-/// their neighbours) are rebuilt; the others keep their instances and commands.
+/// Instanced cubes: a compute pass lists, per brick, the non-void cells with a face showing (next
+/// to void, or an opaque or liquid cell next to a translucent one) into the brick's fixed slot of
+/// the instance buffer, opaque and translucent (liquid, gas) apart, and writes the brick's two
+/// indirect draw commands; one multi-draw-indirect then draws the opaque instances, a second one
+/// blends the translucent ones over them (depth-tested, not written), 18 vertices per instance.
+/// Colours come from the world's material table (MaterialPalette). Only the bricks that changed
+/// (and their neighbours) are rebuilt; the others keep their instances and commands.
 
 #include <cstdint>
 #include <memory>
@@ -18,12 +21,15 @@ namespace viewer {
 
 class VulkanContext;
 class CellBuffer;
+class MaterialPalette;
 
 /// The instanced-cube renderer.
 class CubeRenderer final : public Renderer {
  public:
-  /// Reads `cells` (which must outlive it) and draws into passes compatible with `target_pass`.
-  CubeRenderer(const VulkanContext& context, const CellBuffer& cells, VkRenderPass target_pass);
+  /// Reads `cells` and `palette` (which must outlive it) and draws into passes compatible with
+  /// `target_pass`.
+  CubeRenderer(const VulkanContext& context, const CellBuffer& cells, const MaterialPalette& palette,
+               VkRenderPass target_pass);
   /// Destroys its Vulkan objects (after the GPU is done with them).
   ~CubeRenderer() override;
 
@@ -43,11 +49,12 @@ class CubeRenderer final : public Renderer {
   granular::Int3 brick_counts_;
   std::uint32_t brick_total_;
   GpuBuffer instances_;
-  GpuBuffer draws_;
+  GpuBuffer draws_;  ///< brick_total_ opaque commands, then brick_total_ translucent ones
   DescriptorSets sets_;
   BrickRebuildList rebuild_;  ///< after sets_: binds its lists there
   Pipeline build_;
   Pipeline draw_pipeline_;
+  Pipeline translucent_pipeline_;
 };
 
 }  // namespace viewer

@@ -8,6 +8,7 @@
 #include "cell_buffer.hpp"
 #include "granular/activity.hpp"
 #include "marching_cubes_tables.hpp"
+#include "material_palette.hpp"
 #include "vulkan_check.hpp"
 #include "vulkan_context.hpp"
 
@@ -46,22 +47,38 @@ std::vector<std::uint32_t> gpu_case_table() {
   return table;
 }
 
+/// Storage buffers 0-4 (cells, brick list, vertices, draws, case table), the material palette at 5.
+std::vector<VkDescriptorType> binding_types() {
+  std::vector<VkDescriptorType> types(5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
+  types.push_back(VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER);
+  return types;
+}
+
+GraphicsOptions translucent_options() {
+  GraphicsOptions options;
+  options.blend = true;
+  options.depth_write = false;
+  return options;
+}
+
 }  // namespace
 
-MarchingCubesRenderer::MarchingCubesRenderer(const VulkanContext& context, const CellBuffer& cells, VkRenderPass target_pass)
+MarchingCubesRenderer::MarchingCubesRenderer(const VulkanContext& context, const CellBuffer& cells,
+                                             const MaterialPalette& palette, VkRenderPass target_pass)
     : brick_counts_(granular::brick_counts(cells.size())),
       brick_total_(total_of(brick_counts_)),
       triangles_per_brick_(triangles_per_brick(context, brick_total_)),
       vertices_(context, VkDeviceSize(brick_total_) * triangles_per_brick_ * 3 * kVertexBytes,
                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryKind::DeviceLocal),
-      draws_(context, VkDeviceSize(brick_total_) * sizeof(VkDrawIndirectCommand),
+      draws_(context, 2 * VkDeviceSize(brick_total_) * sizeof(VkDrawIndirectCommand),
              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, MemoryKind::DeviceLocal),
       cases_(context, 256 * 16 * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
              MemoryKind::DeviceLocal),
-      sets_(context.device(), std::vector<VkDescriptorType>(5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER)),
+      sets_(context.device(), binding_types()),
       rebuild_(context, brick_counts_, sets_, 1),
       build_(context.device(), sets_.layout(), "mc_build.comp"),
-      draw_pipeline_(context.device(), sets_.layout(), target_pass, "mc.vert", "mc.frag") {
+      draw_pipeline_(context.device(), sets_.layout(), target_pass, "mc.vert", "mc.frag"),
+      translucent_pipeline_(context.device(), sets_.layout(), target_pass, "mc.vert", "mc.frag", translucent_options()) {
   const std::vector<std::uint32_t> table = gpu_case_table();
   GpuBuffer staging(context, table.size() * 4, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryKind::HostVisible);
   std::memcpy(staging.mapped(), table.data(), table.size() * 4);
@@ -73,6 +90,7 @@ MarchingCubesRenderer::MarchingCubesRenderer(const VulkanContext& context, const
   sets_.write_buffer(2, vertices_.buffer());
   sets_.write_buffer(3, draws_.buffer());
   sets_.write_buffer(4, cases_.buffer());
+  sets_.write_buffer(5, palette.buffer());
 }
 
 MarchingCubesRenderer::~MarchingCubesRenderer() = default;
@@ -97,9 +115,13 @@ std::uint64_t MarchingCubesRenderer::prepare(VkCommandBuffer commands, const Fra
 }
 
 void MarchingCubesRenderer::draw(VkCommandBuffer commands, const FrameView& view) {
+  constexpr std::uint32_t stride = sizeof(VkDrawIndirectCommand);
   draw_pipeline_.bind(commands, VK_PIPELINE_BIND_POINT_GRAPHICS, sets_.set(view.slot));
   vkCmdPushConstants(commands, draw_pipeline_.layout(), VK_SHADER_STAGE_ALL, 0, sizeof(ViewConstants), &view.raster);
-  vkCmdDrawIndirect(commands, draws_.buffer(), 0, brick_total_, sizeof(VkDrawIndirectCommand));
+  vkCmdDrawIndirect(commands, draws_.buffer(), 0, brick_total_, stride);
+  translucent_pipeline_.bind(commands, VK_PIPELINE_BIND_POINT_GRAPHICS, sets_.set(view.slot));
+  vkCmdPushConstants(commands, translucent_pipeline_.layout(), VK_SHADER_STAGE_ALL, 0, sizeof(ViewConstants), &view.raster);
+  vkCmdDrawIndirect(commands, draws_.buffer(), VkDeviceSize(brick_total_) * stride, brick_total_, stride);
 }
 
 }  // namespace viewer

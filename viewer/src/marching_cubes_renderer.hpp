@@ -1,10 +1,13 @@
 #pragma once
 /// @file marching_cubes_renderer.hpp
-/// Marching cubes: a compute pass meshes, per brick, the iso-surface of the non-void density into
-/// the brick's fixed slot of the vertex buffer (3072 triangles a brick, fewer where the device's
-/// buffer limits require; a brick's excess triangles are dropped) and writes the
-/// brick's indirect draw command; one multi-draw-indirect draws every brick. Only the bricks that
-/// changed (and their neighbours) are re-meshed.
+/// Marching cubes: a compute pass meshes, per brick, the iso-surface of each look's density (opaque,
+/// liquid, gas: every look a surface of its own, so the ground under water is meshed too) into the
+/// brick's fixed slot of the vertex buffer (3072 triangles a brick, fewer where the device's buffer
+/// limits require; a brick's excess triangles are dropped) and writes the brick's two indirect draw
+/// commands; one multi-draw-indirect draws the opaque surfaces of every brick, a second one blends
+/// the translucent ones over them (depth-tested, not written). Colours come from the world's
+/// material table (MaterialPalette). Only the bricks that changed (and their neighbours) are
+/// re-meshed.
 
 #include <cstdint>
 
@@ -18,12 +21,15 @@ namespace viewer {
 
 class VulkanContext;
 class CellBuffer;
+class MaterialPalette;
 
 /// The marching-cubes renderer.
 class MarchingCubesRenderer final : public Renderer {
  public:
-  /// Reads `cells` (which must outlive it) and draws into passes compatible with `target_pass`.
-  MarchingCubesRenderer(const VulkanContext& context, const CellBuffer& cells, VkRenderPass target_pass);
+  /// Reads `cells` and `palette` (which must outlive it) and draws into passes compatible with
+  /// `target_pass`.
+  MarchingCubesRenderer(const VulkanContext& context, const CellBuffer& cells, const MaterialPalette& palette,
+                        VkRenderPass target_pass);
   /// Destroys its Vulkan objects (after the GPU is done with them).
   ~MarchingCubesRenderer() override;
 
@@ -42,12 +48,13 @@ class MarchingCubesRenderer final : public Renderer {
   std::uint32_t brick_total_;
   std::uint32_t triangles_per_brick_;
   GpuBuffer vertices_;
-  GpuBuffer draws_;
+  GpuBuffer draws_;  ///< brick_total_ opaque commands, then brick_total_ translucent ones
   GpuBuffer cases_;
   DescriptorSets sets_;
   BrickRebuildList rebuild_;  ///< after sets_: binds its lists there
   Pipeline build_;
   Pipeline draw_pipeline_;
+  Pipeline translucent_pipeline_;
 };
 
 }  // namespace viewer

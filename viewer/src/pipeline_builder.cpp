@@ -8,7 +8,7 @@
 
 namespace viewer {
 
-DescriptorSets::DescriptorSets(VkDevice device, const std::vector<VkDescriptorType>& types) : device_(device) {
+DescriptorSets::DescriptorSets(VkDevice device, const std::vector<VkDescriptorType>& types) : device_(device), types_(types) {
   std::vector<VkDescriptorSetLayoutBinding> bindings;
   std::vector<VkDescriptorPoolSize> sizes;
   for (std::size_t i = 0; i < types.size(); ++i) {
@@ -48,7 +48,7 @@ void DescriptorSets::write_buffer(int slot, int binding, VkBuffer buffer) {
   write.dstSet = sets_[slot];
   write.dstBinding = std::uint32_t(binding);
   write.descriptorCount = 1;
-  write.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+  write.descriptorType = types_.at(std::size_t(binding));
   write.pBufferInfo = &info;
   vkUpdateDescriptorSets(device_, 1, &write, 0, nullptr);
 }
@@ -125,11 +125,20 @@ Pipeline::Pipeline(VkDevice device, VkDescriptorSetLayout set_layout, VkRenderPa
   multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
   VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
   depth.depthTestEnable = VK_TRUE;
-  depth.depthWriteEnable = VK_TRUE;
+  depth.depthWriteEnable = options.depth_write ? VK_TRUE : VK_FALSE;
   depth.depthCompareOp = VK_COMPARE_OP_LESS_OR_EQUAL;
   VkPipelineColorBlendAttachmentState blend_attachment{};
   blend_attachment.colorWriteMask =
       VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
+  if (options.blend) {
+    blend_attachment.blendEnable = VK_TRUE;
+    blend_attachment.srcColorBlendFactor = VK_BLEND_FACTOR_SRC_ALPHA;
+    blend_attachment.dstColorBlendFactor = VK_BLEND_FACTOR_ONE_MINUS_SRC_ALPHA;
+    blend_attachment.colorBlendOp = VK_BLEND_OP_ADD;
+    blend_attachment.srcAlphaBlendFactor = VK_BLEND_FACTOR_ZERO;
+    blend_attachment.dstAlphaBlendFactor = VK_BLEND_FACTOR_ONE;
+    blend_attachment.alphaBlendOp = VK_BLEND_OP_ADD;
+  }
   VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
   blend.attachmentCount = 1;
   blend.pAttachments = &blend_attachment;

@@ -27,15 +27,18 @@ class DescriptorSets {
   VkDescriptorSetLayout layout() const { return layout_; }
   /// The set of frame slot `slot`.
   VkDescriptorSet set(int slot) const { return sets_[slot]; }
-  /// Points `binding` of every slot's set at the whole of `buffer` (a storage buffer).
+  /// Points `binding` of every slot's set at the whole of `buffer` (a storage or uniform buffer, as
+  /// the binding's type says).
   void write_buffer(int binding, VkBuffer buffer);
-  /// Points `binding` of slot `slot`'s set at the whole of `buffer` (a storage buffer).
+  /// Points `binding` of slot `slot`'s set at the whole of `buffer` (a storage or uniform buffer, as
+  /// the binding's type says).
   void write_buffer(int slot, int binding, VkBuffer buffer);
   /// Points `binding` of every slot's set at `view`, a storage image in GENERAL layout.
   void write_storage_image(int binding, VkImageView view);
 
  private:
   VkDevice device_;
+  std::vector<VkDescriptorType> types_;
   VkDescriptorSetLayout layout_ = VK_NULL_HANDLE;
   VkDescriptorPool pool_ = VK_NULL_HANDLE;
   std::array<VkDescriptorSet, kFramesInFlight> sets_{};
@@ -44,6 +47,8 @@ class DescriptorSets {
 /// How a graphics pipeline rasterises.
 struct GraphicsOptions {
   VkCullModeFlags cull = VK_CULL_MODE_BACK_BIT;  ///< faces culled
+  bool blend = false;        ///< blend the fragment's colour over the target's by its alpha (the target keeps its alpha)
+  bool depth_write = true;   ///< write depth (off for translucent surfaces, which are depth-tested only)
 };
 
 /// A pipeline and its layout (one descriptor set, ViewConstants push constants).

@@ -5,23 +5,26 @@
 #include "cell_buffer.hpp"
 #include "granular/activity.hpp"
 #include "gpu_buffer.hpp"
+#include "material_palette.hpp"
 #include "vulkan_check.hpp"
 #include "vulkan_context.hpp"
 
 namespace viewer {
 
-RaymarchRenderer::RaymarchRenderer(const VulkanContext& context, const CellBuffer& cells)
+RaymarchRenderer::RaymarchRenderer(const VulkanContext& context, const CellBuffer& cells, const MaterialPalette& palette)
     : context_(context),
       brick_counts_(granular::brick_counts(cells.size())),
       occupancy_(context, VkDeviceSize(brick_counts_.x) * brick_counts_.y * brick_counts_.z * 4,
                  VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryKind::DeviceLocal),
       sets_(context.device(), {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
-                               VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER}),
+                               VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                               VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER}),
       rebuild_(context, brick_counts_, sets_, 2),
       occupancy_pass_(context.device(), sets_.layout(), "brick_occupancy.comp"),
       march_(context.device(), sets_.layout(), "raymarch.comp") {
   sets_.write_buffer(0, cells.buffer());
   sets_.write_buffer(3, occupancy_.buffer());
+  sets_.write_buffer(4, palette.buffer());
 }
 
 RaymarchRenderer::~RaymarchRenderer() { release_image(); }

@@ -3,6 +3,8 @@
 /// The ray-march renderer: a compute shader walks each pixel's ray through the cell buffer and
 /// writes the colour into a storage image, which is blitted into the frame's colour image; no
 /// instance build, no rasterised geometry (for GPUs where rasterisation is the limit, and 1024^3).
+/// Rays stop at the first opaque cell and see through liquids and gases, which absorb along the
+/// path; colours come from the world's material table (MaterialPalette).
 /// Its only per-brick state is one occupancy flag per brick (rebuilt for changed bricks), which
 /// lets rays cross empty bricks in one step.
 
@@ -18,12 +20,13 @@ namespace viewer {
 
 class VulkanContext;
 class CellBuffer;
+class MaterialPalette;
 
 /// The ray-march renderer.
 class RaymarchRenderer final : public Renderer {
  public:
-  /// Reads `cells` (which must outlive it).
-  RaymarchRenderer(const VulkanContext& context, const CellBuffer& cells);
+  /// Reads `cells` and `palette` (which must outlive it).
+  RaymarchRenderer(const VulkanContext& context, const CellBuffer& cells, const MaterialPalette& palette);
   /// Destroys its Vulkan objects (after the GPU is done with them).
   ~RaymarchRenderer() override;
 

@@ -17,7 +17,7 @@ namespace viewer {
 /// Which renderer.
 enum class RendererKind {
   Cubes,     ///< instanced cubes of the surface cells
-  Marching,  ///< marching-cubes surface of the solid+granular density
+  Marching,  ///< marching-cubes surfaces of the opaque, liquid and gas densities
   Raymarch,  ///< compute-shader DDA through the cell buffer, no geometry
 };
 

@@ -16,11 +16,11 @@ const char* to_string(RendererKind kind) {
 }
 
 std::unique_ptr<Renderer> make_renderer(RendererKind kind, const VulkanContext& context, const CellBuffer& cells,
-                                        VkRenderPass target_pass) {
+                                        const MaterialPalette& palette, VkRenderPass target_pass) {
   switch (kind) {
-    case RendererKind::Cubes: return std::make_unique<CubeRenderer>(context, cells, target_pass);
-    case RendererKind::Marching: return std::make_unique<MarchingCubesRenderer>(context, cells, target_pass);
-    case RendererKind::Raymarch: return std::make_unique<RaymarchRenderer>(context, cells);
+    case RendererKind::Cubes: return std::make_unique<CubeRenderer>(context, cells, palette, target_pass);
+    case RendererKind::Marching: return std::make_unique<MarchingCubesRenderer>(context, cells, palette, target_pass);
+    case RendererKind::Raymarch: return std::make_unique<RaymarchRenderer>(context, cells, palette);
   }
   return nullptr;
 }

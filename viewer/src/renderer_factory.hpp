@@ -12,10 +12,12 @@ namespace viewer {
 
 class VulkanContext;
 class CellBuffer;
+class MaterialPalette;
 
-/// A renderer of `kind` reading `cells`, drawing into passes compatible with `target_pass`.
+/// A renderer of `kind` reading `cells` in the colours of `palette` (both must outlive it), drawing
+/// into passes compatible with `target_pass`.
 std::unique_ptr<Renderer> make_renderer(RendererKind kind, const VulkanContext& context, const CellBuffer& cells,
-                                        VkRenderPass target_pass);
+                                        const MaterialPalette& palette, VkRenderPass target_pass);
 
 /// The kind named `name` ("cubes", "marching", "raymarch"), or nothing.
 std::optional<RendererKind> parse_renderer_kind(std::string_view name);

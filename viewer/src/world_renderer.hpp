@@ -12,6 +12,7 @@
 #include "camera.hpp"
 #include "cell_buffer.hpp"
 #include "frames_in_flight.hpp"
+#include "material_palette.hpp"
 #include "renderer.hpp"
 
 namespace granular {
@@ -48,8 +49,9 @@ struct BrushView {
 /// Renders one World (which must outlive it) into targets compatible with `target_pass`.
 class WorldRenderer {
  public:
-  /// Creates the cell buffer for `world` and the renderer of `kind`. With `shared` (CUDA interop,
-  /// outliving this), each frame snapshots the shared cells on the device instead of uploading.
+  /// Creates the cell buffer for `world`, the palette of its material table (World::rules()) and
+  /// the renderer of `kind`. With `shared` (CUDA interop, outliving this), each frame snapshots the
+  /// shared cells on the device instead of uploading.
   WorldRenderer(const VulkanContext& context, const granular::World& world, VkRenderPass target_pass, RendererKind kind,
                 SharedCells* shared = nullptr);
   /// Destroys its Vulkan objects (after the GPU is done with them).
@@ -83,6 +85,7 @@ class WorldRenderer {
   VkRenderPass target_pass_;
   SharedCells* shared_;
   std::unique_ptr<CellBuffer> cells_;
+  MaterialPalette palette_;
   std::array<std::unique_ptr<Renderer>, 3> renderers_;
   Renderer* active_ = nullptr;
   bool uploaded_once_ = false;
