@@ -40,11 +40,20 @@ TEST_CASE("tools: a held brush acts once per fixed update at the picked point; r
   tools.fixed_update(1.0 / 60);
   CHECK(world->count()[2] == dug[2] + 20);  // a steady rate: 10 cells per fixed update
 
-  state.tool = Tool::Place;
+  state.material = granular::Material::Liquid;  // the chosen material is what Pour emits
+  tools.fixed_update(1.0 / 60);
+  CHECK(world->count()[3] == 10);
+
+  state.tool = Tool::Place;  // paints the chosen material: a static one builds structure
+  state.material = granular::Material::Solid;
   state.target_in_front = granular::Vec3{16.5, 16.5, 20.5};
   tools.fixed_update(1.0 / 60);
   const auto placed = world->count();
   CHECK(placed[1] > dug[1]);
+  state.material = granular::Material::State6;
+  state.target_in_front = granular::Vec3{8.5, 8.5, 20.5};
+  tools.fixed_update(1.0 / 60);
+  CHECK(world->count()[6] > 0);
   state.tool = Tool::Erase;
   state.target = granular::Vec3{16.5, 16.5, 20.5};
   tools.fixed_update(1.0 / 60);

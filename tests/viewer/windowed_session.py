@@ -2,24 +2,33 @@
 """A user's first minute with the windowed sandbox, on a virtual display (run it inside
 with_xvfb.py, as ctest viewer.windowed_session does, or `xvfb-run -a`): starts LAUNCHER (scripts/launch, what ./scripts/run execs after installing and
 building), checks the window is still open after 10 s, taps C (xdotool's default 12 ms key press)
-and sees the renderer switch, clicks on the sand and sees it dug, keeps the window open for more
-than 60 frames, presses Esc and sees exit status 0.
+and sees the renderer switch, clicks on the sand and sees it dug, chooses the liquid (key 3) and
+pours it with a right click, chooses solid (key 1) and paints it with a right click, keeps the
+window open for more than 60 frames while tapping every material key 1..7 in turn (each must
+choose the material the sandbox listed for it at start), presses Esc and sees exit status 0 and,
+in the screenshot of the last frame, the HUD's colour swatch of every listed material.
 The sandbox prints one line per user action on stdout ("renderer: marching", "dig: 137 cells
-removed"); this script reads them. Every wait is bounded; exit status 0 on success, 1 with the
-reason otherwise.
+removed", "material: liquid (right button pours it)"); this script reads them. Every wait is
+bounded; exit status 0 on success, 1 with the reason otherwise.
 
 usage: windowed_session.py LAUNCHER [ARGS...]
 """
 
+import os
 import re
 import subprocess
 import sys
+import tempfile
 import threading
 import time
+
+from png_pixels import has_square_of_colour, read_png
 
 WINDOW_TITLE = "granular sandbox"
 FRAMES_TO_OUTLAST = 61  # more frames than the 60 after which the window once closed itself
 SESSION_SECONDS = 85  # every wait ends by then: the whole test ends within 90 s
+HUD_CORNER = 480  # the HUD window lies within the window's top-left 480 x 480 pixels
+SWATCH_SQUARE = 10  # a swatch (14 pixels) holds a square of this side of its exact colour
 
 
 class Sandbox:
@@ -82,7 +91,7 @@ def find_window(timeout):
     return None
 
 
-def run(command):
+def run(command, screenshot):
     started = time.monotonic()
 
     def step(text):
@@ -93,6 +102,17 @@ def run(command):
     try:
         if not sandbox.wait_for(r"^window\s+\d+x\d+", timeout=60):
             return "the sandbox did not open its window within 60 s"
+        listed = sandbox.wait_for(r"^materials\s+(.*) \(number keys", timeout=1)
+        if not listed:
+            return "the sandbox did not list its materials at start"
+        items = [re.fullmatch(r"(\d) (.+) #([0-9A-F]{6})", item) for item in listed.group(1).split(", ")]
+        if not all(items):
+            return f"the materials line does not read 'KEY NAME #RRGGBB, ...': {listed.group(1)}"
+        materials = {item.group(1): item.group(2) for item in items}
+        colours = {item.group(1): bytes.fromhex(item.group(3)) for item in items}
+        if sorted(materials) != [str(key) for key in range(1, 8)]:
+            return f"the sandbox offers keys {sorted(materials)}, expected 1..7"
+        step("materials on keys: " + ", ".join(f"{key} {name}" for key, name in sorted(materials.items())))
         window = find_window(timeout=10)
         if window is None:
             return f"no X window named '{WINDOW_TITLE}'"
@@ -125,23 +145,48 @@ def run(command):
             return "a click on the sand removed no cell"
         step(f"the click dug {dug.group(1)} cells")
 
+        # Key 3 chooses the presets' liquid (poured), key 1 solid (painted as structure); a right
+        # click applies each at the window's centre.
+        for key in ("3", "1"):
+            mark = len(sandbox.lines)
+            xdotool("key", key)
+            chosen = sandbox.wait_for(r"^material: (.+) \(right button (pours|paints) it\)$", timeout=20, after=mark)
+            if not chosen:
+                return f"a tap of {key} did not choose a material within 20 s"
+            name, use = chosen.group(1), chosen.group(2)
+            if name != materials[key]:
+                return f"key {key} chose {name}, but the sandbox listed {materials[key]} for it"
+            mark = len(sandbox.lines)
+            xdotool("mousemove", "--window", window, str(centre_x), str(centre_y), "click", "3")
+            pattern = (rf"^pour: (\d+) {re.escape(name)} cells added$" if use == "pours"
+                       else rf"^place: (\d+) {re.escape(name)} cells placed$")
+            applied = sandbox.wait_for(pattern, timeout=20, after=mark)
+            if not applied:
+                return f"a right click with {name} chosen did not {use[:-1]} it within 20 s"
+            if int(applied.group(1)) <= 0:
+                return f"a right click with {name} chosen changed no cell"
+            step(f"a right click {use} {applied.group(1)} cells of {name}")
+
         # More than 60 frames with the window open, counted by the sandbox's own acknowledgements:
-        # each tap of 1 is sent after the previous one was acknowledged, so each acknowledgement is
-        # printed by a later frame. Paused and ray marched, a frame costs little even on lavapipe.
+        # each tap of a material key is sent after the previous one was acknowledged, so each
+        # acknowledgement is printed by a later frame. Paused and ray marched, a frame costs little
+        # even on lavapipe.
         for key, reply in (("c", "renderer: raymarch"), ("space", "paused")):
             mark = len(sandbox.lines)
             xdotool("key", key)
             if not sandbox.wait_for(f"^{reply}$", timeout=20, after=mark):
                 return f"a tap of {key} did not print '{reply}' within 20 s"
-        step(f"tapping 1 until {FRAMES_TO_OUTLAST} frames have acknowledged a tap each")
+        step(f"tapping keys 1..7 in turn until {FRAMES_TO_OUTLAST} frames have acknowledged a tap each")
         for frame in range(FRAMES_TO_OUTLAST):
+            key = str(frame % 7 + 1)
             mark = len(sandbox.lines)
-            xdotool("key", "1")
-            if not sandbox.wait_for(r"^pour material: granular$", timeout=10, after=mark):
+            xdotool("key", key)
+            if not sandbox.wait_for(rf"^material: {re.escape(materials[key])} \(right button (pours|paints) it\)$",
+                                    timeout=10, after=mark):
                 if sandbox.process.poll() is not None:
                     return (f"the sandbox closed by itself after {frame} acknowledged taps "
                             f"(exit status {sandbox.process.returncode})")
-                return f"tap {frame + 1} of 1 was not acknowledged within 10 s"
+                return f"tap {frame + 1} (key {key}, {materials[key]}) was not acknowledged within 10 s"
         if sandbox.process.poll() is not None:
             return f"the sandbox closed by itself (exit status {sandbox.process.returncode}) before Esc"
         step(f"still open after {FRAMES_TO_OUTLAST} frames")
@@ -160,6 +205,13 @@ def run(command):
         if int(summary.group(1)) <= FRAMES_TO_OUTLAST:
             return f"the summary counts {summary.group(1)} frames, expected more than {FRAMES_TO_OUTLAST}"
         step("closed with exit status 0")
+
+        png = read_png(screenshot, HUD_CORNER, HUD_CORNER)
+        missing = [f"{key} {materials[key]}" for key in sorted(colours)
+                   if not has_square_of_colour(png, colours[key], SWATCH_SQUARE)]
+        if missing:
+            return "the HUD of the last frame shows no colour swatch of " + ", ".join(missing)
+        step("the last frame's HUD shows the swatch of each of the 7 materials")
         return None
     finally:
         if sandbox.process.poll() is None:
@@ -171,7 +223,9 @@ def main():
     if len(sys.argv) < 2:
         print(__doc__, file=sys.stderr)
         return 2
-    failure = run(sys.argv[1:])
+    with tempfile.TemporaryDirectory(prefix="windowed-session-") as folder:
+        screenshot = os.path.join(folder, "last-frame.png")
+        failure = run(sys.argv[1:] + ["--screenshot", screenshot], screenshot)
     if failure:
         print("FAILED: " + failure, flush=True)
         return 1

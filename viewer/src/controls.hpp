@@ -14,8 +14,8 @@ struct Control {
 
 /// Every control of the windowed sandbox.
 inline constexpr std::array<Control, 17> kControls{{
-    {"left button", "dig (sand brush) / erase (solid brush) where the cursor's ray hits"},
-    {"right button", "pour the chosen material above the hit point (sand brush) / place solid (solid brush)"},
+    {"left button", "dig (removes all but solid) / erase (removes everything) where the cursor's ray hits"},
+    {"right button", "the chosen material: pour it above the hit point (granular, liquid, gas) / paint it as a sphere of structure in front of the hit face (static)"},
     {"wheel", "brush radius"},
     {"middle drag, or Alt + left drag", "orbit"},
     {"Shift + middle drag", "pan"},
@@ -23,8 +23,8 @@ inline constexpr std::array<Control, 17> kControls{{
     {"W A S D", "fly forward / left / back / right"},
     {"Q / E", "fly down / up"},
     {"F", "frame the content (every non-void cell, as at the start)"},
-    {"Tab", "switch brush: sand (dig, pour) / solid (erase, place)"},
-    {"1 / 2 / 3", "pour material: granular / liquid / gas"},
+    {"Tab", "switch the left button: dig / erase"},
+    {"1 .. 7", "choose the material of state 1..7 of the world's table (the HUD lists each with its colour; presets: solid, granular, liquid, gas, gravel, state6, state7)"},
     {"Space", "pause / resume"},
     {"N", "single step (while paused)"},
     {"[ / ]", "fewer / more ticks per fixed update"},

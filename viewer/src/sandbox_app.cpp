@@ -26,6 +26,8 @@
 #include "granular/time_scale.hpp"
 #include "hud.hpp"
 #include "input_tracker.hpp"
+#include "material_choices.hpp"
+#include "material_panel.hpp"
 #include "png_writer.hpp"
 #include "renderer_factory.hpp"
 #include "sandbox_tools.hpp"
@@ -46,7 +48,11 @@ struct Session {
   std::unique_ptr<granular::engine::GranularSubsystem> simulation;
 };
 
-enum class Brush { Sand, Solid };
+/// What the left button does (Tab switches).
+enum class LeftTool {
+  Dig,    ///< World::dig: removes what is not solid
+  Erase,  ///< paints void: removes everything, solid included
+};
 
 /// Prints one line on stdout for a user action and flushes it, so that whoever started the sandbox
 /// (a user's terminal, a test) sees it at once.
@@ -88,6 +94,7 @@ class SandboxApp final : public granular::engine::Subsystem {
     std::printf("device         %s\n", context_.device_name().c_str());
     std::printf("scene          %s (N=%d), backend %s\n", session_->sandbox.scene_name.c_str(), session_->sandbox.n,
                 world().backend_description().c_str());
+    report("materials      %s (number keys; the right button pours or paints the chosen one)", describe(choices_).c_str());
     report("window         %ux%u, renderer %s; Esc or closing the window quits", swapchain_.target().extent().width,
            swapchain_.target().extent().height, to_string(kind_));
     std::uint64_t frames = 0;
@@ -192,6 +199,10 @@ class SandboxApp final : public granular::engine::Subsystem {
     session->simulation = std::make_unique<granular::engine::GranularSubsystem>(*session->sandbox.world, ticks);
     session->simulation->set_paused(paused);
     session_ = std::move(session);
+    choices_ = material_choices(world().rules().materials);
+    ToolState& tools = session_->tools->state();
+    if (std::none_of(choices_.begin(), choices_.end(), [&](const MaterialChoice& c) { return c.material == tools.material; }))
+      tools.material = choices_.front().material;
     choice_ = choice;
     choice_.scene = session_->sandbox.scene_name;
     choice_.size = session_->sandbox.n;
@@ -259,16 +270,8 @@ class SandboxApp final : public granular::engine::Subsystem {
         report("camera: framing the content");
         break;
       case GLFW_KEY_TAB:
-        brush_ = brush_ == Brush::Sand ? Brush::Solid : Brush::Sand;
-        report("brush: %s", brush_ == Brush::Sand ? "sand (left dig, right pour)" : "solid (left erase, right place)");
-        break;
-      case GLFW_KEY_1:
-      case GLFW_KEY_2:
-      case GLFW_KEY_3:
-        tool.pour_material = key == GLFW_KEY_1 ? granular::Material::Granular
-                             : key == GLFW_KEY_2 ? granular::Material::Liquid
-                                                 : granular::Material::Gas;
-        report("pour material: %s", std::string(granular::material_name(tool.pour_material)).c_str());
+        left_tool_ = left_tool_ == LeftTool::Dig ? LeftTool::Erase : LeftTool::Dig;
+        report("left button: %s", left_tool_ == LeftTool::Dig ? "dig (keeps solid)" : "erase (everything, solid included)");
         break;
       case GLFW_KEY_SPACE:
         session_->simulation->set_paused(!session_->simulation->paused());
@@ -285,9 +288,21 @@ class SandboxApp final : public granular::engine::Subsystem {
         break;
       case GLFW_KEY_R: pending_load_ = true; break;
       case GLFW_KEY_ESCAPE: glfwSetWindowShouldClose(window_.handle(), GLFW_TRUE); break;
-      default: break;
+      default:
+        if (key >= GLFW_KEY_1 && key <= GLFW_KEY_9)
+          if (const auto choice = choice_of_key(choices_, key - GLFW_KEY_0)) choose(tool, *choice);
+        break;
     }
   }
+
+  /// Makes `choice` the material of the right button.
+  void choose(ToolState& tool, const MaterialChoice& choice) {
+    tool.material = choice.material;
+    report("material: %s (right button %ss it)", choice.name.c_str(), to_string(choice.use));
+  }
+
+  /// The table's name of `material`.
+  const char* name_of(granular::Material material) const { return choice_of(choices_, material).name.c_str(); }
 
   /// Characters rather than keys where the symbol matters more than its place on the keyboard.
   void on_character(int character) {
@@ -299,9 +314,9 @@ class SandboxApp final : public granular::engine::Subsystem {
     if (stroke_) return;  // one tool at a time
     ToolState& tool = session_->tools->state();
     if (button == GLFW_MOUSE_BUTTON_LEFT && !(mods & GLFW_MOD_ALT)) {
-      tool.tool = brush_ == Brush::Sand ? Tool::Dig : Tool::Erase;
+      tool.tool = left_tool_ == LeftTool::Dig ? Tool::Dig : Tool::Erase;
     } else if (button == GLFW_MOUSE_BUTTON_RIGHT) {
-      tool.tool = brush_ == Brush::Sand ? Tool::Pour : Tool::Place;
+      tool.tool = choice_of(choices_, tool.material).use == MaterialUse::Pour ? Tool::Pour : Tool::Place;
     } else {
       return;
     }
@@ -318,10 +333,8 @@ class SandboxApp final : public granular::engine::Subsystem {
     stroke_.reset();
     switch (tools.state().tool) {
       case Tool::Dig: report("dig: %lld cells removed", cells); break;
-      case Tool::Pour:
-        report("pour: %lld %s cells added", cells, std::string(granular::material_name(tools.state().pour_material)).c_str());
-        break;
-      case Tool::Place: report("place solid: %lld cells placed", cells); break;
+      case Tool::Pour: report("pour: %lld %s cells added", cells, name_of(tools.state().material)); break;
+      case Tool::Place: report("place: %lld %s cells placed", cells, name_of(tools.state().material)); break;
       case Tool::Erase: report("erase: %lld cells erased", cells); break;
     }
   }
@@ -397,14 +410,13 @@ class SandboxApp final : public granular::engine::Subsystem {
     const granular::ActivityStats activity = world().activity();
     ImGui::Text("active bricks %llu / %llu, tick %llu", static_cast<unsigned long long>(activity.active_bricks),
                 static_cast<unsigned long long>(activity.total_bricks), static_cast<unsigned long long>(world().tick()));
-    for (int m = 1; m < granular::kMaterialCount; ++m)
-      if (counts_[m]) ImGui::Text("  %-9s %llu", std::string(granular::material_name(granular::Material(m))).c_str(),
-                                  static_cast<unsigned long long>(counts_[m]));
     ImGui::Separator();
-    ImGui::Text("brush: %s (left %s, right %s), radius %.0f", brush_ == Brush::Sand ? "sand" : "solid",
-                brush_ == Brush::Sand ? "dig" : "erase", brush_ == Brush::Sand ? "pour" : "place", tool.radius);
+    const MaterialChoice& chosen = choice_of(choices_, tool.material);
+    ImGui::Text("left: %s (Tab: %s), right: %s %s, radius %.0f", left_tool_ == LeftTool::Dig ? "dig" : "erase",
+                left_tool_ == LeftTool::Dig ? "erase" : "dig", to_string(chosen.use), chosen.name.c_str(), tool.radius);
     ImGui::Text("active tool: %s", tool.held ? to_string(tool.tool) : "none");
-    ImGui::Text("pour material: %s", std::string(granular::material_name(tool.pour_material)).c_str());
+    if (const auto clicked = draw_material_panel(choices_, tool.material, counts_))
+      choose(session_->tools->state(), choice_of(choices_, *clicked));
     int kind = int(kind_);
     ImGui::Text("renderer");
     for (RendererKind k : {RendererKind::Cubes, RendererKind::Marching, RendererKind::Raymarch}) {
@@ -450,7 +462,8 @@ class SandboxApp final : public granular::engine::Subsystem {
   WorldChoice choice_;
   bool pending_load_ = false;
   std::optional<Stroke> stroke_;
-  Brush brush_ = Brush::Sand;
+  LeftTool left_tool_ = LeftTool::Dig;
+  std::vector<MaterialChoice> choices_;  ///< the materials of the world's table, on keys 1..7
   double frame_seconds_ = 0;
   double fps_ = 0;
   double counts_age_ = 1e9;

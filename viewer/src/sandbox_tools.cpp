@@ -12,7 +12,7 @@ const char* to_string(Tool tool) {
   switch (tool) {
     case Tool::Dig: return "dig";
     case Tool::Pour: return "pour";
-    case Tool::Place: return "place solid";
+    case Tool::Place: return "place";
     case Tool::Erase: return "erase";
   }
   return "?";
@@ -29,9 +29,9 @@ std::int64_t apply_tool(granular::World& world, const ToolState& state) {
         const std::int64_t amount =
             state.pour_per_tick > 0 ? state.pour_per_tick : std::max<std::int64_t>(1, std::int64_t(r * r * r));
         const granular::Vec3 above{hit.x, hit.y, hit.z + r + 2.0};
-        return world.pour(above, r, state.pour_material, amount).cells_changed;
+        return world.pour(above, r, state.material, amount).cells_changed;
       }
-      case Tool::Place: return world.paint(granular::Sphere{state.target_in_front.value_or(hit), r}, granular::Material::Solid).cells_changed;
+      case Tool::Place: return world.paint(granular::Sphere{state.target_in_front.value_or(hit), r}, state.material).cells_changed;
       case Tool::Erase: return world.paint(granular::Sphere{hit, r}, granular::Material::Void).cells_changed;
     }
   } catch (const granular::InvalidArgument&) {

@@ -19,19 +19,19 @@ namespace viewer {
 /// What the brush does.
 enum class Tool {
   Dig,    ///< World::dig: removes grains in the sphere
-  Pour,   ///< World::pour: emits grains of the chosen material above the point
-  Place,  ///< World::paint(sphere, Solid): places solid
+  Pour,   ///< World::pour: emits cells of the chosen material above the point
+  Place,  ///< World::paint(sphere, chosen material) in front of the hit face: builds structure
   Erase,  ///< World::paint(sphere, Void): erases everything, solid included
 };
 
-/// "dig", "pour", "place solid", "erase".
+/// "dig", "pour", "place", "erase".
 const char* to_string(Tool tool);
 
 /// The brush and what it is doing this frame.
 struct ToolState {
   Tool tool = Tool::Dig;                                  ///< active tool
   double radius = 4.0;                                    ///< brush radius (cells)
-  granular::Material pour_material = granular::Material::Granular;  ///< what Pour emits
+  granular::Material material = granular::Material::Granular;  ///< the chosen material: Pour emits it, Place paints it
   std::int64_t pour_per_tick = 0;                         ///< cells poured per fixed update (0: brush volume / 4)
   bool held = false;                                      ///< the button is down
   std::optional<granular::Vec3> target;                   ///< the picked surface point, if the cursor hits
