@@ -209,9 +209,11 @@ TEST_CASE("vox: a small grid is one SIZE/XYZI model plus the material palette") 
   CHECK(std::string(b.begin() + 72, b.begin() + 76) == "RGBA");
   CHECK(get_u32(b, 76) == 1024);
   const std::size_t palette = 84;  // entry k = palette index k + 1
-  CHECK(Bytes(b.begin() + palette, b.begin() + palette + 4) == Bytes{0x80, 0x80, 0x80, 0xFF});
-  CHECK(Bytes(b.begin() + palette + 4, b.begin() + palette + 8) == Bytes{0xC2, 0xB2, 0x80, 0xFF});
-  CHECK(Bytes(b.begin() + palette + 8, b.begin() + palette + 12) == Bytes{0x30, 0x70, 0xE0, 0xFF});
+  // The presets' material colours (MaterialDef::colour): solid, sand, water, ..., gravel.
+  CHECK(Bytes(b.begin() + palette, b.begin() + palette + 4) == Bytes{0x8C, 0x8C, 0x94, 0xFF});
+  CHECK(Bytes(b.begin() + palette + 4, b.begin() + palette + 8) == Bytes{0xD9, 0xB8, 0x73, 0xFF});
+  CHECK(Bytes(b.begin() + palette + 8, b.begin() + palette + 12) == Bytes{0x2E, 0x6F, 0xD9, 0xFF});
+  CHECK(Bytes(b.begin() + palette + 16, b.begin() + palette + 20) == Bytes{0x6E, 0x6A, 0x64, 0xFF});
   CHECK(occurrences(b, "nTRN") == 0);
 }
 

@@ -10,6 +10,7 @@
 #include <unordered_set>
 #include <utility>
 
+#include "granular/rule_presets.hpp"
 #include "granular/errors.hpp"
 #include "granular/grid_io.hpp"
 #include "granular/memory_budget.hpp"
@@ -26,17 +27,13 @@ constexpr std::size_t kFileHeaderSize = 8;
 /// `_r` of an unrotated node: row 0 has its 1 in column 0, row 1 in column 1, all signs positive.
 constexpr int kIdentityRotation = 0 | (1 << 2);
 
-/// Colour of palette index m (= material m) for m in 1..7; index 0 is unused.
-constexpr std::array<std::array<std::uint8_t, 4>, kMaterialCount> kMaterialColours = {{
-    {0, 0, 0, 0},             // void: never written
-    {0x80, 0x80, 0x80, 255},  // solid: grey
-    {0xC2, 0xB2, 0x80, 255},  // granular: sand
-    {0x30, 0x70, 0xE0, 255},  // liquid: blue
-    {0xDC, 0xEE, 0xF8, 255},  // gas: light
-    {0xD0, 0x40, 0x40, 255},  // state 5: red
-    {0x40, 0xB0, 0x50, 255},  // state 6: green
-    {0xA0, 0x50, 0xC8, 255},  // state 7: violet
-}};
+/// Colour of palette index m (= material m) for m in 1..7: the presets' material table colours
+/// (MaterialDef::colour, default_materials); index 0 is unused.
+std::array<std::uint8_t, 4> material_colour(int m) {
+  static const MaterialTable table = default_materials();
+  const std::uint32_t c = table[std::size_t(m)].colour;
+  return {std::uint8_t(c >> 16), std::uint8_t(c >> 8), std::uint8_t(c), 255};
+}
 
 /// Colour of the palette entries no material uses.
 constexpr std::array<std::uint8_t, 4> kUnusedColour = {0x40, 0x40, 0x40, 255};
@@ -170,7 +167,7 @@ void write_palette(VoxWriter& w) {
   const std::size_t rgba = w.begin("RGBA");
   for (int entry = 0; entry < 256; ++entry) {
     const int index = entry + 1;  // entry k of the chunk is palette index k + 1
-    const auto& c = index < kMaterialCount ? kMaterialColours[std::size_t(index)] : kUnusedColour;
+    const auto c = index < kMaterialCount ? material_colour(index) : kUnusedColour;
     w.bytes(c.data(), c.size());
   }
   w.end_content(rgba);

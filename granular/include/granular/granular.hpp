@@ -16,6 +16,8 @@
 #include "granular/material.hpp"
 #include "granular/motion.hpp"
 #include "granular/raycast.hpp"
+#include "granular/rule_presets.hpp"
+#include "granular/rule_set.hpp"
 #include "granular/scene.hpp"
 #include "granular/task_system.hpp"
 #include "granular/time_scale.hpp"

@@ -1,0 +1,166 @@
+/// @file bench_materials.cpp
+/// Every material of the presets' table moving at once, and at rest, through World on either
+/// backend (figures in bench/RESULTS.md):
+///
+/// 1. *Mixed*: an N x N x N/2 world released at tick 0: a water column at one end breaks over the
+///    floor (a dam break), a block of sand falls into a water pool with gas pockets at its bottom,
+///    and a block of gravel falls onto a sand bed. ms per tick over --ticks ticks from release, and
+///    the real-time factor at 60 ticks per second (16.67 ms / ms per tick).
+/// 2. *Settled*: a pool (water in full layers in a walled basin) beside a sand pile and a gravel
+///    pile left by collapsing columns, stepped until no brick is awake (at most --max-ticks); then
+///    ms per tick of a dense and a sparse world from that state, and their ratio.
+///
+///   bench_materials [--backend cpu|cuda] [--n N] [--ticks T] [--max-ticks M] [--threads J] [--rules R]
+/// Exit status 1 when the dense and sparse worlds' hashes differ or a material count changes.
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+#include "granular/errors.hpp"
+#include "granular/world.hpp"
+
+namespace {
+
+using namespace granular;
+
+/// The command line (see the file comment).
+struct Options {
+  std::string backend = "cpu";  ///< cpu or cuda
+  int n = 128;                  ///< world size N
+  int ticks = 256;              ///< ticks of the mixed measurement
+  int max_ticks = 20000;        ///< the settled world stops here even if not at rest
+  int threads = 0;              ///< CPU threads (0 = all)
+  std::string rules = WorldDef{}.rules;  ///< rule-set preset
+};
+
+/// Reads the options; throws InvalidArgument for unknown ones or bad values.
+Options parse(int argc, char** argv) {
+  Options o;
+  for (int i = 1; i < argc; i += 2) {
+    const std::string key = argv[i];
+    if (i + 1 >= argc) throw InvalidArgument("bench_materials: " + key + " needs a value");
+    const std::string value = argv[i + 1];
+    if (key == "--backend") o.backend = value;
+    else if (key == "--n") o.n = std::atoi(value.c_str());
+    else if (key == "--ticks") o.ticks = std::atoi(value.c_str());
+    else if (key == "--max-ticks") o.max_ticks = std::atoi(value.c_str());
+    else if (key == "--threads") o.threads = std::atoi(value.c_str());
+    else if (key == "--rules") o.rules = value;
+    else throw InvalidArgument("bench_materials: unknown option " + key);
+  }
+  if (o.backend != "cpu" && o.backend != "cuda") throw InvalidArgument("bench_materials: --backend " + o.backend + " (cpu or cuda)");
+  if (o.n < 32 || o.n % 16 != 0) throw InvalidArgument("bench_materials: --n " + std::to_string(o.n) + " (a multiple of 16, >= 32)");
+  if (o.ticks < 1 || o.max_ticks < 1) throw InvalidArgument("bench_materials: --ticks and --max-ticks must be >= 1");
+  return o;
+}
+
+WorldDef def_for(const Options& o, Int3 size, bool sparse) {
+  WorldDef def;
+  def.size = size;
+  def.backend = o.backend == "cuda" ? BackendKind::Cuda : BackendKind::Cpu;
+  def.threads = o.threads;
+  def.sparse = sparse;
+  def.rules = o.rules;
+  return def;
+}
+
+/// Seconds that `world.step(ticks)` takes (step synchronises with the device before returning).
+double timed_step(World& world, int ticks) {
+  const auto start = std::chrono::steady_clock::now();
+  world.step(ticks);
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+/// The mixed scene of N (see the file comment), on a floor, in an N x N x N/2 world.
+void paint_mixed(World& w, int n) {
+  const int h = n / 2, f = n / 32;  // height, floor thickness
+  w.paint(Box{{0, 0, 0}, {n, n, f}}, Material::Solid);
+  // Dam break: water 3/16 N long and 3/8 N high along the x = 0 wall, over half the y extent.
+  w.paint(Box{{0, 0, f}, {3 * n / 16, n / 2, f + 3 * n / 8}}, Material::Liquid);
+  // A walled pool in the far half, water to h/4 with gas pockets at its bottom; sand above it.
+  const int px0 = n / 2, py0 = n / 2, px1 = n - f, py1 = n - f, wall = f + h / 3;
+  w.paint(Box{{px0 - f, py0 - f, f}, {n, n, wall}}, Material::Solid);
+  w.paint(Box{{px0, py0, f}, {px1, py1, f + h / 4}}, Material::Liquid);
+  for (int k = 0; k < 4; ++k) {
+    const int x = px0 + (k + 1) * (px1 - px0) / 5;
+    w.paint(Box{{x - 2, py0 + 4, f + 1}, {x + 2, py1 - 4, f + 3}}, Material::Gas);
+  }
+  w.paint(Box{{px0 + n / 8, py0 + n / 8, h - n / 8}, {px1 - n / 8, py1 - n / 8, h - n / 32}}, Material::Granular);
+  // A sand bed in the near right quarter and a gravel block falling onto it.
+  w.paint(Box{{n / 2, 0, f}, {n, n / 2 - f, f + n / 16}}, Material::Granular);
+  w.paint(Box{{5 * n / 8, n / 8, h - n / 6}, {7 * n / 8, 3 * n / 8, h - n / 16}}, Material::Gravel);
+}
+
+/// The settled scene of N: a basin of water in full layers, and collapsing sand and gravel columns.
+void paint_settled(World& w, int n) {
+  const int h = n / 2, f = n / 32;
+  w.paint(Box{{0, 0, 0}, {n, n, f}}, Material::Solid);
+  w.paint(Box{{0, 0, f}, {n / 2, n, f + h / 3}}, Material::Solid);
+  w.paint(Box{{f, f, f + 1}, {n / 2 - f, n - f, f + h / 3}}, Material::Void);
+  w.paint(Box{{f, f, f + 1}, {n / 2 - f, n - f, f + h / 4}}, Material::Liquid);
+  w.paint(Box{{5 * n / 8, n / 8, f}, {6 * n / 8, 2 * n / 8, f + h / 2}}, Material::Granular);
+  w.paint(Box{{5 * n / 8, 5 * n / 8, f}, {6 * n / 8, 6 * n / 8, f + h / 2}}, Material::Gravel);
+}
+
+int run(const Options& o) {
+  const Int3 size{o.n, o.n, o.n / 2};
+  World mixed(def_for(o, size, true));
+  paint_mixed(mixed, o.n);
+  const MaterialCounts before = mixed.count();
+  mixed.step(8);  // the first cycle: tables warm, every brick awake
+  const double s = timed_step(mixed, o.ticks);
+  const double ms = s * 1000.0 / o.ticks;
+  const ActivityStats a = mixed.activity();
+  std::printf("bench_materials: %s, rules %s, %dx%dx%d\n", mixed.backend_description().c_str(), o.rules.c_str(), size.x,
+              size.y, size.z);
+  std::printf("mixed: %.4f ms/tick over %d ticks from release (%.2fx real time at 60 ticks/s); %llu of %llu bricks awake at the end\n",
+              ms, o.ticks, (1000.0 / 60.0) / ms, static_cast<unsigned long long>(a.active_bricks),
+              static_cast<unsigned long long>(a.total_bricks));
+  if (mixed.count() != before) {
+    std::fprintf(stderr, "bench_materials: the mixed world's material counts changed\n");
+    return 1;
+  }
+
+  World sparse(def_for(o, size, true));
+  paint_settled(sparse, o.n);
+  int rest = 0;
+  while (int(sparse.tick()) < o.max_ticks) {
+    sparse.step(64);
+    if (sparse.activity().brick_ticks == 0) {
+      rest = int(sparse.tick());
+      break;
+    }
+  }
+  World dense(def_for(o, size, false));
+  dense.load(sparse.snapshot());
+  sparse.load(sparse.snapshot());  // both from the same bytes (a snapshot restarts grains at rest)
+  sparse.step(64);
+  dense.step(64);
+  double dense_s = 0, sparse_s = 0;
+  for (int r = 0; r < 4; ++r) {
+    dense_s += timed_step(dense, 64);
+    sparse_s += timed_step(sparse, 64);
+  }
+  const double dense_ms = dense_s * 1000.0 / 256, sparse_ms = sparse_s * 1000.0 / 256;
+  std::printf("settled: at rest after %d ticks (%s); dense %.4f ms/tick, sparse %.6f ms/tick: %.0fx; %llu bricks awake\n",
+              rest, rest > 0 ? "no brick awake" : "NOT at rest by --max-ticks", dense_ms, sparse_ms, dense_ms / sparse_ms,
+              static_cast<unsigned long long>(sparse.activity().active_bricks));
+  if (dense.hash() != sparse.hash()) {
+    std::fprintf(stderr, "bench_materials: dense and sparse differ after the settled measurement\n");
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    return run(parse(argc, argv));
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 1;
+  }
+}
