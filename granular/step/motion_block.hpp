@@ -8,8 +8,9 @@
 /// t uses the partition offset motion_offset(t, s): z flips every sub-step, and the sub-step in
 /// which grains at rest take part (s = t & 1) walks all 8 offsets over 8 ticks, as the one-step
 /// cycle does. Per block:
-///  1. Each cell gets a code for the table from its material's behaviour (StepMaterials): void 0,
-///     obstacle 1 (every static material), grain 2 (every granular one). A grain in the top layer that is outside its window this sub-step (it is too slow
+///  1. Each cell gets a code for the table from its material's behaviour (StepMaterials): void 0
+///     (void and every gas), obstacle 1 (every static material), grain 2 (every granular and liquid
+///     one: a faller). A faller in the top layer that is outside its window this sub-step (it is too slow
 ///     to move now) reads as an obstacle; one inside its window with a motion level above 0 reads,
 ///     with chance roll_chance / 256 (its material's GrainMotion), as a roller (3), which the table lets roll sideways onto the
 ///     top of a neighbour column one cell lower. Bottom-layer grains never move on their own, so
@@ -24,6 +25,11 @@
 ///     from below loses 1 with chance roll_cost / 256 if it rolled, kStuckCost / 256 if its block
 ///     had no room. So a moving grain runs on down slopes steeper than the balance of gains and
 ///     costs and stops on shallower ones, whatever the pile's size: the friction lever.
+///  4. On a block holding a liquid, a gas or two granular materials, the fluid pass
+///     (fluid_block.hpp) moves what gravity and flow left: density order, liquid and gas spread. Its
+///     movers are the fallers that took part and stayed, and in sub-steps 0 and 1 the bottom-layer
+///     gases (a gas rises at most 2 cells per tick and has no motion state); its draws come from
+///     block_random(seed ^ fluid::kDrawSalt, t * substeps + s, x0, y0, z0).
 /// A grain's window is motion_window(level) sub-steps from its phase: in sub-step 0 every grain
 /// notes its layer (top: phase 0, bottom: phase 1, where it is top one sub-step later), so a grain
 /// starting from rest falls 1, 4, 9, ... cells after 1, 2, 3 ticks whichever layer it starts in,
@@ -208,8 +214,9 @@ constexpr std::uint64_t step_block(std::uint64_t bytes, const SubStep& m, int x0
     const int start = (byte & kMotionPhaseBit) ? 1 : 0;
     if (s >= start && s - start < motion_window(level)) takes_part |= 1u << i;
   }
+  const std::uint32_t present = present_materials(bytes);  // the same after any permutation
   unsigned gas_turn = 0;
-  if (s < 2 && mats.gases != 0)
+  if (s < 2 && (present & mats.gases) != 0)
     for (int i = 0; i < 4; ++i)
       if (mats.is_gas(std::uint32_t(bytes >> (8 * i)) & kMaterialMask)) gas_turn |= 1u << i;
   if ((takes_part | gas_turn) == 0) return bytes;
@@ -260,7 +267,7 @@ constexpr std::uint64_t step_block(std::uint64_t bytes, const SubStep& m, int x0
     }
     out |= std::uint64_t(byte) << (8 * dest);
   }
-  if (!mats.fluid_pass_applies(present_materials(out))) return out;
+  if (!mats.fluid_pass_applies(present)) return out;
   const std::uint64_t draws =
       block_random(m.seed ^ fluid::kDrawSalt, m.tick * std::uint64_t(m.substeps) + std::uint64_t(s), x0, y0, z0);
   return fluid::fluid_pass<true>(out, movers, symmetry, draws, mats);
