@@ -484,6 +484,16 @@ TEST_CASE("scene: the base test scene parses every field") {
   CHECK(f.rate == 16);
   CHECK(f.start == 20);
   CHECK(f.stop == std::numeric_limits<std::uint64_t>::max());
+  // Every state's name, and the aliases "sand" and "water".
+  for (const auto& [name, m] : std::vector<std::pair<std::string, Material>>{
+           {"void", Material::Void}, {"solid", Material::Solid}, {"granular", Material::Granular},
+           {"sand", Material::Granular}, {"liquid", Material::Liquid}, {"water", Material::Liquid},
+           {"gas", Material::Gas}, {"gravel", Material::Gravel}, {"state6", Material::State6},
+           {"state7", Material::State7}}) {
+    CAPTURE(name);
+    const Scene named = parse_scene(with(kBase, R"("material": "granular")", R"("material": ")" + name + "\""), "m.json");
+    CHECK(named.shapes[1].material == m);
+  }
 }
 
 TEST_CASE("scene: malformed scenes throw ParseError naming the file, the field and the value") {
@@ -523,6 +533,11 @@ TEST_CASE("scene: malformed scenes throw ParseError naming the file, the field a
     const std::string material = with(kBase, R"("material": "granular")", R"("material": "mud")");
     expect_parse_error(material, "shapes[1].material", "\"mud\"");
     expect_parse_error(material, "shapes[1].material", "granular");  // lists the valid names
+    expect_parse_error(material, "shapes[1].material", "gravel");
+    expect_parse_error(material, "shapes[1].material", "liquid (or water)");
+    // State 5 is gravel now: its old placeholder name is no material.
+    expect_parse_error(with(kBase, R"("material": "granular")", R"("material": "state5")"), "shapes[1].material",
+                       "\"state5\"");
     expect_parse_error(with(kBase, R"("material": "void")", R"("material": "void", "only": "clay")"), "shapes[3].only",
                        "\"clay\"");
     expect_parse_error(with(kBase, R"("radius": 0.2})", R"("radus": 0.2, "radius": 0.2})"), "shapes[1].radus", "0.2");

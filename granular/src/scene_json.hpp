@@ -26,7 +26,7 @@ inline constexpr double kMaxFraction = 1000.0;
 
 /// The valid material names, for messages.
 inline constexpr const char* kMaterialNames =
-    "void, solid, granular (or sand), liquid, gas, state5, state6, state7";
+    "void, solid, granular (or sand), liquid (or water), gas, gravel, state6, state7";
 
 /// The shortest text that reads back as `v` ("0.1", "863", "1e+30"), for messages.
 inline std::string number_text(double v) {

@@ -68,7 +68,7 @@ def main():
     {"type": "sphere", "material": "sand", "center": [0.5, 0.4, 0.3], "radius": 0.1, "only": "void"},
     {"type": "cylinder", "material": "liquid", "center": [0.25, 0.25], "radius": 0.1, "z0": 0.1, "z1": 0.2},
     {"type": "frustum", "material": "void", "center": [0.7, 0.5], "z0": 0.1, "z1": 0.3, "r0": 0.1, "r1": 0},
-    {"type": "bowl", "material": "state5", "center": [0.5, 0.4, 0.4], "radius": 0.2, "thickness_cells": 2},
+    {"type": "bowl", "material": "gravel", "center": [0.5, 0.4, 0.4], "radius": 0.2, "thickness_cells": 2},
     {"type": "bowl", "material": "gas", "center": [0.5, 0.4, 0.45], "radius": 0.1, "thickness": 0.05}
   ],
   "emitters": [
