@@ -248,7 +248,8 @@ TEST_CASE("scene: the bowl is watertight below its rim and never overlaps the sa
 TEST_CASE("scene: every shipped scene instantiates at its default N and at N=96 with the expected content") {
   const ShippedAssets assets;
   const std::vector<std::string> names = list_scenes();
-  for (const char* expected : {"bowl", "column", "hourglass", "pile"})
+  for (const char* expected : {"bowl", "column", "hourglass", "pile", "silo", "dam_break", "u_tube", "sand_into_water",
+                               "bubbles", "gravel_and_sand"})
     CHECK(std::find(names.begin(), names.end(), expected) != names.end());
   for (const std::string& name : names) {
     const Scene scene = load_scene(find_scene(name));
@@ -262,7 +263,10 @@ TEST_CASE("scene: every shipped scene instantiates at its default N and at N=96 
       CHECK(s.n == (n == 0 ? scene.default_n : n));
       CHECK(count_of(s.grid, Material::Solid) > 0);
       CHECK(count_of(s.grid, Material::Void) > 0);
-      CHECK((count_of(s.grid, Material::Granular) > 0 || !s.emitters.empty()));
+      // Something that moves: grains, liquid or gas in the grid, or an emitter that pours them.
+      const std::uint64_t moving = count_of(s.grid, Material::Granular) + count_of(s.grid, Material::Liquid) +
+                                   count_of(s.grid, Material::Gas) + count_of(s.grid, Material::Gravel);
+      CHECK((moving > 0 || !s.emitters.empty()));
       for (const Emitter& e : s.emitters) {
         CHECK(e.rate >= 1);
         CHECK(e.radius > 0);
@@ -352,6 +356,183 @@ TEST_CASE("scene: the column stands on the floor, about twice as high as its rad
     if (n < 64) continue;  // too few cells across for the volume formula
     const double volume = double(count_of(s.grid, Material::Granular));
     CHECK(volume == doctest::Approx(kPi * radius * radius * height).epsilon(0.1));
+  }
+}
+
+namespace {
+
+/// The cell boundary at which a scene puts a flat face at fraction `f` of N (the rounding rule: the
+/// nearest sixteenth of a cell, halves away from zero, then the nearest boundary, halves up).
+int face_at(double f, int n) { return int(std::floor(std::round(16.0 * f * n) / 16.0 + 0.5)); }
+
+/// True when the region `inside` holds what it holds of material `from` at layers lo <= z < hi: no
+/// cell reachable from those cells through non-solid cells (26-connected, the reach of one Margolus
+/// block move) without leaving those layers lies outside the region. False too when the region holds
+/// none of `from` there.
+template <class Inside>
+bool contained(const Grid& g, Material from, int lo, int hi, Inside inside) {
+  const Int3 size = g.size();
+  std::vector<char> seen(std::size_t(g.cell_count()), 0);
+  std::vector<Int3> stack;
+  for (int z = std::max(lo, 0); z < std::min(hi, size.z); ++z)
+    for (int y = 0; y < size.y; ++y)
+      for (int x = 0; x < size.x; ++x)
+        if (g.at({x, y, z}) == from && inside(Int3{x, y, z})) {
+          seen[g.index({x, y, z})] = 1;
+          stack.push_back({x, y, z});
+        }
+  if (stack.empty()) return false;
+  while (!stack.empty()) {
+    const Int3 p = stack.back();
+    stack.pop_back();
+    if (!inside(p)) return false;
+    for (int a = -1; a <= 1; ++a)
+      for (int b = -1; b <= 1; ++b)
+        for (int c = -1; c <= 1; ++c) {
+          const Int3 q{p.x + a, p.y + b, p.z + c};
+          if (!g.contains(q) || q.z < lo || q.z >= hi || seen[g.index(q)] || g.at(q) == Material::Solid) continue;
+          seen[g.index(q)] = 1;
+          stack.push_back(q);
+        }
+  }
+  return true;
+}
+
+/// True when the cell centre of `p` lies within `radius` of the vertical axis through (cx, cy).
+bool near_axis(Int3 p, double cx, double cy, double radius) {
+  const double dx = p.x + 0.5 - cx, dy = p.y + 0.5 - cy;
+  return dx * dx + dy * dy <= radius * radius;
+}
+
+}  // namespace
+
+TEST_CASE("scene: dam_break: a column of water 0.25 N long and 0.5 N high stands on the floor at one end") {
+  const Scene scene = shipped("dam_break");
+  for (int n : {scene.min_n, 33, 64, 96}) {
+    CAPTURE(n);
+    const SceneInstance s = instantiate(scene, n);
+    const Int3 size = s.grid.size();
+    const int floor = face_at(0.04, n), top = face_at(0.54, n);
+    CHECK(top - floor == doctest::Approx(0.5 * n).epsilon(0.05));
+    for (int y = 0; y < size.y; ++y)
+      for (int x = 0; x < size.x; ++x) {
+        // Every column: the floor, then water up to 0.54 N (x < 0.25 N), or void.
+        REQUIRE(top_of(s.grid, x, y, Material::Solid) == floor - 1);
+        const bool wet = x < face_at(0.25, n);
+        CHECK(bottom_of(s.grid, x, y, Material::Liquid) == (wet ? floor : -1));
+        CHECK(top_of(s.grid, x, y, Material::Liquid) == (wet ? top - 1 : -1));
+      }
+    CHECK(count_of(s.grid, Material::Liquid) == std::uint64_t(face_at(0.25, n)) * std::uint64_t(size.y) *
+                                                   std::uint64_t(top - floor));
+    CHECK(s.emitters.empty());
+  }
+}
+
+TEST_CASE("scene: u_tube: the legs are joined only through the passage under the wall") {
+  const Scene scene = shipped("u_tube");
+  for (int n : {scene.min_n, 33, 64, 96}) {
+    CAPTURE(n);
+    const SceneInstance s = instantiate(scene, n);
+    const Int3 size = s.grid.size();
+    const int y = size.y / 2, left = 0, right = size.x - 1;
+    const int left_top = top_of(s.grid, left, y, Material::Liquid), right_top = top_of(s.grid, right, y, Material::Liquid);
+    CHECK(left_top + 1 == face_at(0.9, n));
+    CHECK(right_top + 1 == face_at(0.3, n));
+    // Under the middle of the wall: the floor, the passage full of water, then the wall to the top.
+    const int wall_x = size.x / 2;
+    int z = 0;
+    while (s.grid.at({wall_x, y, z}) == Material::Solid) ++z;
+    const int passage = z;
+    while (s.grid.at({wall_x, y, z}) == Material::Liquid) ++z;
+    const int wall = z;
+    CHECK(wall - passage >= 2);  // open
+    for (; z < size.z; ++z) CHECK(s.grid.at({wall_x, y, z}) == Material::Solid);
+    // The legs are joined through the passage, and only through it.
+    CHECK(reachable(s.grid, {left, y, left_top})[s.grid.index({right, y, size.z - 1})]);
+    Grid blocked = s.grid;
+    for (int zz = 0; zz < wall; ++zz)
+      for (int yy = 0; yy < size.y; ++yy)
+        for (int x = 0; x < size.x; ++x) blocked.set({x, yy, zz}, Material::Solid);
+    CHECK_FALSE(reachable(blocked, {left, y, left_top})[blocked.index({right, y, right_top})]);
+  }
+}
+
+TEST_CASE("scene: sand_into_water: a closed tank holds the water below its rim, under an emitter of sand") {
+  const Scene scene = shipped("sand_into_water");
+  for (int n : {scene.min_n, 25, 33, 64, 96}) {
+    CAPTURE(n);
+    const SceneInstance s = instantiate(scene, n);
+    const int rim = face_at(0.6, n), c = s.grid.size().x / 2;
+    CHECK(bottom_of(s.grid, c, c, Material::Liquid) == face_at(0.04, n));
+    CHECK(top_of(s.grid, c, c, Material::Liquid) + 1 == face_at(0.4, n));
+    // No drop leaves the tank below its rim, whatever way it moves (outer radius 0.42 N).
+    CHECK(contained(s.grid, Material::Liquid, 0, rim, [&](Int3 p) { return near_axis(p, 0.5 * n, 0.5 * n, 0.42 * n); }));
+    REQUIRE(s.emitters.size() == 1);
+    CHECK(s.emitters[0].material == Material::Granular);
+    CHECK(s.emitters[0].center.z > rim);
+  }
+  // A wall a fraction of a cell thick leaks: the check above can fail.
+  Scene thin = scene;
+  REQUIRE(std::holds_alternative<CylinderShape>(thin.shapes.at(1).geometry));
+  std::get<CylinderShape>(thin.shapes[1].geometry).radius = 0.415;  // the hollow, inside the 0.42 N shell
+  const SceneInstance leaky = instantiate(thin, 64);
+  CHECK_FALSE(contained(leaky.grid, Material::Liquid, 0, face_at(0.6, 64),
+                        [&](Int3 p) { return near_axis(p, 32, 32, 0.42 * 64); }));
+}
+
+TEST_CASE("scene: bubbles: the tank holds the water and the inverted cup holds its gas above its opening") {
+  const Scene scene = shipped("bubbles");
+  for (int n : {scene.min_n, 33, 64, 96}) {
+    CAPTURE(n);
+    const SceneInstance s = instantiate(scene, n);
+    const Int3 size = s.grid.size();
+    // The tank: walls 0.06 N thick, open above 0.75 N.
+    CHECK(contained(s.grid, Material::Liquid, 0, face_at(0.75, n), [&](Int3 p) {
+      return p.x >= face_at(0.06, n) && p.x < face_at(0.94, n) && p.y >= face_at(0.06, n) && p.y < face_at(0.44, n);
+    }));
+    // The cup (outer radius 0.14 N, from 0.25 N to 0.45 N): gas in it cannot get out at or above the
+    // layer of its opening; it lies under the roof, water below it.
+    const double cx = 0.72 * n, cy = 0.25 * n;
+    const int mouth = face_at(0.25, n), roof = face_at(0.45, n);
+    auto in_cup = [&](Int3 p) { return near_axis(p, cx, cy, 0.14 * n) && p.z >= mouth && p.z < roof; };
+    CHECK(contained(s.grid, Material::Gas, mouth, size.z, in_cup));
+    const int ix = int(cx), iy = int(cy);
+    CHECK(s.grid.at({ix, iy, mouth}) == Material::Liquid);
+    CHECK(s.grid.at({ix, iy, top_of(s.grid, ix, iy, Material::Gas) + 1}) == Material::Solid);
+    // Free pockets: gas outside the cup, deep under the water's surface.
+    std::uint64_t free_gas = 0;
+    for (int z = 0; z < size.z; ++z)
+      for (int y = 0; y < size.y; ++y)
+        for (int x = 0; x < size.x; ++x) free_gas += s.grid.at({x, y, z}) == Material::Gas && !in_cup({x, y, z});
+    CHECK(free_gas > 0);
+    CHECK(top_of(s.grid, size.x / 5, size.y / 2, Material::Gas) < mouth);
+  }
+  // A cup wall a fraction of a cell thick leaks: the check above can fail.
+  Scene thin = scene;
+  REQUIRE(std::holds_alternative<CylinderShape>(thin.shapes.at(3).geometry));
+  REQUIRE(thin.shapes[3].material == Material::Solid);
+  std::get<CylinderShape>(thin.shapes[3].geometry).radius = 0.085;  // the cup's shell, around its 0.08 N hollow
+  const SceneInstance leaky = instantiate(thin, 64);
+  CHECK_FALSE(contained(leaky.grid, Material::Gas, face_at(0.25, 64), leaky.grid.size().z, [&](Int3 p) {
+    return near_axis(p, 0.72 * 64, 0.25 * 64, 0.14 * 64) && p.z < face_at(0.45, 64);
+  }));
+}
+
+TEST_CASE("scene: gravel_and_sand: the same stream of sand and of gravel, side by side") {
+  const Scene scene = shipped("gravel_and_sand");
+  for (int n : {scene.min_n, 64, 96}) {
+    CAPTURE(n);
+    const SceneInstance s = instantiate(scene, n);
+    REQUIRE(s.emitters.size() == 2);
+    const Emitter &a = s.emitters[0], &b = s.emitters[1];
+    CHECK(a.material == Material::Granular);
+    CHECK(b.material == Material::Gravel);
+    CHECK(a.rate == b.rate);
+    CHECK(a.start == b.start);
+    CHECK(a.stop == b.stop);
+    CHECK(a.center.z == b.center.z);
+    CHECK(b.center.x - a.center.x >= 0.75 * n);  // each heap spreads to about 0.39 N
+    CHECK(count_of(s.grid, Material::Granular) + count_of(s.grid, Material::Gravel) == 0);
   }
 }
 
