@@ -11,6 +11,9 @@
 ///     granular materials pass each other only while one of them moves (motion level above 0), so a
 ///     bed of sand and gravel sorts by density only while it is shaken. A faller that sinks here
 ///     drops to motion level 0: it moves through something denser than void at a speed of its own.
+///     A faller taking part that did not sink topples diagonally down into a bottom cell of a lighter
+///     fluid under a top cell of a lighter fluid (the grains' topple, through water instead of void),
+///     so sand poured into water heaps on the bottom instead of standing as a pillar.
 ///  2. Liquid spread: a liquid in the top layer taking part, standing on a liquid, moves sideways
 ///     (preference: the x neighbour, then y, then the diagonal) with chance MaterialDef::spread / 256:
 ///     into a top cell of void, or while it moves (motion level above 0) of any lighter fluid. A liquid
@@ -64,6 +67,14 @@ constexpr bool sinks(const StepMaterials& mats, std::uint32_t m, std::uint32_t b
   return (top_moves && mats.is_faller(m)) || (bottom_moves && mats.is_gas(below));
 }
 
+/// True when a faller of material `m` in the top layer may topple diagonally into a bottom cell of
+/// material `target` under a top cell of material `above`: both are fluids lighter than it (void
+/// itself is the first pass's topple; this one lets sand heap under water).
+constexpr bool topples_into(const StepMaterials& mats, std::uint32_t m, std::uint32_t target, std::uint32_t above) {
+  return mats.is_fluid(target) && mats.is_fluid(above) && mats.density[target] < mats.density[m] &&
+         mats.density[above] < mats.density[m] && !(mats.is_void(target) && mats.is_void(above));
+}
+
 /// True when the step treats material `m` as a fluid that a denser fluid may displace sideways or a
 /// gas may rise into: void, a gas or a liquid.
 constexpr bool fluid(const StepMaterials& mats, std::uint32_t m) { return mats.is_fluid(m); }
@@ -91,6 +102,21 @@ constexpr std::uint64_t fluid_pass(std::uint64_t bytes, std::uint32_t movers, in
     bytes = exchange(bytes, top, bottom);
     if constexpr (kLevels) bytes &= ~(kLevelBits << (8 * bottom));
     movers &= ~((1u << top) | (1u << bottom));
+  }
+  // 1b. A faller that could not sink topples diagonally down into a lighter fluid.
+  for (int column = 0; column < 4; ++column) {
+    const int top = at(column + 4);
+    const std::uint32_t m = material_at(bytes, top);
+    if (((movers >> top) & 1u) == 0 || !mats.is_faller(m)) continue;
+    for (int flip = 1; flip <= 3; ++flip) {
+      const int target = at(column ^ flip), above = at((column ^ flip) + 4);
+      if (topples_into(mats, m, material_at(bytes, target), material_at(bytes, above))) {
+        bytes = exchange(bytes, top, target);
+        if constexpr (kLevels) bytes &= ~(kLevelBits << (8 * target));
+        movers &= ~((1u << top) | (1u << target));
+        break;
+      }
+    }
   }
   // 2. Liquid spread in the top layer, 3. gas spread and 4. gas around a ceiling in the bottom layer.
   for (int column = 0; column < 4; ++column) {
@@ -149,6 +175,9 @@ constexpr bool may_move(std::uint64_t bytes, const StepMaterials& mats) {
     const std::uint32_t m = material_at(bytes, top), below = material_at(bytes, bottom);
     const bool levels = ((bytes >> (8 * top)) & kLevelBits) != 0 || ((bytes >> (8 * bottom)) & kLevelBits) != 0;
     if (sinks(mats, m, below, true, true, levels)) return true;
+    if (mats.is_faller(m))
+      for (int other = 0; other < 4; ++other)
+        if (other != bottom && topples_into(mats, m, material_at(bytes, other), material_at(bytes, other + 4))) return true;
     const bool moving = ((bytes >> (8 * top)) & kLevelBits) != 0;
     if (mats.is_liquid(m) && mats.is_liquid(below) && mats.spread[m] > 0)
       for (int other = 4; other < 8; ++other) {
