@@ -1,11 +1,14 @@
 /// @file test_plain_step.cpp
 /// The fast CPU step against the plain per-block loop (tests/reference/plain_step.hpp) for every
 /// preset: World on the CPU backend, sparse and dense, 1 and 2 threads, compared with the plain
-/// loop after every tick of random scenes holding all 8 states, on odd and even grid sizes; and
-/// the plain loop on several threads (as the benchmark runs it) against itself on one.
+/// loop after every tick of random scenes holding all 8 states (sand, gravel, water and gas among
+/// them), on odd and even grid sizes; the plain loop on several threads (as the benchmark runs it)
+/// against itself on one; the plain fluid pass against fluid::fluid_pass on random blocks; and,
+/// block by block, where the fast step departs from fluid_block.hpp's comment.
 
 #include <doctest/doctest.h>
 
+#include <array>
 #include <cstdint>
 #include <iterator>
 #include <random>
@@ -15,13 +18,16 @@
 #include "granular/grid.hpp"
 #include "granular/rule_presets.hpp"
 #include "granular/world.hpp"
+#include "material_scenes.hpp"
 #include "plain_divergence.hpp"
 #include "plain_step.hpp"
+#include "step/fluid_block.hpp"
+#include "step/motion_block.hpp"
+#include "step/step_materials.hpp"
 #include "test_support.hpp"
 
 using namespace granular;
 using granular::test::departure_from_plain_loop;
-using granular::test::plain_trajectory;
 using granular::test::test_def;
 
 namespace {
@@ -29,34 +35,97 @@ namespace {
 /// Ticks each scene runs: three 8-tick offset cycles.
 constexpr int kTicks = 24;
 
-/// A random scene holding every one of the 8 states: below half height a rough ground of grains,
-/// void, solid and a few of each other state; above it grains scattered in void, which fall, land,
-/// topple and (with the motion model) accelerate and roll. Every grain starts at rest (no motion bits).
-Grid mixed_scene(Int3 size, std::uint64_t seed) {
-  Grid g(size);
-  std::mt19937_64 rng(seed);
-  std::uniform_int_distribution<int> pct(0, 99);
-  for (int z = 0; z < size.z; ++z)
-    for (int y = 0; y < size.y; ++y)
-      for (int x = 0; x < size.x; ++x) {
-        const int p = pct(rng);
-        Material m = Material::Void;
-        if (z < size.z / 2) {
-          if (p < 35) m = Material::Granular;
-          else if (p < 45) m = Material::Solid;
-          else if (p < 60) m = Material(3 + (p - 45) / 3);  // liquid, gas, states 5..7: 3% each
-        } else if (p < 25) {
-          m = Material::Granular;
-        }
-        g.set({x, y, z}, m);
-      }
-  return g;
+/// The departures from fluid_block.hpp's comment that the fast step still has (plain_step.hpp's
+/// kFastStepReadings), which the plain loop follows here so that it checks everything else; the test
+/// cases "the fast step follows the comment" below show each one on a block.
+constexpr reference::FastStepReadings kStillDeparting = reference::kFastStepReadings;
+
+/// The PlainRules of `world`, following the departures `readings`.
+reference::PlainRules plain_rules_of(const World& world, reference::FastStepReadings readings) {
+  reference::PlainRules rules = reference::plain_rules(world.rules(), world.lut(), world.def().seed);
+  rules.readings = readings;
+  return rules;
+}
+
+/// The plain loop's cells after each of `ticks` ticks from `initial`, with the rules of `world`.
+granular::test::PlainTrajectory plain_run_of(const World& world, const Grid& initial, int ticks,
+                                             reference::FastStepReadings readings) {
+  const reference::PlainRules rules = plain_rules_of(world, readings);
+  granular::test::PlainTrajectory run{initial.size(), {}};
+  std::vector<std::uint8_t> cells(initial.cells().begin(), initial.cells().end());
+  for (int t = 0; t < ticks; ++t) {
+    reference::plain_step(cells, initial.size(), rules, std::uint64_t(t));
+    run.after_tick.push_back(cells);
+  }
+  return run;
+}
+
+/// Block cells from materials in block order (bottom layer 0..3, then top layer 4..7).
+BlockCells block_of(std::array<Material, 8> m) {
+  BlockCells b{};
+  for (int i = 0; i < 8; ++i) b[std::size_t(i)] = to_cell(m[std::size_t(i)]);
+  return b;
+}
+
+/// A block's cells as the 8 bytes of a word (cell i in byte i).
+std::uint64_t bytes_of(const BlockCells& b) {
+  std::uint64_t v = 0;
+  for (int i = 0; i < 8; ++i) v |= std::uint64_t(b[std::size_t(i)]) << (8 * i);
+  return v;
+}
+
+BlockCells cells_of(std::uint64_t bytes) {
+  BlockCells b{};
+  for (int i = 0; i < 8; ++i) b[std::size_t(i)] = std::uint8_t(bytes >> (8 * i));
+  return b;
+}
+
+/// A block for messages: "bottom (water, gas, solid, solid) top (void, water:L1, solid, solid)".
+std::string describe_block(const BlockCells& b) {
+  std::string s;
+  for (int i = 0; i < 8; ++i) {
+    if (i == 0) s += "bottom (";
+    if (i == 4) s += ") top (";
+    if (i != 0 && i != 4) s += ", ";
+    s += std::string(material_name(Material(cell_material(b[std::size_t(i)]))));
+    if (cell_motion(b[std::size_t(i)]) != 0) s += ":L" + std::to_string(cell_motion(b[std::size_t(i)]));
+  }
+  return s + ")";
+}
+
+/// The PlainRules of a preset's material table alone (no table: for plain_fluid_pass).
+reference::PlainRules plain_materials(const RuleSet& rules, reference::FastStepReadings readings = {}) {
+  reference::PlainRules r;
+  for (int s = 0; s < kMaterialCount; ++s) {
+    const MaterialDef& d = rules.materials[std::size_t(s)];
+    r.materials[std::size_t(s)] = {d.behaviour, d.density, d.spread, d.grain.topple_gain, d.grain.roll_cost,
+                                   d.grain.roll_chance};
+  }
+  r.substeps = rules.motion.substeps;
+  r.readings = readings;
+  return r;
+}
+
+/// A preset's table with a lighter liquid (oil, state 6) and a heavier gas (state 7) added, and water
+/// spreading with chance 200/256: what the presets do not exercise of the fluid pass.
+RuleSet with_oil_and_second_gas(RuleSet r) {
+  MaterialDef& oil = r.materials[6];
+  oil.behaviour = Behaviour::Liquid;
+  oil.density = 1;
+  oil.spread = 128;
+  oil.grain = r.materials[to_cell(Material::Liquid)].grain;
+  MaterialDef& heavy = r.materials[7];
+  heavy.behaviour = Behaviour::Gas;
+  heavy.density = -3;
+  heavy.spread = 64;
+  r.materials[to_cell(Material::Liquid)].spread = 200;
+  return r;
 }
 
 }  // namespace
 
 TEST_CASE("plain step: World's hash is the hash of its cell bytes, as the plain loop's grids are hashed") {
-  const Grid initial = mixed_scene({17, 12, 9}, 3);
+  const Grid initial = granular::test::all_materials_scene({17, 12, 9}, 3);
   const World world(test_def(initial.size(), "paper", 1, 3), initial);
   CHECK(world.hash() == hash_cells(initial.size(), initial.cells()));
   CHECK(world.hash() == initial.hash());
@@ -71,15 +140,20 @@ TEST_CASE("plain step: World on the CPU, sparse and dense, 1 and 2 threads, equa
     for (std::size_t k = 0; k < std::size(sizes); ++k) {
       const Int3 size = sizes[k];
       const std::uint64_t seed = seeds[k];
-      const Grid initial = mixed_scene(size, seed ^ 0xC0FFEE);
+      const Grid initial = granular::test::all_materials_scene(size, seed ^ 0xC0FFEE);
       const MaterialCounts counts = initial.count();
       for (int m = 0; m < kMaterialCount; ++m) REQUIRE_MESSAGE(counts[std::size_t(m)] > 0, "state " << m << " missing");
       const World first(test_def(size, preset.c_str(), 1, seed), initial);
-      const granular::test::PlainTrajectory plain = plain_trajectory(first, initial, kTicks);
+      const granular::test::PlainTrajectory plain = plain_run_of(first, initial, kTicks, kStillDeparting);
       REQUIRE(plain.after_tick.back() != std::vector<std::uint8_t>(initial.cells().begin(), initial.cells().end()));
+      // The plain loop conserves every material (each move is an exchange).
+      Grid last(size);
+      std::copy(plain.after_tick.back().begin(), plain.after_tick.back().end(), last.cells().begin());
+      for (auto& c : last.cells()) c = cell_material(c);
+      CHECK_MESSAGE(last.count() == counts, "preset " << preset << ", " << to_string(size) << ": the plain loop changed the counts");
       // The plain loop's own thread split (the benchmark's) changes nothing.
       std::vector<std::uint8_t> threaded(initial.cells().begin(), initial.cells().end());
-      reference::plain_run(threaded, size, reference::plain_rules(first.rules(), first.lut(), seed), 0, kTicks, 3);
+      reference::plain_run(threaded, size, plain_rules_of(first, kStillDeparting), 0, kTicks, 3);
       const std::string split = granular::test::first_differing_cell(size, plain.after_tick.back(), threaded,
                                                                      "plain loop on 1 thread", "on 3 threads");
       CHECK_MESSAGE(split.empty(), "preset " << preset << ", " << to_string(size) << ": " << split);
@@ -94,5 +168,182 @@ TEST_CASE("plain step: World on the CPU, sparse and dense, 1 and 2 threads, equa
                                                      << " thread(s): " << departure);
         }
     }
+  }
+}
+
+TEST_CASE("plain step: the plain fluid pass equals fluid::fluid_pass on random blocks, with and without motion levels") {
+  // With the fast step's departures followed: everything else of the pass (its four steps, the
+  // symmetry frame, the draws, the movers, the level reset) is compared here, a block at a time.
+  for (const bool custom : {false, true})
+    for (const bool levels : {true, false}) {
+      const RuleSet base = preset(levels ? "inertial" : "paper");
+      const RuleSet rules = custom ? with_oil_and_second_gas(base) : base;
+      const StepMaterials mats = step_materials(rules.materials);
+      const reference::PlainRules plain = plain_materials(rules, kStillDeparting);
+      const int materials = custom ? 8 : 6;
+      std::mt19937_64 rng(levels ? 11 : 12);
+      int failures = 0;
+      for (int n = 0; n < 200000 && failures < 3; ++n) {
+        BlockCells cells{};
+        std::array<bool, 8> mover{};
+        std::uint32_t movers = 0;
+        for (int i = 0; i < 8; ++i) {
+          const std::uint32_t m = std::uint32_t(rng() % std::uint64_t(materials));
+          const bool faller = mats.is_faller(m);
+          const std::uint32_t level = levels && faller && rng() % 3 == 0 ? std::uint32_t(rng() % 4) : 0;
+          cells[std::size_t(i)] = std::uint8_t(m | (level << kMotionShift) | (levels && faller && (rng() & 1) ? kMotionPhaseBit : 0));
+          mover[std::size_t(i)] = !levels || (rng() & 1) != 0;
+          if (mover[std::size_t(i)]) movers |= 1u << i;
+        }
+        const int symmetry = int(rng() & 7u);
+        const std::uint64_t draws = levels ? rng() : 0;
+        const std::uint64_t fast = levels ? fluid::fluid_pass<true>(bytes_of(cells), movers, symmetry, draws, mats)
+                                          : fluid::fluid_pass<false>(bytes_of(cells), movers, symmetry, draws, mats);
+        const BlockCells expected = reference::plain_fluid_pass(plain, cells, mover, symmetry, draws, levels);
+        if (bytes_of(expected) == fast) continue;
+        ++failures;
+        FAIL_CHECK((custom ? "oil and a second gas, " : "the presets' materials, ")
+                   << (levels ? "with levels" : "without levels") << ": block " << describe_block(cells) << ", movers 0x"
+                   << std::hex << movers << ", symmetry " << symmetry << ", draws 0x" << draws << std::dec
+                   << ": the plain pass gives " << describe_block(expected) << ", fluid_pass "
+                   << describe_block(cells_of(fast)));
+      }
+    }
+}
+
+// Where the fast step departs from fluid_block.hpp's comment, one block each: the comment's result
+// (what the plain loop gives by default) against the fast step's.
+
+namespace {
+
+/// A block on which the fast step's fluid pass departs from the comment: its cells, who takes part
+/// (symmetry 0, every draw 0, motion levels on, the presets' materials of "inertial"), and what the
+/// comment makes of it.
+struct Departure {
+  const char* what;          ///< the departure, for messages
+  BlockCells in;             ///< the block
+  std::array<bool, 8> mover; ///< who takes part
+  BlockCells comment;        ///< the block after the pass, by the comment
+};
+
+/// The blocks of each departure (FastStepReadings): a cell moved twice, and steps 3 and 4 column by column.
+std::vector<Departure> departures(bool moved_twice) {
+  using M = Material;
+  std::vector<Departure> d;
+  if (moved_twice) {
+    // Column 0: a gas taking part under void (first block) or water (second) rises in step 1.
+    // Column 1: water on water, taking part; columns 2 and 3 solid. By the comment neither cell of
+    // column 0 moves again, so the water stays. The fast step lets a moved cell be the target of a
+    // later move: in the first block the water topples (1b) into the void the gas left, which moves a
+    // second time; in the second the moving water (level 1) spreads (step 2) into the gas that has
+    // just risen, which moves a second time.
+    const std::array<bool, 8> mover{true, false, false, false, false, true, false, false};
+    d.push_back({"the void the gas left moves again (1b)",
+                 block_of({M::Gas, M::Liquid, M::Solid, M::Solid, M::Void, M::Liquid, M::Solid, M::Solid}), mover,
+                 block_of({M::Void, M::Liquid, M::Solid, M::Solid, M::Gas, M::Liquid, M::Solid, M::Solid})});
+    Departure spread{"the gas that rose moves again (step 2)",
+                     block_of({M::Gas, M::Liquid, M::Solid, M::Solid, M::Liquid, M::Liquid, M::Solid, M::Solid}), mover,
+                     block_of({M::Liquid, M::Liquid, M::Solid, M::Solid, M::Gas, M::Liquid, M::Solid, M::Solid})};
+    spread.in[5] = spread.comment[5] = std::uint8_t(to_cell(M::Liquid) | (1u << kMotionShift));
+    d.push_back(spread);
+  } else {
+    // Gases taking part at bottom cells 1 (under the solid cell 5) and 2 (under the gas at 6). Step 3:
+    // gas 2, under a gas, spreads into the denser fluid beside it: not cell 3 (solid), so the water at
+    // 0 (its y neighbour). Step 4: gas 1 cannot rise; the top of its x neighbour's column (4, void)
+    // is a denser fluid, but the cell under it (0) now holds gas, so it stays. The fast step runs
+    // steps 3 and 4 column by column, so gas 1 goes up into 4 first.
+    d.push_back({"steps 3 and 4 column by column",
+                 block_of({M::Liquid, M::Gas, M::Gas, M::Solid, M::Void, M::Solid, M::Gas, M::Solid}),
+                 {false, true, true, false, false, false, false, false},
+                 block_of({M::Gas, M::Gas, M::Liquid, M::Solid, M::Void, M::Solid, M::Gas, M::Solid})});
+  }
+  return d;
+}
+
+/// The cells taking part, for messages: "{0, 5}".
+std::string describe_movers(const std::array<bool, 8>& mover) {
+  std::string s;
+  for (int i = 0; i < 8; ++i)
+    if (mover[std::size_t(i)]) s += (s.empty() ? "" : ", ") + std::to_string(i);
+  return "{" + s + "}";
+}
+
+/// The movers of a departure as fluid_pass's bit mask.
+std::uint32_t mover_bits(const std::array<bool, 8>& mover) {
+  std::uint32_t bits = 0;
+  for (int i = 0; i < 8; ++i)
+    if (mover[std::size_t(i)]) bits |= 1u << i;
+  return bits;
+}
+
+/// "" when the fast step's fluid pass gives the comment's result on every block of `blocks`, else
+/// what it gives instead.
+std::string fast_departures(const std::vector<Departure>& blocks) {
+  const RuleSet rules = preset("inertial");
+  std::string out;
+  for (const Departure& d : blocks) {
+    const std::uint64_t fast = fluid::fluid_pass<true>(bytes_of(d.in), mover_bits(d.mover), 0, 0, step_materials(rules.materials));
+    if (fast == bytes_of(d.comment)) continue;
+    out += std::string(d.what) + ": block " + describe_block(d.in) + ", movers " + describe_movers(d.mover) +
+           ", symmetry 0, draws 0: the comment gives " +
+           describe_block(d.comment) + ", the fast step " + describe_block(cells_of(fast)) + "; ";
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("plain step: on the blocks where the fast step departs from the comment, the plain loop follows the comment, or with the departure's switch the fast step") {
+  const RuleSet rules = preset("inertial");
+  const StepMaterials mats = step_materials(rules.materials);
+  for (const bool moved_twice : {true, false})
+    for (const Departure& d : departures(moved_twice)) {
+      CAPTURE(d.what);
+      const BlockCells plain = reference::plain_fluid_pass(plain_materials(rules), d.in, d.mover, 0, 0, true);
+      CHECK_MESSAGE(plain == d.comment, "plain loop: " << describe_block(plain));
+      const BlockCells as_now = reference::plain_fluid_pass(plain_materials(rules, reference::kFastStepReadings), d.in,
+                                                            d.mover, 0, 0, true);
+      CHECK(bytes_of(as_now) == fluid::fluid_pass<true>(bytes_of(d.in), mover_bits(d.mover), 0, 0, mats));
+      reference::FastStepReadings one{};
+      (moved_twice ? one.moved_cell_exchanged_again : one.gas_steps_by_column) = true;
+      CHECK_MESSAGE(reference::plain_fluid_pass(plain_materials(rules, one), d.in, d.mover, 0, 0, true) != d.comment,
+                    "the switch of this departure alone changes the plain loop on its block");
+    }
+}
+
+// should_fail keeps the suite green while the fast step departs from the comment and fails the day
+// it follows it: then drop the decorator and the departure's switch in kFastStepReadings.
+TEST_CASE("plain step: the fast step follows the comment: a cell moves at most once per pass" * doctest::should_fail()) {
+  const std::string departs = fast_departures(departures(true));
+  CHECK_MESSAGE(departs.empty(), departs);
+}
+
+TEST_CASE("plain step: the fast step follows the comment: the gas spread (step 3) before the gas around a ceiling (step 4)" *
+          doctest::should_fail()) {
+  const std::string departs = fast_departures(departures(false));
+  CHECK_MESSAGE(departs.empty(), departs);
+}
+
+TEST_CASE("plain step: the fast step follows the comment: moving gravel sinks through sand in a block without a fluid") {
+  // Under the motion model: gravel at level 2 in the top cell 4, inside its window, on sand; every
+  // other cell solid, so it cannot fall or roll and stays (a mover). Step 1: the gravel is denser
+  // and moving, so it sinks (level 0) and the sand comes up, whether or not the block holds a fluid
+  // (here water in place of the solid cell 3). (Until 7eeac38 motion::step_block ran the fluid pass
+  // only in a block holding a liquid or a gas.)
+  using M = Material;
+  const RuleSet rules = preset("inertial");
+  const StepMaterials mats = step_materials(rules.materials);
+  const motion::SubStep sub = motion::sub_step(rules.motion, mats, 1, 0, 1, false);
+  auto load = [](BlockKey k) { return motion::motion_rule(motion::full_code_key(k)); };
+  for (const bool with_water : {false, true}) {
+    CAPTURE(with_water);
+    BlockCells in = block_of({M::Granular, M::Solid, M::Solid, with_water ? M::Liquid : M::Solid, M::Gravel, M::Solid,
+                              M::Solid, M::Solid});
+    in[4] = std::uint8_t(in[4] | (2u << kMotionShift));
+    const BlockCells after = cells_of(motion::step_block(bytes_of(in), sub, 0, 0, 0, load));
+    CHECK_MESSAGE((after[0] == to_cell(M::Gravel) && after[4] == to_cell(M::Granular)),
+                  "sub-step 1 of tick 0, seed 1, block at the origin " << describe_block(in)
+                                                                       << ": the comment sinks the gravel to level 0, the fast step gives "
+                                                                       << describe_block(after));
   }
 }

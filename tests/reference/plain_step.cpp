@@ -1,7 +1,10 @@
 #include "plain_step.hpp"
 
 #include <cstddef>
+#include <stdexcept>
+#include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "granular/material.hpp"
@@ -10,13 +13,15 @@ namespace granular::reference {
 
 namespace {
 
-constexpr std::uint8_t kVoidCell = to_cell(Material::Void);
-constexpr std::uint8_t kGrainCell = to_cell(Material::Granular);
 /// What a cell outside the grid reads as.
 constexpr std::uint8_t kOutsideCell = to_cell(Material::Solid);
 
-/// The motion model's table codes (what its transition table is indexed by, 3 bits per cell).
+/// The gravity-and-flow table codes (what the motion model's transition table is indexed by, 3 bits
+/// per cell; without a motion model the Lut is asked for PlainRules::code_state of them).
 constexpr std::uint8_t kCodeVoid = 0, kCodeObstacle = 1, kCodeGrain = 2, kCodeRoller = 3;
+
+/// The motion level bits of a cell byte.
+constexpr std::uint8_t kLevelBits = std::uint8_t(kMotionLevelMask << kMotionShift);
 
 /// One block of one pass: its lowest corner, the sub-step (0 for a one-step rule set) and the
 /// tick it belongs to.
@@ -49,100 +54,163 @@ void scatter(std::span<std::uint8_t> grid, const Gathered& g, const BlockCells& 
     if (g.inside[i]) grid[g.at[i]] = out[i];
 }
 
-/// The block after a one-step rule set's tick: the transition of its key, or, under a random
-/// symmetry s, the transition of the key seen through s (cell i at map[i]), mapped back.
-BlockCells one_step_block(const PlainRules& r, const BlockCells& cells, const BlockAt& b) {
-  if (!r.random_symmetry) return apply_transition(cells, (*r.lut)[encode_key(cells)]);
-  const auto map = horizontal_symmetry(int(block_random(r.seed, b.tick, b.x0, b.y0, b.z0) & 7u));
-  BlockCells viewed{};
-  for (int i = 0; i < 8; ++i) viewed[map[i]] = cells[i];
-  const BlockCells after = apply_transition(viewed, (*r.lut)[encode_key(viewed)]);
-  BlockCells out{};
-  for (int i = 0; i < 8; ++i) out[i] = after[map[i]];
-  return out;
+/// How the rules treat the material of a cell byte.
+Behaviour behaviour_of(const PlainRules& r, std::uint8_t cell) { return r.materials[cell & kMaterialMask].behaviour; }
+
+/// True when the cell's material falls as a grain: granular or liquid.
+bool is_faller(const PlainRules& r, std::uint8_t cell) {
+  const Behaviour b = behaviour_of(r, cell);
+  return b == Behaviour::Granular || b == Behaviour::Liquid;
 }
 
-/// A top-layer cell i has only void beside it in the top layer.
-bool alone_in_top_layer(const BlockCells& cells, int i) {
+/// The gravity-and-flow code of a cell: a liquid falls and topples as a grain, a gas is void to it.
+std::uint8_t flow_code(const PlainRules& r, std::uint8_t cell) {
+  switch (behaviour_of(r, cell)) {
+    case Behaviour::Void:
+    case Behaviour::Gas: return kCodeVoid;
+    case Behaviour::Granular:
+    case Behaviour::Liquid: return kCodeGrain;
+    default: return kCodeObstacle;
+  }
+}
+
+/// The block viewed under symmetry s: viewed[map[i]] = cells[i].
+BlockCells view(const BlockCells& cells, int s) {
+  const auto map = horizontal_symmetry(s);
+  BlockCells viewed{};
+  for (int i = 0; i < 8; ++i) viewed[map[i]] = cells[i];
+  return viewed;
+}
+
+/// The block frame of a viewed block (the inverse of view).
+BlockCells unview(const BlockCells& viewed, int s) {
+  const auto map = horizontal_symmetry(s);
+  BlockCells cells{};
+  for (int i = 0; i < 8; ++i) cells[i] = viewed[map[i]];
+  return cells;
+}
+
+/// True when a block holds a liquid or a gas.
+bool holds_fluid_material(const PlainRules& r, const BlockCells& cells) {
+  for (const std::uint8_t c : cells) {
+    const Behaviour b = behaviour_of(r, c);
+    if (b == Behaviour::Liquid || b == Behaviour::Gas) return true;
+  }
+  return false;
+}
+
+/// The one-step rules' fluid pass after gravity and flow: every cell takes part, every chance above
+/// 0 is certain (all draws 0), no cell carries a motion level. A block of void, static and granular
+/// cells alone is left as it is: without levels two granular materials never pass each other, and
+/// gravity has already dropped every grain that stood on void, so the pass has nothing to move (the
+/// random scenes of test_plain_step check this against the table too).
+BlockCells one_step_fluid(const PlainRules& r, const BlockCells& flowed, int s) {
+  if (!holds_fluid_material(r, flowed)) return flowed;
+  std::array<bool, 8> everyone{};
+  everyone.fill(true);
+  return plain_fluid_pass(r, flowed, everyone, s, 0, false);
+}
+
+/// The block after a one-step rule set's tick: in the block's frame (its random symmetry s, or the
+/// identity), gravity and flow by the Lut's transition of the block's codes, then the fluid pass.
+BlockCells one_step_block(const PlainRules& r, const BlockCells& cells, const BlockAt& b) {
+  const int s = r.random_symmetry ? int(block_random(r.seed, b.tick, b.x0, b.y0, b.z0) & 7u) : 0;
+  const BlockCells viewed = view(cells, s);
+  BlockCells asked{};
+  for (int i = 0; i < 8; ++i) asked[i] = r.code_state[flow_code(r, viewed[i])];
+  const BlockCells flowed = unview(apply_transition(viewed, (*r.lut)[encode_key(asked)]), s);
+  return one_step_fluid(r, flowed, s);
+}
+
+/// A top-layer cell i has only void beside it in the top layer (a gas is void to the first pass).
+bool alone_in_top_layer(const PlainRules& r, const BlockCells& cells, int i) {
   for (int j = 4; j < 8; ++j)
-    if (j != i && (cells[j] & kMaterialMask) != kVoidCell) return false;
+    if (j != i && flow_code(r, cells[j]) != kCodeVoid) return false;
   return true;
 }
 
-/// The block after one sub-step of the motion model (motion.hpp, motion_block.hpp).
+/// The block after one sub-step of the motion model (motion.hpp, motion_block.hpp), then the fluid
+/// pass (fluid_block.hpp).
 BlockCells motion_block(const PlainRules& r, BlockCells cells, const BlockAt& b) {
   const int s = b.substep;
-  // Sub-step 0: every grain notes its layer as its phase (top: 0, bottom: the phase bit).
+  // Sub-step 0: every faller notes its layer as its phase (top: 0, bottom: the phase bit).
   if (s == 0)
     for (int i = 0; i < 8; ++i)
-      if ((cells[i] & kMaterialMask) == kGrainCell)
+      if (is_faller(r, cells[i]))
         cells[i] = std::uint8_t((cells[i] & ~kMotionPhaseBit) | (i < 4 ? kMotionPhaseBit : 0));
-  const std::uint64_t random =
-      block_random(r.seed, b.tick * std::uint64_t(r.substeps) + std::uint64_t(s), b.x0, b.y0, b.z0);
+  const std::uint64_t step = b.tick * std::uint64_t(r.substeps) + std::uint64_t(s);
+  const std::uint64_t random = block_random(r.seed, step, b.x0, b.y0, b.z0);
   // The level draw of top cell i (out of 256, in steps of 4) and its roll draw.
   auto level_draw = [&](int i) { return int((random >> (40 + 6 * (i - 4))) & 63u) * 4; };
   auto roll_draw = [&](int i) { return int((random >> (8 * (i - 3))) & 0xFFu); };
 
+  // Who takes part: top-layer fallers inside their window (moving), and in sub-steps 0 and 1 the
+  // bottom-layer gases (gas_turn).
   BlockCells code{};
-  bool moving[8] = {};
-  bool any_moving = false;
+  bool moving[8] = {}, gas_turn[8] = {};
+  bool any_moving = false, any_gas_turn = false;
   for (int i = 0; i < 8; ++i) {
-    const std::uint8_t material = cells[i] & kMaterialMask;
-    if (material == kVoidCell) {
-      code[i] = kCodeVoid;
-    } else if (material != kGrainCell) {
-      code[i] = kCodeObstacle;
-    } else if (i < 4) {
-      code[i] = kCodeGrain;  // a bottom-layer grain never moves on its own
+    code[i] = flow_code(r, cells[i]);
+    if (i < 4) {
+      // A bottom-layer faller never moves on its own; a bottom-layer gas takes part in sub-steps 0, 1.
+      if (s < 2 && behaviour_of(r, cells[i]) == Behaviour::Gas) gas_turn[i] = any_gas_turn = true;
+      continue;
+    }
+    if (code[i] != kCodeGrain) continue;
+    const int level = cell_motion(cells[i]);
+    const int window_start = (cells[i] & kMotionPhaseBit) ? 1 : 0;
+    const bool in_window = s >= window_start && s < window_start + motion_window(level);
+    if (!in_window) {
+      code[i] = kCodeObstacle;  // too slow to move in this sub-step
     } else {
-      const int level = cell_motion(cells[i]);
-      const int window_start = (cells[i] & kMotionPhaseBit) ? 1 : 0;
-      const bool in_window = s >= window_start && s < window_start + motion_window(level);
-      if (!in_window) {
-        code[i] = kCodeObstacle;  // too slow to move in this sub-step
-      } else {
-        moving[i] = any_moving = true;
-        code[i] = level > 0 && roll_draw(i) < r.roll_chance ? kCodeRoller : kCodeGrain;
-      }
+      moving[i] = any_moving = true;
+      if (level > 0 && roll_draw(i) < r.materials[cells[i] & kMaterialMask].roll_chance) code[i] = kCodeRoller;
     }
   }
-  if (!any_moving) return cells;
+  if (!any_moving && !any_gas_turn) return cells;
 
-  const auto map = horizontal_symmetry(r.random_symmetry ? int(random & 7u) : 0);
-  BlockCells viewed{};
-  for (int i = 0; i < 8; ++i) viewed[map[i]] = code[i];
-  const Transition t = (*r.lut)[encode_key(viewed)];
-  int destination_of[8] = {};
-  for (int i = 0; i < 8; ++i) {
-    const int viewed_destination = destination(t, map[i]);
-    for (int j = 0; j < 8; ++j)
-      if (map[j] == viewed_destination) destination_of[i] = j;
+  const int symmetry = r.random_symmetry ? int(random & 7u) : 0;
+  const auto map = horizontal_symmetry(symmetry);
+  int destination_of[8] = {0, 1, 2, 3, 4, 5, 6, 7};
+  if (any_moving) {
+    BlockCells viewed{};
+    for (int i = 0; i < 8; ++i) viewed[map[i]] = code[i];
+    const Transition t = (*r.lut)[encode_key(viewed)];
+    for (int i = 0; i < 8; ++i) {
+      const int viewed_destination = destination(t, map[i]);
+      for (int j = 0; j < 8; ++j)
+        if (map[j] == viewed_destination) destination_of[i] = j;
+    }
   }
 
   const int max_level = MotionParams{.substeps = r.substeps}.max_level();
   BlockCells out{};
+  std::array<bool, 8> mover{};  // who may start a move in the fluid pass: took part and stayed
   for (int i = 0; i < 8; ++i) {
     std::uint8_t cell = cells[i];
     const int to = destination_of[i];
     if (moving[i]) {
+      const PlainMaterial& mat = r.materials[cell & kMaterialMask];
       int level = cell_motion(cell);
       const std::uint8_t phase = cell & kMotionPhaseBit;
       if (to < 4) {
         const bool straight_down = (to & 3) == (i & 3);
         if (straight_down) {
-          if (s == (phase ? 1 : 0) && alone_in_top_layer(cells, i)) ++level;
-        } else if (level_draw(i) < r.topple_gain) {
+          if (s == (phase ? 1 : 0) && alone_in_top_layer(r, cells, i)) ++level;
+        } else if (level_draw(i) < mat.topple_gain) {
           ++level;
         }
         if (level > max_level) level = max_level;
-      } else if (level > 0 && level_draw(i) < (to != i ? r.roll_cost : kPlainStuckCost)) {
+      } else if (level > 0 && level_draw(i) < (to != i ? mat.roll_cost : kPlainStuckCost)) {
         --level;
       }
-      cell = std::uint8_t(kGrainCell | (level << kMotionShift) | phase);
+      cell = std::uint8_t((cell & kMaterialMask) | (level << kMotionShift) | phase);
     }
     out[to] = cell;
+    if (to == i && (moving[i] || gas_turn[i])) mover[i] = true;
   }
-  return out;
+  const std::uint64_t draws = block_random(r.seed ^ kPlainFluidDrawSalt, step, b.x0, b.y0, b.z0);
+  return plain_fluid_pass(r, out, mover, symmetry, draws, true);
 }
 
 /// The partition offset of sub-step `substep` of `tick` with the motion model: z flips every
@@ -158,15 +226,18 @@ BlockOffset motion_pass_offset(const PlainRules& r, std::uint64_t tick, int subs
   return o;
 }
 
-/// The deterministic one-step rules on a block inside the grid: gather the 8 bytes, key,
-/// transition, scatter by the permutation.
-void paper_interior_block(std::uint8_t* base, std::size_t sy, std::size_t sz, const Lut& lut) {
+/// The deterministic one-step rules on a block inside the grid: gather the 8 bytes, key of their
+/// codes, transition, scatter by the permutation, and the fluid pass when the block holds a fluid.
+void paper_interior_block(std::uint8_t* base, std::size_t sy, std::size_t sz, const PlainRules& r) {
   std::uint8_t* const cell[8] = {base,      base + 1,      base + sy,      base + sy + 1,
                                  base + sz, base + sz + 1, base + sz + sy, base + sz + sy + 1};
-  BlockCells b{};
-  for (int i = 0; i < 8; ++i) b[i] = *cell[i];
-  const Transition t = lut[encode_key(b)];
-  for (int i = 0; i < 8; ++i) *cell[destination(t, i)] = b[i];
+  BlockCells b{}, asked{};
+  for (int i = 0; i < 8; ++i) {
+    b[i] = *cell[i];
+    asked[i] = r.code_state[flow_code(r, b[i])];
+  }
+  const BlockCells out = one_step_fluid(r, apply_transition(b, (*r.lut)[encode_key(asked)]), 0);
+  for (int i = 0; i < 8; ++i) *cell[i] = out[i];
 }
 
 /// Every block of one layer of one pass.
@@ -181,7 +252,7 @@ void plain_layer(std::span<std::uint8_t> grid, Int3 n, const PlainRules& r, Bloc
       const int x0 = 2 * bx - o.x;
       const bool interior = x0 >= 0 && y0 >= 0 && z0 >= 0 && x0 + 1 < n.x && y0 + 1 < n.y && z0 + 1 < n.z;
       if (plain_rule && interior) {
-        paper_interior_block(grid.data() + std::size_t(x0) + sy * std::size_t(y0) + sz * std::size_t(z0), sy, sz, *r.lut);
+        paper_interior_block(grid.data() + std::size_t(x0) + sy * std::size_t(y0) + sz * std::size_t(z0), sy, sz, r);
         continue;
       }
       const BlockAt at{x0, y0, z0, tick, substep};
@@ -210,17 +281,158 @@ void plain_pass(std::span<std::uint8_t> grid, Int3 n, const PlainRules& r, Block
 
 }  // namespace
 
+BlockCells plain_fluid_pass(const PlainRules& r, const BlockCells& cells, const std::array<bool, 8>& mover,
+                            int symmetry, std::uint64_t draws, bool levels) {
+  // The block in its viewed frame: position map[i] holds block cell i, with whether it may start a
+  // move and the draw of block position i. moved[p]: the cell now at p has moved in this pass.
+  const auto map = horizontal_symmetry(symmetry);
+  std::uint8_t cell[8] = {};
+  bool may_start[8] = {}, moved[8] = {};
+  int draw[8] = {};
+  for (int i = 0; i < 8; ++i) {
+    cell[map[i]] = cells[i];
+    may_start[map[i]] = mover[i];
+    draw[map[i]] = int((draws >> (8 * i)) & 0xFFu);
+  }
+  auto material = [&](int p) -> const PlainMaterial& { return r.materials[cell[p] & kMaterialMask]; };
+  auto is = [&](int p, Behaviour b) { return material(p).behaviour == b; };
+  auto density = [&](int p) { return material(p).density; };
+  auto fluid = [&](int p) { return is(p, Behaviour::Void) || is(p, Behaviour::Liquid) || is(p, Behaviour::Gas); };
+  auto faller = [&](int p) { return is(p, Behaviour::Granular) || is(p, Behaviour::Liquid); };
+  auto level = [&](int p) { return levels ? cell_motion(cell[p]) : 0; };
+  auto starts = [&](int p) { return may_start[p] && !moved[p]; };
+  const bool again = r.readings.moved_cell_exchanged_again;  // a moved cell may be a target again
+  auto exchange = [&](int p, int q) {
+    std::swap(cell[p], cell[q]);
+    moved[p] = moved[q] = true;
+  };
+  // The other columns of column c in order of preference: the x neighbour, the y neighbour, the diagonal.
+  auto other = [](int c, int k) { return c ^ k; };
+
+  // 1. Density: a mobile cell above a lighter mobile one changes places with it; the top cell starts
+  // it as a faller taking part, the bottom one as a gas taking part.
+  for (int c = 0; c < 4; ++c) {
+    const int top = c + 4, bottom = c;
+    if (moved[top] || moved[bottom]) continue;
+    if (is(top, Behaviour::Static) || is(bottom, Behaviour::Static)) continue;
+    if (density(top) <= density(bottom)) continue;
+    if (is(top, Behaviour::Granular) && is(bottom, Behaviour::Granular) && level(top) == 0 && level(bottom) == 0)
+      continue;
+    if (!((starts(top) && faller(top)) || (starts(bottom) && is(bottom, Behaviour::Gas)))) continue;
+    exchange(top, bottom);
+    if (levels && faller(bottom)) cell[bottom] = std::uint8_t(cell[bottom] & ~kLevelBits);  // it sank: level 0
+  }
+  // 1b. A faller taking part that did not sink topples diagonally down into a bottom cell of a
+  // lighter fluid under a top cell of a lighter fluid: the grains' topple through water (a void cell
+  // under void is the first pass's topple). It moves through something denser than void: level 0.
+  for (int c = 0; c < 4; ++c) {
+    const int p = c + 4;
+    if (!starts(p) || !faller(p)) continue;
+    for (int k = 1; k <= 3; ++k) {
+      const int q = other(c, k), over = other(c, k) + 4;
+      if (moved[q] && !again) continue;
+      const bool lighter = fluid(q) && fluid(over) && density(q) < density(p) && density(over) < density(p);
+      if (!lighter || (is(q, Behaviour::Void) && is(over, Behaviour::Void))) continue;
+      exchange(p, q);
+      if (levels) cell[q] = std::uint8_t(cell[q] & ~kLevelBits);
+      break;
+    }
+  }
+  // 2. Liquid spread: a liquid in the top layer taking part, standing on a liquid, moves sideways with
+  // chance spread / 256 into a top cell of void, or while it moves into one of any lighter fluid.
+  for (int c = 0; c < 4; ++c) {
+    const int p = c + 4;
+    if (!starts(p) || !is(p, Behaviour::Liquid) || !is(c, Behaviour::Liquid)) continue;
+    if (draw[p] >= material(p).spread) continue;
+    const bool moves = !levels || level(p) > 0;
+    for (int k = 1; k <= 3; ++k) {
+      const int q = other(c, k) + 4;
+      if (moved[q] && !again) continue;
+      if (is(q, Behaviour::Void) || (moves && fluid(q) && density(q) < density(p))) {
+        exchange(p, q);
+        break;
+      }
+    }
+  }
+  // 3. Gas spread: a gas in the bottom layer taking part, under a gas, moves sideways into a bottom
+  // cell of a denser fluid with chance spread / 256.
+  auto gas_spread = [&](int c) {
+    const int p = c;
+    if (!starts(p) || !is(p, Behaviour::Gas) || !is(c + 4, Behaviour::Gas)) return;
+    if (draw[p] >= material(p).spread) return;
+    for (int k = 1; k <= 3; ++k) {
+      const int q = other(c, k);
+      if (moved[q] && !again) continue;
+      if (fluid(q) && density(q) > density(p)) {
+        exchange(p, q);
+        return;
+      }
+    }
+  };
+  // 4. Gas around a ceiling: a gas in the bottom layer taking part that cannot rise (a static cell, a
+  // grain or a gas above it) moves diagonally up into a top cell of another column when that cell and
+  // the one below it are denser fluids.
+  auto gas_around_ceiling = [&](int c) {
+    const int p = c;
+    if (!starts(p) || !is(p, Behaviour::Gas)) return;
+    const int above = c + 4;
+    if (!(is(above, Behaviour::Static) || is(above, Behaviour::Granular) || is(above, Behaviour::Gas))) return;
+    for (int k = 1; k <= 3; ++k) {
+      const int q = other(c, k) + 4, under = other(c, k);
+      if (moved[q] && !again) continue;
+      if (fluid(q) && density(q) > density(p) && fluid(under) && density(under) > density(p)) {
+        exchange(p, q);
+        return;
+      }
+    }
+  };
+  if (r.readings.gas_steps_by_column) {
+    for (int c = 0; c < 4; ++c) {
+      gas_spread(c);
+      gas_around_ceiling(c);
+    }
+  } else {
+    for (int c = 0; c < 4; ++c) gas_spread(c);
+    for (int c = 0; c < 4; ++c) gas_around_ceiling(c);
+  }
+  BlockCells out{};
+  for (int i = 0; i < 8; ++i) out[i] = cell[map[i]];
+  return out;
+}
+
 PlainRules plain_rules(const RuleSet& rules, const Lut& lut, std::uint64_t seed) {
   PlainRules plain;
   plain.lut = &lut;
   plain.random_symmetry = rules.random_symmetry;
   plain.random_axis_order = rules.random_axis_order;
   plain.substeps = rules.motion.substeps;
-  // The plain loop knows one grain, the shipped tables' granular state.
-  const GrainMotion& grain = rules.materials[to_cell(Material::Granular)].grain;
-  plain.topple_gain = grain.topple_gain;
-  plain.roll_cost = grain.roll_cost;
-  plain.roll_chance = grain.roll_chance;
+  bool have_static = false, have_granular = false, have_liquid = false;
+  for (int s = 0; s < kMaterialCount; ++s) {
+    const MaterialDef& d = rules.materials[std::size_t(s)];
+    PlainMaterial& m = plain.materials[std::size_t(s)];
+    m.behaviour = d.behaviour;
+    m.density = d.density;
+    m.spread = d.spread;
+    m.topple_gain = d.grain.topple_gain;
+    m.roll_cost = d.grain.roll_cost;
+    m.roll_chance = d.grain.roll_chance;
+    if (d.behaviour == Behaviour::Void) plain.code_state[kCodeVoid] = std::uint8_t(s);
+    if (d.behaviour == Behaviour::Static && !have_static) {
+      plain.code_state[kCodeObstacle] = std::uint8_t(s);
+      have_static = true;
+    }
+    if (d.behaviour == Behaviour::Granular && !have_granular) {
+      plain.code_state[kCodeGrain] = std::uint8_t(s);
+      have_granular = true;
+    }
+    have_liquid = have_liquid || d.behaviour == Behaviour::Liquid;
+  }
+  // Without a motion model the Lut is keyed by materials, so gravity and flow are read from it at
+  // keys of a void, a static and a granular material; a table with a liquid but no granular
+  // material has no such key for a liquid's code.
+  if (!plain.motion() && have_liquid && !have_granular)
+    throw std::invalid_argument("plain loop: rule set '" + rules.name +
+                                "' has a liquid but no granular material to read its gravity and flow as");
   plain.seed = seed;
   return plain;
 }
