@@ -9,6 +9,12 @@
 /// the random draws, the offset cycle, the hash itself, or a shipped scene used here. Then the new
 /// value is pasted here (the failure message prints the entry) and the commit says why it changed.
 /// A refactoring, a new fast path or a new backend never changes one.
+///
+/// Besides the shipped scenes (sand and solid only), one scene of every material, built here
+/// (all_materials_pool, tests/reference/material_scenes.hpp), is pinned under the default rules
+/// (inertial-24) and under isotropic: its values were taken where the plain per-block loop, run as the
+/// fast step reads fluid_block.hpp (kFastStepReadings), reaches the same hash (test_golden.cpp checks
+/// that on every run).
 
 #include <cstdint>
 #include <cstdio>
@@ -18,13 +24,14 @@
 #include "granular/grid.hpp"
 #include "granular/scene.hpp"
 #include "granular/world_def.hpp"
+#include "reference/material_scenes.hpp"
 
 namespace granular::test {
 
 /// One fixed point: `preset` run `ticks` ticks on scene `scene` at size parameter `n` gives `hash`.
 struct GoldenCase {
   std::string_view preset;  ///< rule-set preset name
-  std::string_view scene;   ///< shipped scene name (assets/scenes)
+  std::string_view scene;   ///< shipped scene name (assets/scenes), or kAllMaterialsScene
   int n = 0;                ///< the scene's size parameter N
   int ticks = 0;            ///< ticks stepped from the initial grid
   std::uint64_t hash = 0;   ///< World::hash() after them
@@ -32,6 +39,9 @@ struct GoldenCase {
 
 /// The seed of every golden run (WorldDef::seed).
 inline constexpr std::uint64_t kGoldenSeed = 20240611;
+
+/// The scene name of the golden scene of every material (not a shipped one: all_materials_pool).
+inline constexpr std::string_view kAllMaterialsScene = "all-materials";
 
 /// The pinned hashes.
 inline constexpr GoldenCase kGoldenCases[] = {
@@ -55,10 +65,16 @@ inline constexpr GoldenCase kGoldenCases[] = {
     {"inertial-24", "hourglass", 48, 64, 0xb08b704bab29288full},
     {"inertial-24", "silo", 32, 64, 0xf6a204e1d1dff6a1ull},
     {"inertial-24", "column", 32, 64, 0x859b206d9050e052ull},
+    {"isotropic", kAllMaterialsScene, 32, 64, 0xd954493c50f4607full},
+    {"inertial-24", kAllMaterialsScene, 32, 64, 0x045cd60ae32699c7ull},
 };
 
-/// The initial grid of a golden case: its shipped scene built at its N.
-inline Grid golden_initial(const GoldenCase& c) { return instantiate(load_scene(find_scene(c.scene)), c.n).grid; }
+/// The initial grid of a golden case: its shipped scene built at its N (the scene of every material
+/// built here).
+inline Grid golden_initial(const GoldenCase& c) {
+  if (c.scene == kAllMaterialsScene) return all_materials_pool(c.n);
+  return instantiate(load_scene(find_scene(c.scene)), c.n).grid;
+}
 
 /// The WorldDef of a golden run on `backend`, sparse or dense, with 2 CPU threads and the table
 /// cache from the environment.
