@@ -2,11 +2,11 @@
 /// Every material of the presets' table moving at once, and at rest, through World on either
 /// backend (figures in bench/RESULTS.md):
 ///
-/// 1. *Mixed*: an N x N x N/2 world released at tick 0: a water column at one end breaks over the
+/// 1. *Mixed*: an N^3 world released at tick 0: a water column at one end breaks over the
 ///    floor (a dam break), a block of sand falls into a water pool with gas pockets at its bottom,
 ///    and a block of gravel falls onto a sand bed. ms per tick over --ticks ticks from release, and
-///    the real-time factor at 60 ticks per second (16.67 ms / ms per tick).
-/// 2. *Settled*: a pool (water in full layers in a walled basin) beside a sand pile and a gravel
+///    the real-time factor (granular::tick_seconds of the rules, time_scale.hpp, over the time per tick).
+/// 2. *Settled*: in an N^3 world, a pool (water in full layers in a walled basin) beside a sand pile and a gravel
 ///    pile left by collapsing columns, stepped until no brick is awake (at most --max-ticks); then
 ///    ms per tick of a dense and a sparse world from that state, and their ratio.
 ///
@@ -19,6 +19,7 @@
 #include <string>
 
 #include "granular/errors.hpp"
+#include "granular/time_scale.hpp"
 #include "granular/world.hpp"
 
 namespace {
@@ -73,12 +74,12 @@ double timed_step(World& world, int ticks) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-/// The mixed scene of N (see the file comment), on a floor, in an N x N x N/2 world.
+/// The mixed scene of N (see the file comment), on a floor, in an N^3 world.
 void paint_mixed(World& w, int n) {
-  const int h = n / 2, f = n / 32;  // height, floor thickness
+  const int h = n, f = n / 32;  // height, floor thickness
   w.paint(Box{{0, 0, 0}, {n, n, f}}, Material::Solid);
   // Dam break: water 3/16 N long and 3/8 N high along the x = 0 wall, over half the y extent.
-  w.paint(Box{{0, 0, f}, {3 * n / 16, n / 2, f + 3 * n / 8}}, Material::Liquid);
+  w.paint(Box{{0, 0, f}, {3 * n / 16, n / 2, f + 3 * h / 8}}, Material::Liquid);
   // A walled pool in the far half, water to h/4 with gas pockets at its bottom; sand above it.
   const int px0 = n / 2, py0 = n / 2, px1 = n - f, py1 = n - f, wall = f + h / 3;
   w.paint(Box{{px0 - f, py0 - f, f}, {n, n, wall}}, Material::Solid);
@@ -93,7 +94,8 @@ void paint_mixed(World& w, int n) {
   w.paint(Box{{5 * n / 8, n / 8, h - n / 6}, {7 * n / 8, 3 * n / 8, h - n / 16}}, Material::Gravel);
 }
 
-/// The settled scene of N: a basin of water in full layers, and collapsing sand and gravel columns.
+/// The settled scene of N, in the lower half of the world: a basin of water in full layers, and
+/// collapsing sand and gravel columns.
 void paint_settled(World& w, int n) {
   const int h = n / 2, f = n / 32;
   w.paint(Box{{0, 0, 0}, {n, n, f}}, Material::Solid);
@@ -105,7 +107,7 @@ void paint_settled(World& w, int n) {
 }
 
 int run(const Options& o) {
-  const Int3 size{o.n, o.n, o.n / 2};
+  const Int3 size{o.n, o.n, o.n};
   World mixed(def_for(o, size, true));
   paint_mixed(mixed, o.n);
   const MaterialCounts before = mixed.count();
@@ -115,8 +117,9 @@ int run(const Options& o) {
   const ActivityStats a = mixed.activity();
   std::printf("bench_materials: %s, rules %s, %dx%dx%d\n", mixed.backend_description().c_str(), o.rules.c_str(), size.x,
               size.y, size.z);
-  std::printf("mixed: %.4f ms/tick over %d ticks from release (%.2fx real time at 60 ticks/s); %llu of %llu bricks awake at the end\n",
-              ms, o.ticks, (1000.0 / 60.0) / ms, static_cast<unsigned long long>(a.active_bricks),
+  const double tick_ms = tick_seconds(mixed.rules()) * 1000.0;
+  std::printf("mixed: %.4f ms/tick over %d ticks from release (%.2fx real time: a tick is %.2f ms); %llu of %llu bricks awake at the end\n",
+              ms, o.ticks, tick_ms / ms, tick_ms, static_cast<unsigned long long>(a.active_bricks),
               static_cast<unsigned long long>(a.total_bricks));
   if (mixed.count() != before) {
     std::fprintf(stderr, "bench_materials: the mixed world's material counts changed\n");

@@ -214,17 +214,18 @@ constexpr std::uint64_t step_block(std::uint64_t bytes, const SubStep& m, int x0
     const int start = (byte & kMotionPhaseBit) ? 1 : 0;
     if (s >= start && s - start < motion_window(level)) takes_part |= 1u << i;
   }
-  const std::uint32_t present = present_materials(bytes);  // the same after any permutation
   unsigned gas_turn = 0;
-  if (s < 2 && (present & mats.gases) != 0)
+  if (s < 2 && mats.gases != 0)
     for (int i = 0; i < 4; ++i)
       if (mats.is_gas(std::uint32_t(bytes >> (8 * i)) & kMaterialMask)) gas_turn |= 1u << i;
   if ((takes_part | gas_turn) == 0) return bytes;
   const std::uint64_t random = block_random(m.seed, m.tick * std::uint64_t(m.substeps) + std::uint64_t(s), x0, y0, z0);
   BlockKey key = 0;
+  std::uint32_t present = 0;  // bit m for each material m in the block (the same after any permutation)
   for (int i = 0; i < 8; ++i) {
     const std::uint32_t byte = std::uint32_t(bytes >> (8 * i)) & 0xFFu;
     const std::uint32_t material = byte & kMaterialMask;
+    present |= 1u << material;
     std::uint32_t code = mats.code(material);
     if (code == kCodeGrain && i >= 4) {
       // A top-layer grain outside its window is too slow to move now: an obstacle.
@@ -243,10 +244,12 @@ constexpr std::uint64_t step_block(std::uint64_t bytes, const SubStep& m, int x0
   const Transition t = takes_part != 0 ? load(viewed) : kIdentityTransition;
   const int max_level = MotionParams{.substeps = m.substeps}.max_level();
   std::uint64_t out = 0;
+  const bool fluid_pass = mats.fluid_pass_applies(present);
+  const unsigned may_start = fluid_pass ? takes_part | gas_turn : 0u;
   unsigned movers = 0;  // who may start a move in the fluid pass: cells that took part and stayed
   for (int i = 0; i < 8; ++i) {
     const int dest = symmetry_preimage(destination(t, symmetry_image(i, symmetry)), symmetry);
-    if (dest == i) movers |= (takes_part | gas_turn) & (1u << i);
+    if (dest == i) movers |= may_start & (1u << i);
     std::uint32_t byte = std::uint32_t(bytes >> (8 * i)) & 0xFFu;
     if ((takes_part >> i) & 1u) {
       const std::uint32_t material = byte & kMaterialMask;
@@ -267,7 +270,7 @@ constexpr std::uint64_t step_block(std::uint64_t bytes, const SubStep& m, int x0
     }
     out |= std::uint64_t(byte) << (8 * dest);
   }
-  if (!mats.fluid_pass_applies(present)) return out;
+  if (!fluid_pass) return out;
   const std::uint64_t draws =
       block_random(m.seed ^ fluid::kDrawSalt, m.tick * std::uint64_t(m.substeps) + std::uint64_t(s), x0, y0, z0);
   return fluid::fluid_pass<true>(out, movers, symmetry, draws, mats);
