@@ -11,6 +11,8 @@ double Calibration::tick_s() const { return std::sqrt(2 * cell_m / (gravity * ca
 
 double Calibration::cell_kg() const { return bulk_density * cell_m * cell_m * cell_m; }
 
+double Calibration::gravity_cells() const { return gravity * tick_s() * tick_s() / cell_m; }
+
 std::string Calibration::describe() const {
   char line[256];
   std::snprintf(line, sizeof line,

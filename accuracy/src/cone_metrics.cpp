@@ -20,7 +20,7 @@ struct BinSums {
 
 }  // namespace
 
-ConeMetrics measure_cone(const Grid& grid, Vec3 apex_xy_center, int floor_z) {
+ConeMetrics measure_cone(const Grid& grid, Vec3 apex_xy_center, int floor_z, Material material) {
   const Int3 size = grid.size();
   const int z0 = std::max(floor_z, 0);
   std::vector<int> h(std::size_t(size.x) * std::size_t(size.y), 0);
@@ -28,7 +28,7 @@ ConeMetrics measure_cone(const Grid& grid, Vec3 apex_xy_center, int floor_z) {
   for (int y = 0; y < size.y; ++y)
     for (int x = 0; x < size.x; ++x) {
       int count = 0;
-      for (int z = z0; z < size.z; ++z) count += grid.at({x, y, z}) == Material::Granular;
+      for (int z = z0; z < size.z; ++z) count += grid.at({x, y, z}) == material;
       h[std::size_t(x) + std::size_t(size.x) * std::size_t(y)] = count;
       height = std::max(height, count);
     }

@@ -4,12 +4,13 @@
 #include <string>
 
 #include "granular/errors.hpp"
+#include "granular/rule_set.hpp"
 #include "granular/world.hpp"
 
 namespace granular::accuracy {
 
 PourResult pour_cone(const WorldDef& base, int floor_size, int height, std::int64_t grains_per_tick,
-                     std::uint64_t ticks, std::uint64_t settle_ticks, double spout_radius) {
+                     std::uint64_t ticks, std::uint64_t settle_ticks, double spout_radius, Material material) {
   if (floor_size < 8) throw InvalidArgument("pour_cone: floor_size = " + std::to_string(floor_size) + " must be >= 8");
   if (height < 8) throw InvalidArgument("pour_cone: height = " + std::to_string(height) + " must be >= 8");
   if (grains_per_tick < 0)
@@ -20,6 +21,9 @@ PourResult pour_cone(const WorldDef& base, int floor_size, int height, std::int6
   WorldDef def = base;
   def.size = {floor_size, floor_size, height};
   World world(def);
+  if (world.rules().materials[to_cell(material)].behaviour != Behaviour::Granular)
+    throw InvalidArgument("pour_cone: material '" + std::string(material_name(material)) + "' is not granular in rule set '" +
+                          world.rules().name + "'");
   world.paint(Box{{0, 0, 0}, {floor_size, floor_size, 1}}, Material::Solid);
 
   PourResult result;
@@ -27,8 +31,8 @@ PourResult pour_cone(const WorldDef& base, int floor_size, int height, std::int6
   const Vec3 spout{floor_size / 2.0, floor_size / 2.0, height - 2.0 - spout_radius};
   const auto start = std::chrono::steady_clock::now();
   for (std::uint64_t t = 0; t < ticks; ++t) {
-    const ChangeReport report = world.pour(spout, spout_radius, Material::Granular, grains_per_tick);
-    result.poured += report.added[to_cell(Material::Granular)];
+    const ChangeReport report = world.pour(spout, spout_radius, material, grains_per_tick);
+    result.poured += report.added[to_cell(material)];
     world.step(1);
   }
   std::uint64_t settle_done = 0;
@@ -47,7 +51,7 @@ PourResult pour_cone(const WorldDef& base, int floor_size, int height, std::int6
   result.ticks = world.tick();
   result.grid = world.snapshot();
   result.after = result.grid.count();
-  result.metrics = measure_cone(result.grid, spout, 1);
+  result.metrics = measure_cone(result.grid, spout, 1, material);
   return result;
 }
 

@@ -8,7 +8,9 @@
 
 namespace granular::accuracy {
 
-std::vector<std::string> suite_test_names() { return {"cone", "hysteresis", "silo", "collapse", "fall", "conservation"}; }
+std::vector<std::string> suite_test_names() {
+  return {"cone", "gravel_cone", "hysteresis", "silo", "collapse", "fall", "conservation"};
+}
 
 SuiteReport run_suite(const SuiteOptions& o, const std::vector<std::string>& tests) {
   const std::vector<std::string> all = suite_test_names();
@@ -36,6 +38,7 @@ SuiteReport run_suite(const SuiteOptions& o, const std::vector<std::string>& tes
   }
   const TestReport* collapse = nullptr;
   if (wanted("cone")) report.tests.push_back(run_cone_test(o));
+  if (wanted("gravel_cone")) report.tests.push_back(run_gravel_cone_test(o));
   if (wanted("hysteresis")) report.tests.push_back(run_hysteresis_test(o));
   if (wanted("silo")) report.tests.push_back(run_silo_test(o));
   std::size_t collapse_index = 0;

@@ -1,6 +1,6 @@
 #pragma once
 /// @file suite_tests.hpp
-/// The six tests of the accuracy suite. Each builds its scenes programmatically (sizes depend on
+/// The seven tests of the accuracy suite. Each builds its scenes programmatically (sizes depend on
 /// SuiteOptions::quick), runs them on the configured backend, measures from the grid and returns
 /// a TestReport with measured values, references and their sources, and the series of its plot.
 
@@ -16,30 +16,34 @@ namespace granular::accuracy {
 /// and the 1-, 2- and 4-fold Fourier amplitudes of r(phi) against a round footprint.
 TestReport run_cone_test(const SuiteOptions& options);
 
-/// 2. Hysteresis: beds with a plane surface inclined at theta along x (a tilt done in steps: each
+/// 2. Gravel cone: the cone test's pour and measurement with the table's gravel against dry
+/// gravel's 40 deg, with the sand cone's footprint targets.
+TestReport run_gravel_cone_test(const SuiteOptions& options);
+
+/// 3. Hysteresis: beds with a plane surface inclined at theta along x (a tilt done in steps: each
 /// step is a fresh bed at the next angle) in a walled box with a run-out; theta_start is the first
 /// angle at which more than 1% of the grains move, theta_stop the slope that bed relaxes to.
 TestReport run_hysteresis_test(const SuiteOptions& options);
 
-/// 3. Silo discharge: a cylindrical silo with a flat bottom and a centred round orifice of
+/// 4. Silo discharge: a cylindrical silo with a flat bottom and a centred round orifice of
 /// diameter D; grains that leave are removed below and counted. Steady flow rate W(D), the fit
 /// W = C (D - k)^n (Beverloo: n = 5/2), and W against the fill level; then the shipped hourglass
 /// scene (quick N = 64, full 192): W against the fraction emptied, constant from 20% to 80%.
 TestReport run_silo_test(const SuiteOptions& options);
 
-/// 4. Column collapse: a cylinder of sand of radius R0 and height a R0 released at once, for
+/// 5. Column collapse: a cylinder of sand of radius R0 and height a R0 released at once, for
 /// a in {0.5, 1, 2, 4, 8}; normalised runout (R_inf - R0) / R0 against a with power-law fits below
 /// and above a = 1.7 (Lube et al. 2004: exponents 1 and 1/2). Its series "stop time" holds the
 /// ticks each collapse took to come to rest against H0, which run_fall_test uses.
 TestReport run_collapse_test(const SuiteOptions& options);
 
-/// 5. Free fall: a single grain dropped from 16 to 256 cells (quick: to 128); the exponent of fall
+/// 6. Free fall: a single grain dropped from 16 to 256 cells (quick: to 128); the exponent of fall
 /// distance against time (2 under gravity) and of fall time against height (1/2). When `collapse`
 /// is given (the collapse test's report), also the exponent of the collapse stop time against
 /// H0 (1/2: t_stop is proportional to sqrt(H0 / g)).
 TestReport run_fall_test(const SuiteOptions& options, const TestReport* collapse);
 
-/// 6. Conservation and stability: random scenes (void/solid/granular, and all 8 states) stepped
+/// 7. Conservation and stability: random scenes (void/solid/granular, and all 8 states) stepped
 /// for many ticks (quick 2 x 10^4 each; full 10^6 and 10^5) must keep every material's count exactly
 /// and give the same hash on the configured backend and on the CPU with 1, 2 and 3 threads (full:
 /// 1 thread for the 10^6-tick scene, 1 and 3 for the other), and with sparse and dense stepping;

@@ -26,6 +26,8 @@ struct Calibration {
   double tick_s() const;
   /// Mass of one grain cell in kg (bulk_density d^3).
   double cell_kg() const;
+  /// g in cells per tick^2 (gravity dt^2 / d): 2 / H_c.
+  double gravity_cells() const;
   /// One human-readable line naming d, dt, g and H_c.
   std::string describe() const;
 };

@@ -1,12 +1,13 @@
 #pragma once
 /// @file cone_metrics.hpp
-/// Shape measurements of a sand pile read from the grid: the angle of repose per azimuth and the
+/// Shape measurements of a pile of grains read from the grid: the angle of repose per azimuth and the
 /// isotropy of the footprint. The first measurements of the accuracy suite.
 
 #include <array>
 
 #include "granular/geometry.hpp"
 #include "granular/grid.hpp"
+#include "granular/material.hpp"
 
 namespace granular::accuracy {
 
@@ -29,11 +30,11 @@ struct ConeMetrics {
   int bins = 0;                 ///< bins that produced an angle (at most kConeAzimuthBins)
 };
 
-/// Measures the pile standing on the layer `floor_z` of `grid`, around the vertical axis through
-/// (apex_xy_center.x, apex_xy_center.y) (z is ignored).
+/// Measures the pile of `material` standing on the layer `floor_z` of `grid`, around the vertical
+/// axis through (apex_xy_center.x, apex_xy_center.y) (z is ignored).
 ///
 /// Definitions (column (x, y) has its centre at (x + 0.5, y + 0.5)):
-/// * height map: h(x, y) = number of Granular cells in the column with floor_z <= z < nz;
+/// * height map: h(x, y) = number of `material` cells in the column with floor_z <= z < nz;
 /// * H = max h(x, y); dx = x + 0.5 - cx, dy = y + 0.5 - cy, r = sqrt(dx^2 + dy^2),
 ///   phi = atan2(dy, dx) mapped to [0, 2 pi); bin k = floor(phi / (2 pi / 36)), centre angle
 ///   phi_k = (k + 1/2) 2 pi / 36;
@@ -47,7 +48,7 @@ struct ConeMetrics {
 ///   pyramid measures about 0.07 whatever its orientation, as the modulus removes the phase);
 ///   onefold_amplitude and twofold_amplitude use e^{i phi_k} and e^{2 i phi_k} likewise (an
 ///   ellipse of axes a > b measures about (a - b) / (a + b) in the 2-fold amplitude).
-/// Returns all zeros when the grid holds no grain above floor_z.
-ConeMetrics measure_cone(const Grid& grid, Vec3 apex_xy_center, int floor_z);
+/// Returns all zeros when the grid holds no grain of `material` above floor_z.
+ConeMetrics measure_cone(const Grid& grid, Vec3 apex_xy_center, int floor_z, Material material = Material::Granular);
 
 }  // namespace granular::accuracy

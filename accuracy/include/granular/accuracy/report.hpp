@@ -39,7 +39,7 @@ struct Series {
 
 /// The outcome of one test of the suite for one configuration.
 struct TestReport {
-  std::string test;              ///< test identifier: cone, hysteresis, silo, collapse, fall, conservation
+  std::string test;              ///< test identifier: one of suite_test_names() (cone, ..., conservation)
   std::string title;             ///< one line for humans
   std::string scene;             ///< how the scene was built (sizes in cells)
   std::vector<Metric> metrics;   ///< measured values against references
