@@ -2,7 +2,7 @@
 /// The motion model (granular/motion.hpp) on the CUDA backend: the GPU-built motion table equals
 /// the CPU's; the backend's dense and sparse motion kernels equal a plain host stepping of
 /// motion::step_block over the raw bytes (motion levels included, grid edges, tools between
-/// ticks); and CPU and CUDA worlds of the inertial preset, dense and sparse, hold the same cells
+/// ticks; sand scenes and scenes of every material, the fluid pass included); and CPU and CUDA worlds of the inertial preset, dense and sparse, hold the same cells
 /// bit for bit (hash and regions), the same, conserved, material counts and, sparse, the same
 /// activity figures.
 
@@ -25,6 +25,8 @@
 #include "granular/world.hpp"
 #include "granular_cuda/cuda_backend_factory.hpp"
 #include "step/motion_block.hpp"
+#include "step/step_materials.hpp"
+#include "../reference/material_scenes.hpp"
 
 using namespace granular;
 
@@ -149,53 +151,65 @@ TEST_CASE("cuda motion: dense and sparse motion kernels equal a host stepping of
     const auto rules = make_rule_set(name);
     REQUIRE(rules->motion.enabled());
     const auto lut = std::make_shared<const Lut>(Lut::build(*rules, 0));
-    for (const std::uint64_t seed : {1u, 77u, 4242u}) {
-      CAPTURE(name);
-      CAPTURE(seed);
-      Grid initial = motion_scene(kSceneSize, seed);
-      // Grains already moving, at every level and phase, so that falls, rolls and slow-downs occur
-      // at once.
-      std::mt19937_64 rng(seed);
-      for (auto& c : initial.cells())
-        if (c == to_cell(Material::Granular)) {
-          c = std::uint8_t(c | (rng() % std::uint64_t(rules->motion.max_level() + 1)) << kMotionShift);
-          if (rng() % 2 == 0) c = std::uint8_t(c | kMotionPhaseBit);
+    const StepMaterials mats = step_materials(rules->materials);
+    for (const std::uint64_t seed : {1u, 77u, 4242u})
+      for (const bool every_material : {false, true}) {
+        CAPTURE(name);
+        CAPTURE(seed);
+        CAPTURE(every_material);
+        // The sand scene, or one of every material (liquids spreading, gases rising, the fluid pass).
+        Grid initial = every_material ? granular::test::all_materials_scene(kSceneSize, seed) : motion_scene(kSceneSize, seed);
+        // Fallers (sand, gravel, water) already moving, at every level and phase, so that falls, rolls
+        // and slow-downs occur at once.
+        std::mt19937_64 rng(seed);
+        for (auto& c : initial.cells())
+          if (mats.is_faller(c)) {
+            c = std::uint8_t(c | (rng() % std::uint64_t(rules->motion.max_level() + 1)) << kMotionShift);
+            if (rng() % 2 == 0) c = std::uint8_t(c | kMotionPhaseBit);
+          }
+        std::vector<std::uint8_t> reference(initial.cells().begin(), initial.cells().end());
+        const MaterialCounts counts = count_materials(reference);
+        const auto dense =
+            make_cuda_backend({.initial = initial, .lut = lut, .rules = rules, .seed = seed, .sparse = false});
+        const auto sparse =
+            make_cuda_backend({.initial = initial, .lut = lut, .rules = rules, .seed = seed, .sparse = true});
+        std::uint64_t tick = 0;
+        for (const int ticks : {1, 2, 5, 8, 13, 40, 3, 100}) {
+          CAPTURE(ticks);
+          for (int i = 0; i < ticks; ++i) reference_tick(reference, kSceneSize, *rules, *lut, seed, tick + std::uint64_t(i));
+          dense->step(tick, ticks);
+          sparse->step(tick, ticks);
+          tick += std::uint64_t(ticks);
+          const std::uint64_t expected = hash_cells(kSceneSize, reference);
+          REQUIRE(dense->hash() == expected);
+          REQUIRE(sparse->hash() == expected);
+          CHECK(dense->count() == counts);
+          CHECK(sparse->count() == counts);
+          CHECK(sparse->last_activity().ticks == std::uint64_t(ticks));
         }
-      std::vector<std::uint8_t> reference(initial.cells().begin(), initial.cells().end());
-      const MaterialCounts counts = count_materials(reference);
-      const auto dense =
-          make_cuda_backend({.initial = initial, .lut = lut, .rules = rules, .seed = seed, .sparse = false});
-      const auto sparse =
-          make_cuda_backend({.initial = initial, .lut = lut, .rules = rules, .seed = seed, .sparse = true});
-      std::uint64_t tick = 0;
-      for (const int ticks : {1, 2, 5, 8, 13, 40, 3, 100}) {
-        CAPTURE(ticks);
-        for (int i = 0; i < ticks; ++i) reference_tick(reference, kSceneSize, *rules, *lut, seed, tick + std::uint64_t(i));
-        dense->step(tick, ticks);
-        sparse->step(tick, ticks);
-        tick += std::uint64_t(ticks);
+        // A tool between ticks: a slab of moving grains (level 2) dropped onto the settled scene; with
+        // every material also a slab of moving water and one of gas low down.
+        const std::uint8_t moving = std::uint8_t(to_cell(Material::Granular) | (2u << kMotionShift));
+        paint_raw(*dense, reference, kSceneSize, Box{{3, 4, 33}, {30, 9, 36}}, moving);
+        paint_raw(*sparse, reference, kSceneSize, Box{{3, 4, 33}, {30, 9, 36}}, moving);
+        if (every_material) {
+          const std::uint8_t water = std::uint8_t(to_cell(Material::Liquid) | (2u << kMotionShift));
+          paint_raw(*dense, reference, kSceneSize, Box{{5, 12, 28}, {25, 20, 31}}, water);
+          paint_raw(*sparse, reference, kSceneSize, Box{{5, 12, 28}, {25, 20, 31}}, water);
+          paint_raw(*dense, reference, kSceneSize, Box{{10, 3, 2}, {20, 25, 4}}, to_cell(Material::Gas));
+          paint_raw(*sparse, reference, kSceneSize, Box{{10, 3, 2}, {20, 25, 4}}, to_cell(Material::Gas));
+        }
+        for (int i = 0; i < 150; ++i) reference_tick(reference, kSceneSize, *rules, *lut, seed, tick + std::uint64_t(i));
+        dense->step(tick, 150);
+        sparse->step(tick, 150);
         const std::uint64_t expected = hash_cells(kSceneSize, reference);
         REQUIRE(dense->hash() == expected);
         REQUIRE(sparse->hash() == expected);
-        CHECK(dense->count() == counts);
-        CHECK(sparse->count() == counts);
-        CHECK(sparse->last_activity().ticks == std::uint64_t(ticks));
+        std::vector<std::uint8_t> back(reference.size());
+        sparse->read(Box{{0, 0, 0}, kSceneSize}, back);
+        CHECK(back == reference);
+        CHECK(sparse->count() == count_materials(reference));
       }
-      // A tool between ticks: a slab of moving grains (level 2) dropped onto the settled scene.
-      const std::uint8_t moving = std::uint8_t(to_cell(Material::Granular) | (2u << kMotionShift));
-      paint_raw(*dense, reference, kSceneSize, Box{{3, 4, 33}, {30, 9, 36}}, moving);
-      paint_raw(*sparse, reference, kSceneSize, Box{{3, 4, 33}, {30, 9, 36}}, moving);
-      for (int i = 0; i < 150; ++i) reference_tick(reference, kSceneSize, *rules, *lut, seed, tick + std::uint64_t(i));
-      dense->step(tick, 150);
-      sparse->step(tick, 150);
-      const std::uint64_t expected = hash_cells(kSceneSize, reference);
-      REQUIRE(dense->hash() == expected);
-      REQUIRE(sparse->hash() == expected);
-      std::vector<std::uint8_t> back(reference.size());
-      sparse->read(Box{{0, 0, 0}, kSceneSize}, back);
-      CHECK(back == reference);
-      CHECK(sparse->count() == count_materials(reference));
-    }
   }
 }
 
