@@ -9,7 +9,8 @@
 namespace granular::accuracy {
 
 std::vector<std::string> suite_test_names() {
-  return {"cone", "gravel_cone", "hysteresis", "silo", "collapse", "fall", "conservation"};
+  return {"cone",         "gravel_cone", "hysteresis", "silo",     "collapse",    "fall", "communicating_vessels",
+          "dam_break",    "torricelli",  "buoyancy",   "conservation"};
 }
 
 SuiteReport run_suite(const SuiteOptions& o, const std::vector<std::string>& tests) {
@@ -51,6 +52,10 @@ SuiteReport run_suite(const SuiteOptions& o, const std::vector<std::string>& tes
     TestReport fall = run_fall_test(o, collapse);
     report.tests.push_back(std::move(fall));
   }
+  if (wanted("communicating_vessels")) report.tests.push_back(run_communicating_vessels_test(o));
+  if (wanted("dam_break")) report.tests.push_back(run_dam_break_test(o));
+  if (wanted("torricelli")) report.tests.push_back(run_torricelli_test(o));
+  if (wanted("buoyancy")) report.tests.push_back(run_buoyancy_test(o));
   if (wanted("conservation")) {
     const std::vector<TestReport> earlier = report.tests;
     report.tests.push_back(run_conservation_test(o, earlier));

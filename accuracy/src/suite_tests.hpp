@@ -1,6 +1,6 @@
 #pragma once
 /// @file suite_tests.hpp
-/// The seven tests of the accuracy suite. Each builds its scenes programmatically (sizes depend on
+/// The eleven tests of the accuracy suite. Each builds its scenes programmatically (sizes depend on
 /// SuiteOptions::quick), runs them on the configured backend, measures from the grid and returns
 /// a TestReport with measured values, references and their sources, and the series of its plot.
 
@@ -43,7 +43,27 @@ TestReport run_collapse_test(const SuiteOptions& options);
 /// H0 (1/2: t_stop is proportional to sqrt(H0 / g)).
 TestReport run_fall_test(const SuiteOptions& options, const TestReport* collapse);
 
-/// 7. Conservation and stability: random scenes (void/solid/granular, and all 8 states) stepped
+/// 7. Communicating vessels: a U-tube with one leg full of liquid and the other empty over a full
+/// channel (quick: legs of 8^2 cells, 40 high; full: 32^2, 160 high), run until at rest or 20
+/// oscillation periods; the level difference of the legs against 0 (+- 1 cell).
+TestReport run_communicating_vessels_test(const SuiteOptions& options);
+
+/// 8. Dam break: a liquid column H0 high and 2 H0 long released at the closed end of a dry channel
+/// (quick: H0 in {16, 32}, 8 wide; full: {32, 64, 128}, 32 wide); the front's arrival times over its
+/// first 2 H0 of travel fitted as x_f = U t, U / (2 sqrt(g H0)) against Ritter's 1 (+- 0.15).
+TestReport run_dam_break_test(const SuiteOptions& options);
+
+/// 9. Torricelli: a cylindrical tank of liquid (quick: radius 8, 64 high, orifice 4; full: 32,
+/// 192, 8) drains through a centred bottom orifice; the exponent n of Q = C h^n over windows of
+/// the head from 90% to 20% of the fill against 1/2 (+- 0.1).
+TestReport run_torricelli_test(const SuiteOptions& options);
+
+/// 10. Buoyancy: a block of sand dropped onto liquid in a closed box, with a gas pocket under the
+/// liquid (quick: 24^2 x 40; full: 96^2 x 160), run until at rest; sand cells with liquid below
+/// them, gas cells with liquid above them, and materials whose count changed, each against 0.
+TestReport run_buoyancy_test(const SuiteOptions& options);
+
+/// 11. Conservation and stability: random scenes (void/solid/granular, and all 8 states) stepped
 /// for many ticks (quick 2 x 10^4 each; full 10^6 and 10^5) must keep every material's count exactly
 /// and give the same hash on the configured backend and on the CPU with 1, 2 and 3 threads (full:
 /// 1 thread for the 10^6-tick scene, 1 and 3 for the other), and with sparse and dense stepping;

@@ -11,7 +11,8 @@
 namespace granular::accuracy {
 
 /// Every test name, in the order the suite runs them: cone, gravel_cone, hysteresis, silo, collapse,
-/// fall, conservation (fall uses collapse's stop times; conservation checks every earlier test).
+/// fall, communicating_vessels, dam_break, torricelli, buoyancy, conservation (fall uses collapse's
+/// stop times; conservation checks every earlier test).
 std::vector<std::string> suite_test_names();
 
 /// Runs the named tests (a subset of suite_test_names(), any order; run in the suite's order)
