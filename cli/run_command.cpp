@@ -55,7 +55,15 @@ void run(const RunOptions& o) {
   s["lut"] = {{"seconds", w.lut_seconds()}, {"from_cache", w.lut_from_cache()}, {"hash", hex64(w.lut().content_hash())}};
   s["grains_before"] = counts_json(before);
   s["grains_after"] = counts_json(after);
-  s["mass_conserved"] = before == after;
+  MaterialCounts expected = before;  // the emitters turned void cells into what they poured
+  bool poured = false;
+  for (int m = 0; m < kMaterialCount; ++m) {
+    expected[m] += p.poured[m];
+    expected[to_cell(Material::Void)] -= p.poured[m];
+    poured = poured || p.poured[m] != 0;
+  }
+  s["poured"] = counts_json(p.poured);
+  s["mass_conserved"] = after == expected;
   s["hash"] = hex64(w.hash());
   const ActivityStats a = w.activity();
   const double mean_cells = o.ticks ? double(p.cell_ticks) / double(o.ticks) : 0.0;
@@ -84,12 +92,15 @@ void run(const RunOptions& o) {
   std::printf("active         last tick %llu of %llu bricks (%llu cells); mean %.0f cells/tick (%.2f%% of the grid)\n",
               static_cast<unsigned long long>(a.active_bricks), static_cast<unsigned long long>(a.total_bricks),
               static_cast<unsigned long long>(a.active_cells), mean_cells, cells > 0 ? 100.0 * mean_cells / cells : 0.0);
-  std::printf("%-14s %14s %14s\n", "material", "before", "after");
+  std::printf("%-14s %14s %14s%s\n", "material", "before", "after", poured ? "         poured" : "");
   for (int m = 0; m < kMaterialCount; ++m)
-    if (before[m] || after[m])
-      std::printf("%-14s %14llu %14llu\n", std::string(material_name(Material(m))).c_str(),
+    if (before[m] || after[m]) {
+      std::printf("%-14s %14llu %14llu", std::string(material_name(Material(m))).c_str(),
                   static_cast<unsigned long long>(before[m]), static_cast<unsigned long long>(after[m]));
-  std::printf("mass conserved %s\n", before == after ? "yes" : "NO");
+      if (poured) std::printf(" %14llu", static_cast<unsigned long long>(p.poured[m]));
+      std::printf("\n");
+    }
+  std::printf("mass conserved %s\n", after == expected ? (poured ? "yes (after = before + poured)" : "yes") : "NO");
   std::printf("checksum       %s\n", hex64(w.hash()).c_str());
 }
 

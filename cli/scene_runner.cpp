@@ -87,7 +87,10 @@ double run_ticks(PreparedWorld& p, std::uint64_t ticks, bool progress) {
   double seconds = 0;
   for (std::uint64_t done = 0; done < ticks;) {
     const int n = tick_chunk(ticks, done, !p.emitters.empty());
-    if (!p.emitters.empty()) run_emitters(*p.world, p.emitters);
+    if (!p.emitters.empty()) {
+      const MaterialCounts poured = run_emitters(*p.world, p.emitters);
+      for (int m = 0; m < kMaterialCount; ++m) p.poured[m] += poured[m];
+    }
     const auto start = std::chrono::steady_clock::now();
     p.world->step(n);
     seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -55,6 +55,7 @@ struct PreparedWorld {
   std::vector<Emitter> emitters;         ///< the scene's emitters, in cells
   std::unique_ptr<World> world;          ///< the world
   std::uint64_t brick_ticks = 0;         ///< bricks stepped, summed over every tick run_ticks ran
+  MaterialCounts poured{};               ///< cells the scene's emitters poured, per material, over run_ticks
   std::uint64_t cell_ticks = 0;          ///< cells in stepped bricks, summed likewise
 };
 

@@ -937,7 +937,8 @@ TEST_CASE("scene: run_emitters pours `rate` cells on each tick in [start, stop) 
   for (std::uint64_t tick = 0; tick < 12; ++tick) {
     CAPTURE(tick);
     REQUIRE(world.tick() == tick);
-    run_emitters(world, s.emitters);
+    const MaterialCounts poured = run_emitters(world, s.emitters);
+    CHECK(poured[to_cell(Material::Granular)] == (tick >= 2 && tick < 6 ? 5u : 0u));
     const std::uint64_t active_ticks = tick < 2 ? 0 : std::min<std::uint64_t>(tick, 5) - 1;
     CHECK(world.count()[to_cell(Material::Granular)] == 5 * active_ticks);
     CHECK(world.count()[to_cell(Material::Solid)] == solid);

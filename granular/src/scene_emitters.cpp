@@ -17,7 +17,7 @@ std::string emitter_name(std::size_t i, const Emitter& e) {
 
 }  // namespace
 
-void run_emitters(World& world, const std::vector<Emitter>& emitters) {
+MaterialCounts run_emitters(World& world, const std::vector<Emitter>& emitters) {
   const std::uint64_t tick = world.tick();
   auto active = [tick](const Emitter& e) { return tick >= e.start && tick < e.stop; };
   for (std::size_t i = 0; i < emitters.size(); ++i)
@@ -30,8 +30,10 @@ void run_emitters(World& world, const std::vector<Emitter>& emitters) {
         throw InvalidArgument(emitter_name(i, e) + ": " + error.what());
       }
     }
+  MaterialCounts poured{};
   for (const Emitter& e : emitters)
-    if (active(e)) world.pour(e.center, e.radius, e.material, e.rate);
+    if (active(e)) poured[to_cell(e.material)] += std::uint64_t(world.pour(e.center, e.radius, e.material, e.rate).cells_changed);
+  return poured;
 }
 
 }  // namespace granular

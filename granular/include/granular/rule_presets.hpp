@@ -24,7 +24,10 @@ Transition paper_transition(const BlockCells& cells, const MaterialTable& materi
 Transition motion_transition(const BlockCells& codes, const MaterialTable& materials);
 
 /// The shipped material table: void (0), solid (1, static), granular (2, sand, rolling as `grain`
-/// says), and states 3..7 (named liquid, gas, state5..7) static obstacles.
+/// says), liquid (3, water), gas (4), gravel (5, granular: denser than sand and rolling less, so its
+/// heap is steeper) and two static states (6, 7) a game may give materials of its own; density
+/// order gas < void < water < sand < gravel. With `grain` all zero (the one-step presets) no material
+/// has motion parameters.
 MaterialTable default_materials(GrainMotion grain = {});
 
 /// A preset by name, as a value a game may copy and change: "paper" (the paper's deterministic rules

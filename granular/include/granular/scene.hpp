@@ -180,7 +180,7 @@ SceneInstance instantiate(const Scene& scene, int n = 0);
 /// material into its sphere (World::pour). Call once before each World::step(1). Every active
 /// emitter is checked first (a material that is not void, rate >= 0, a finite centre, a radius > 0,
 /// a sphere that covers a cell of the grid): when one is invalid, InvalidArgument names it and the
-/// world is unchanged.
-void run_emitters(World& world, const std::vector<Emitter>& emitters);
+/// world is unchanged. Returns the cells poured, per material.
+MaterialCounts run_emitters(World& world, const std::vector<Emitter>& emitters);
 
 }  // namespace granular
