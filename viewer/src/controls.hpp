@@ -14,7 +14,7 @@ struct Control {
 
 /// Every control of the windowed sandbox.
 inline constexpr std::array<Control, 17> kControls{{
-    {"left button", "dig (removes all but solid) / erase (removes everything) where the cursor's ray hits"},
+    {"left button", "dig (removes every mobile material: granular, liquid, gas; static ones stay) / erase (removes everything) where the cursor's ray hits"},
     {"right button", "the chosen material: pour it above the hit point (granular, liquid, gas) / paint it as a sphere of structure in front of the hit face (static)"},
     {"wheel", "brush radius"},
     {"middle drag, or Alt + left drag", "orbit"},
