@@ -18,7 +18,6 @@
 /// fraction a step uses dense-recording ticks; 1 = sparse ticks only, as before that existed).
 /// Prints a short table last.
 
-#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -29,10 +28,12 @@
 #include "granular/hex.hpp"
 #include "granular/scene.hpp"
 #include "granular/world.hpp"
+#include "timed_step.hpp"
 
 namespace {
 
 using namespace granular;
+using bench::timed_step;
 
 /// The command line (see the file comment).
 struct Options {
@@ -80,13 +81,6 @@ WorldDef def_for(const Options& o, bool sparse) {
   def.cuda.dense_fraction = def.cuda.motion_dense_fraction = o.dense_fraction;
   def.rules = o.rules;
   return def;
-}
-
-/// Seconds that `world.step(ticks)` takes (step synchronises with the device before returning).
-double timed_step(World& world, int ticks) {
-  const auto start = std::chrono::steady_clock::now();
-  world.step(ticks);
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 /// A closed cup: solid floor and walls around the box [0, cup)^2 x [top - cup, top) (the grid's

@@ -13,7 +13,6 @@
 ///   bench_materials [--backend cpu|cuda] [--n N] [--ticks T] [--max-ticks M] [--threads J] [--rules R]
 /// Exit status 1 when the dense and sparse worlds' hashes differ or a material count changes.
 
-#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -21,10 +20,12 @@
 #include "granular/errors.hpp"
 #include "granular/time_scale.hpp"
 #include "granular/world.hpp"
+#include "timed_step.hpp"
 
 namespace {
 
 using namespace granular;
+using bench::timed_step;
 
 /// The command line (see the file comment).
 struct Options {
@@ -65,13 +66,6 @@ WorldDef def_for(const Options& o, Int3 size, bool sparse) {
   def.sparse = sparse;
   def.rules = o.rules;
   return def;
-}
-
-/// Seconds that `world.step(ticks)` takes (step synchronises with the device before returning).
-double timed_step(World& world, int ticks) {
-  const auto start = std::chrono::steady_clock::now();
-  world.step(ticks);
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 /// The mixed scene of N (see the file comment), on a floor, in an N^3 world.

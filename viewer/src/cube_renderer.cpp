@@ -34,19 +34,6 @@ std::uint32_t checked_bricks(const VulkanContext& context, std::uint32_t bricks)
 
 }  // namespace
 
-/// Storage buffers 0-3 (cells, brick list, instances, draws), the material palette at 4.
-std::vector<VkDescriptorType> binding_types() {
-  std::vector<VkDescriptorType> types(4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
-  types.push_back(VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER);
-  return types;
-}
-
-GraphicsOptions translucent_options() {
-  GraphicsOptions options;
-  options.blend = true;
-  options.depth_write = false;
-  return options;
-}
 
 CubeRenderer::CubeRenderer(const VulkanContext& context, const CellBuffer& cells, const MaterialPalette& palette,
                            VkRenderPass target_pass)
@@ -58,11 +45,11 @@ CubeRenderer::CubeRenderer(const VulkanContext& context, const CellBuffer& cells
       draws_(context, 2 * VkDeviceSize(brick_total_) * sizeof(VkDrawIndirectCommand),
              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
              MemoryKind::DeviceLocal),
-      sets_(context.device(), binding_types()),
+      sets_(context.device(), storage_then_palette(4)),  // cells, brick list, instances, draws; the palette at 4
       rebuild_(context, brick_counts_, sets_, 1),
       build_(context.device(), sets_.layout(), "cube_build.comp"),
       draw_pipeline_(context.device(), sets_.layout(), target_pass, "cube.vert", "cube.frag"),
-      translucent_pipeline_(context.device(), sets_.layout(), target_pass, "cube.vert", "cube.frag", translucent_options()) {
+      translucent_pipeline_(context.device(), sets_.layout(), target_pass, "cube.vert", "cube.frag", GraphicsOptions::translucent()) {
   sets_.write_buffer(0, cells.buffer());
   sets_.write_buffer(2, instances_.buffer());
   sets_.write_buffer(3, draws_.buffer());

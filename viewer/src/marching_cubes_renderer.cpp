@@ -47,19 +47,6 @@ std::vector<std::uint32_t> gpu_case_table() {
   return table;
 }
 
-/// Storage buffers 0-4 (cells, brick list, vertices, draws, case table), the material palette at 5.
-std::vector<VkDescriptorType> binding_types() {
-  std::vector<VkDescriptorType> types(5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
-  types.push_back(VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER);
-  return types;
-}
-
-GraphicsOptions translucent_options() {
-  GraphicsOptions options;
-  options.blend = true;
-  options.depth_write = false;
-  return options;
-}
 
 }  // namespace
 
@@ -74,11 +61,11 @@ MarchingCubesRenderer::MarchingCubesRenderer(const VulkanContext& context, const
              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, MemoryKind::DeviceLocal),
       cases_(context, 256 * 16 * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
              MemoryKind::DeviceLocal),
-      sets_(context.device(), binding_types()),
+      sets_(context.device(), storage_then_palette(5)),  // cells, brick list, vertices, draws, case table; the palette at 5
       rebuild_(context, brick_counts_, sets_, 1),
       build_(context.device(), sets_.layout(), "mc_build.comp"),
       draw_pipeline_(context.device(), sets_.layout(), target_pass, "mc.vert", "mc.frag"),
-      translucent_pipeline_(context.device(), sets_.layout(), target_pass, "mc.vert", "mc.frag", translucent_options()) {
+      translucent_pipeline_(context.device(), sets_.layout(), target_pass, "mc.vert", "mc.frag", GraphicsOptions::translucent()) {
   const std::vector<std::uint32_t> table = gpu_case_table();
   GpuBuffer staging(context, table.size() * 4, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryKind::HostVisible);
   std::memcpy(staging.mapped(), table.data(), table.size() * 4);

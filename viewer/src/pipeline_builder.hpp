@@ -49,7 +49,22 @@ struct GraphicsOptions {
   VkCullModeFlags cull = VK_CULL_MODE_BACK_BIT;  ///< faces culled
   bool blend = false;        ///< blend the fragment's colour over the target's by its alpha (the target keeps its alpha)
   bool depth_write = true;   ///< write depth (off for translucent surfaces, which are depth-tested only)
+
+  /// The options of a translucent surface's pipeline: blended, depth-tested but not written.
+  static GraphicsOptions translucent() {
+    GraphicsOptions options;
+    options.blend = true;
+    options.depth_write = false;
+    return options;
+  }
 };
+
+/// `storage` storage buffers at bindings 0 .. storage - 1, then the material palette's uniform buffer.
+inline std::vector<VkDescriptorType> storage_then_palette(int storage) {
+  std::vector<VkDescriptorType> types(std::size_t(storage), VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
+  types.push_back(VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER);
+  return types;
+}
 
 /// A pipeline and its layout (one descriptor set, ViewConstants push constants).
 class Pipeline {
