@@ -11,6 +11,7 @@
 #include <array>
 #include <cstdint>
 #include <iterator>
+#include <memory>
 #include <random>
 #include <string>
 #include <vector>
@@ -167,6 +168,28 @@ TEST_CASE("plain step: World on the CPU, sparse and dense, 1 and 2 threads, equa
                                                      << std::string(sparse ? "sparse" : "dense") << ", " << threads
                                                      << " thread(s): " << departure);
         }
+    }
+  }
+}
+
+TEST_CASE("plain step: a game's own materials (oil, a lighter liquid, and a heavier gas in states 6 and 7) equal the plain loop") {
+  // States 6 and 7 of the random scenes become oil and a second gas, and water spreads with chance
+  // 200/256: two liquids and two gases of different densities, drawn spreads, on a one-step and a
+  // motion rule set.
+  for (const char* base : {"isotropic", "inertial"}) {
+    CAPTURE(base);
+    const auto rules = std::make_shared<const RuleSet>(with_oil_and_second_gas(preset(base)));
+    const Int3 size{24, 21, 18};
+    const Grid initial = granular::test::all_materials_scene(size, 0x011);
+    WorldDef def = test_def(size, base, 2, 5);
+    def.rule_set = rules;
+    const World first(def, initial);
+    const granular::test::PlainTrajectory plain = plain_run_of(first, initial, kTicks, kStillDeparting);
+    for (const bool sparse : {true, false}) {
+      def.sparse = sparse;
+      World world(def, initial);
+      const std::string departure = departure_from_plain_loop(world, plain);
+      CHECK_MESSAGE(departure.empty(), (sparse ? "sparse: " : "dense: ") << departure);
     }
   }
 }

@@ -101,9 +101,10 @@ bool holds_fluid_material(const PlainRules& r, const BlockCells& cells) {
 
 /// The one-step rules' fluid pass after gravity and flow: every cell takes part, every chance above
 /// 0 is certain (all draws 0), no cell carries a motion level. A block of void, static and granular
-/// cells alone is left as it is: without levels two granular materials never pass each other, and
-/// gravity has already dropped every grain that stood on void, so the pass has nothing to move (the
-/// random scenes of test_plain_step check this against the table too).
+/// cells alone is left as it is: without levels two granular materials never pass each other,
+/// gravity has already dropped every grain that stood on void, and a topple through a fluid (1b)
+/// needs one other than void, so the pass has nothing to move (the random scenes of test_plain_step
+/// check this against the table too).
 BlockCells one_step_fluid(const PlainRules& r, const BlockCells& flowed, int s) {
   if (!holds_fluid_material(r, flowed)) return flowed;
   std::array<bool, 8> everyone{};
