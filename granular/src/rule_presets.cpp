@@ -32,7 +32,7 @@ constexpr GrainMotion liquid_motion(GrainMotion sand) {
 /// Gravel under a motion model: a roll costs a level more often than sand's, so its cone is steeper.
 constexpr GrainMotion gravel_motion(GrainMotion sand) {
   if (sand.roll_chance == 0) return {};
-  return GrainMotion{.topple_gain = 256, .roll_cost = 256, .roll_chance = 256};
+  return GrainMotion{.topple_gain = 0, .roll_cost = 256, .roll_chance = 256};
 }
 
 /// One preset of the registry.
