@@ -8,7 +8,9 @@ backend), writes one PNG per test into DIR (accuracy_<test>.png: every series of
 configuration, references as lines) and accuracy_summary.png (run time against mean normalized
 error, one point per configuration and test). With --markdown, also writes the report: the
 calibration, per test the scene, the plot and a table of measured values against references with
-their sources, and the summary. Needs matplotlib (optional dependency, scripts/install-deps).
+their sources, and the summary. A test's section also takes, verbatim, the Markdown file
+DIR/<test>.md when there is one (a record kept by hand, e.g. the values tried while tuning the
+rules against that test). Needs matplotlib (optional dependency, scripts/install-deps).
 """
 
 import argparse
@@ -26,7 +28,7 @@ except ImportError:  # a clear message, not a traceback
     sys.stderr.write("error: plot_accuracy.py needs matplotlib (apt-get install python3-matplotlib)\n")
     sys.exit(1)
 
-MARKERS = "osD^v<>p*h"
+MARKERS = "osD^v<>p*hXP"
 
 # What limits the present rule family (the paper's table, with or without random symmetry and
 # offset order): a statement about the model, printed under the measured gaps.
@@ -52,6 +54,16 @@ LIMITS = [
     "  * rolling lengthens short collapses (runout exponent below 1 for a < 1.7), and the tilt test's",
     "    start and stop angles are both set by the static 45-degree rule (no hysteresis);",
     "  * avalanches end by random stops, not a friction force: the stop-time exponent is about 0.7.",
+    "* **No pressure (every rule set).** A liquid falls, topples and rolls as a grain does and walks",
+    "  sideways on liquid into void, but no cell pushes another: liquid never moves up through a",
+    "  connected body, and a column does not spread under its own weight. So the U-tube's legs keep",
+    "  the levels they start with (the level difference stays the starting head), a tank drains through",
+    "  its orifice at a rate the orifice alone sets (the flow of a dense column of grains, independent of",
+    "  the head, where Torricelli's grows as its square root), and a released column erodes from its face as a",
+    "  frictionless pile would, its front creeping at the speed of the cells that topple and walk instead",
+    "  of running at Ritter's 2 sqrt(g H0). A pressure state (or a pressure pass that moves liquid up",
+    "  along a connected body toward lower heads) is what these three need; buoyancy needs none: density",
+    "  exchanges in a column sort sand below and gas above the liquid.",
     "",
 ]
 
@@ -108,7 +120,7 @@ def test_names(configurations):
 
 def log_axes(x_label):
     """Power laws (fits against D, H, H0, a, t) are drawn on log-log axes."""
-    return any(w in x_label for w in ("D (cells)", "H (cells)", "H0 (cells)", "aspect ratio", "ticks t"))
+    return any(w in x_label for w in ("D (cells)", "H (cells)", "H0 (cells)", "aspect ratio", "ticks t", "head h (cells)"))
 
 
 def plot_test(name, configurations, out_dir):
@@ -209,7 +221,7 @@ def fmt(v):
     return f"{v:.4g}"
 
 
-def write_markdown(md_path, calibration, configurations, commands, images):
+def write_markdown(md_path, calibration, configurations, commands, images, out_dir):
     md_dir = os.path.dirname(os.path.abspath(md_path))
 
     def rel(p):
@@ -282,6 +294,10 @@ def write_markdown(md_path, calibration, configurations, commands, images):
         if notes:
             lines += ["", "Notes:", ""] + [f"* {n}" for n in notes]
         lines.append("")
+        kept = os.path.join(out_dir, f"{name}.md")
+        if os.path.isfile(kept):
+            with open(kept, encoding="utf-8") as f:
+                lines += [f.read().rstrip("\n"), ""]
     gaps = [(label(c), t["test"], m) for c in configurations for t in c["tests"] for m in t["metrics"] if not m["met"]]
     lines += ["## Gaps", ""]
     if gaps:
@@ -323,7 +339,7 @@ def main():
     for p in images.values():
         print(p)
     if args.markdown:
-        write_markdown(args.markdown, calibration, configurations, commands, images)
+        write_markdown(args.markdown, calibration, configurations, commands, images, args.out)
         print(args.markdown)
     return 0
 
