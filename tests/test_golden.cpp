@@ -30,10 +30,9 @@ using granular::test::kGoldenCases;
 namespace {
 
 /// The plain loop's cells after each tick of case `c` from `initial`, with the rules and seed of
-/// `world`, run as the fast step reads fluid_block.hpp (reference::kFastStepReadings).
+/// `world`.
 granular::test::PlainTrajectory plain_run_of(const World& world, const Grid& initial, int ticks) {
-  reference::PlainRules rules = reference::plain_rules(world.rules(), world.lut(), world.def().seed);
-  rules.readings = reference::kFastStepReadings;
+  const reference::PlainRules rules = reference::plain_rules(world.rules(), world.lut(), world.def().seed);
   granular::test::PlainTrajectory run{initial.size(), {}};
   std::vector<std::uint8_t> cells(initial.cells().begin(), initial.cells().end());
   for (int t = 0; t < ticks; ++t) {
@@ -93,7 +92,7 @@ TEST_CASE("golden: the CPU step, sparse and dense, reaches the pinned hash of ev
 
 TEST_CASE("golden: the plain per-block loop reaches the pinned hash of the scene of every material") {
   // The pins of the fluid scene were taken from the fast step where the plain loop agreed; this keeps
-  // them anchored to the plain loop (run as the fast step reads fluid_block.hpp, kFastStepReadings).
+  // them anchored to the plain loop.
   int cases = 0;
   for (const GoldenCase& c : kGoldenCases) {
     if (c.scene != granular::test::kAllMaterialsScene) continue;

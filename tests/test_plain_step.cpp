@@ -36,22 +36,14 @@ namespace {
 /// Ticks each scene runs: three 8-tick offset cycles.
 constexpr int kTicks = 24;
 
-/// The departures from fluid_block.hpp's comment that the fast step still has (plain_step.hpp's
-/// kFastStepReadings), which the plain loop follows here so that it checks everything else; the test
-/// cases "the fast step follows the comment" below show each one on a block.
-constexpr reference::FastStepReadings kStillDeparting = reference::kFastStepReadings;
-
-/// The PlainRules of `world`, following the departures `readings`.
-reference::PlainRules plain_rules_of(const World& world, reference::FastStepReadings readings) {
-  reference::PlainRules rules = reference::plain_rules(world.rules(), world.lut(), world.def().seed);
-  rules.readings = readings;
-  return rules;
+/// The PlainRules of `world`.
+reference::PlainRules plain_rules_of(const World& world) {
+  return reference::plain_rules(world.rules(), world.lut(), world.def().seed);
 }
 
 /// The plain loop's cells after each of `ticks` ticks from `initial`, with the rules of `world`.
-granular::test::PlainTrajectory plain_run_of(const World& world, const Grid& initial, int ticks,
-                                             reference::FastStepReadings readings) {
-  const reference::PlainRules rules = plain_rules_of(world, readings);
+granular::test::PlainTrajectory plain_run_of(const World& world, const Grid& initial, int ticks) {
+  const reference::PlainRules rules = plain_rules_of(world);
   granular::test::PlainTrajectory run{initial.size(), {}};
   std::vector<std::uint8_t> cells(initial.cells().begin(), initial.cells().end());
   for (int t = 0; t < ticks; ++t) {
@@ -95,7 +87,7 @@ std::string describe_block(const BlockCells& b) {
 }
 
 /// The PlainRules of a preset's material table alone (no table: for plain_fluid_pass).
-reference::PlainRules plain_materials(const RuleSet& rules, reference::FastStepReadings readings = {}) {
+reference::PlainRules plain_materials(const RuleSet& rules) {
   reference::PlainRules r;
   for (int s = 0; s < kMaterialCount; ++s) {
     const MaterialDef& d = rules.materials[std::size_t(s)];
@@ -103,7 +95,6 @@ reference::PlainRules plain_materials(const RuleSet& rules, reference::FastStepR
                                    d.grain.roll_chance};
   }
   r.substeps = rules.motion.substeps;
-  r.readings = readings;
   return r;
 }
 
@@ -145,7 +136,7 @@ TEST_CASE("plain step: World on the CPU, sparse and dense, 1 and 2 threads, equa
       const MaterialCounts counts = initial.count();
       for (int m = 0; m < kMaterialCount; ++m) REQUIRE_MESSAGE(counts[std::size_t(m)] > 0, "state " << m << " missing");
       const World first(test_def(size, preset.c_str(), 1, seed), initial);
-      const granular::test::PlainTrajectory plain = plain_run_of(first, initial, kTicks, kStillDeparting);
+      const granular::test::PlainTrajectory plain = plain_run_of(first, initial, kTicks);
       REQUIRE(plain.after_tick.back() != std::vector<std::uint8_t>(initial.cells().begin(), initial.cells().end()));
       // The plain loop conserves every material (each move is an exchange).
       Grid last(size);
@@ -154,7 +145,7 @@ TEST_CASE("plain step: World on the CPU, sparse and dense, 1 and 2 threads, equa
       CHECK_MESSAGE(last.count() == counts, "preset " << preset << ", " << to_string(size) << ": the plain loop changed the counts");
       // The plain loop's own thread split (the benchmark's) changes nothing.
       std::vector<std::uint8_t> threaded(initial.cells().begin(), initial.cells().end());
-      reference::plain_run(threaded, size, plain_rules_of(first, kStillDeparting), 0, kTicks, 3);
+      reference::plain_run(threaded, size, plain_rules_of(first), 0, kTicks, 3);
       const std::string split = granular::test::first_differing_cell(size, plain.after_tick.back(), threaded,
                                                                      "plain loop on 1 thread", "on 3 threads");
       CHECK_MESSAGE(split.empty(), "preset " << preset << ", " << to_string(size) << ": " << split);
@@ -184,7 +175,7 @@ TEST_CASE("plain step: a game's own materials (oil, a lighter liquid, and a heav
     WorldDef def = test_def(size, base, 2, 5);
     def.rule_set = rules;
     const World first(def, initial);
-    const granular::test::PlainTrajectory plain = plain_run_of(first, initial, kTicks, kStillDeparting);
+    const granular::test::PlainTrajectory plain = plain_run_of(first, initial, kTicks);
     for (const bool sparse : {true, false}) {
       def.sparse = sparse;
       World world(def, initial);
@@ -202,7 +193,7 @@ TEST_CASE("plain step: the plain fluid pass equals fluid::fluid_pass on random b
       const RuleSet base = preset(levels ? "inertial" : "paper");
       const RuleSet rules = custom ? with_oil_and_second_gas(base) : base;
       const StepMaterials mats = step_materials(rules.materials);
-      const reference::PlainRules plain = plain_materials(rules, kStillDeparting);
+      const reference::PlainRules plain = plain_materials(rules);
       const int materials = custom ? 8 : 6;
       std::mt19937_64 rng(levels ? 11 : 12);
       int failures = 0;
@@ -234,64 +225,50 @@ TEST_CASE("plain step: the plain fluid pass equals fluid::fluid_pass on random b
     }
 }
 
-// Where the fast step departs from fluid_block.hpp's comment, one block each: the comment's result
-// (what the plain loop gives by default) against the fast step's.
+// Blocks where the fluid pass's order decides the result (fluid_block.hpp's comment: a cell moves at
+// most once per pass; step 3 for every column, then step 4): the comment's result, which the plain
+// loop and the fast pass must both give.
 
 namespace {
 
-/// A block on which the fast step's fluid pass departs from the comment: its cells, who takes part
-/// (symmetry 0, every draw 0, motion levels on, the presets' materials of "inertial"), and what the
-/// comment makes of it.
-struct Departure {
-  const char* what;          ///< the departure, for messages
+/// A block whose result turns on the pass's order: its cells, who takes part (symmetry 0, every draw
+/// 0, motion levels on, the presets' materials of "inertial"), and what the comment makes of it.
+struct OrderBlock {
+  const char* what;          ///< what the block shows, for messages
   BlockCells in;             ///< the block
   std::array<bool, 8> mover; ///< who takes part
   BlockCells comment;        ///< the block after the pass, by the comment
 };
 
-/// The blocks of each departure (FastStepReadings): a cell moved twice, and steps 3 and 4 column by column.
-std::vector<Departure> departures(bool moved_twice) {
+/// The order blocks: a cell that could move twice, and step 3 before step 4.
+std::vector<OrderBlock> order_blocks() {
   using M = Material;
-  std::vector<Departure> d;
-  if (moved_twice) {
-    // Column 0: a gas taking part under void (first block) or water (second) rises in step 1.
-    // Column 1: water on water, taking part; columns 2 and 3 solid. By the comment neither cell of
-    // column 0 moves again, so the water stays. The fast step lets a moved cell be the target of a
-    // later move: in the first block the water topples (1b) into the void the gas left, which moves a
-    // second time; in the second the moving water (level 1) spreads (step 2) into the gas that has
-    // just risen, which moves a second time.
-    const std::array<bool, 8> mover{true, false, false, false, false, true, false, false};
-    d.push_back({"the void the gas left moves again (1b)",
-                 block_of({M::Gas, M::Liquid, M::Solid, M::Solid, M::Void, M::Liquid, M::Solid, M::Solid}), mover,
-                 block_of({M::Void, M::Liquid, M::Solid, M::Solid, M::Gas, M::Liquid, M::Solid, M::Solid})});
-    Departure spread{"the gas that rose moves again (step 2)",
-                     block_of({M::Gas, M::Liquid, M::Solid, M::Solid, M::Liquid, M::Liquid, M::Solid, M::Solid}), mover,
-                     block_of({M::Liquid, M::Liquid, M::Solid, M::Solid, M::Gas, M::Liquid, M::Solid, M::Solid})};
-    spread.in[5] = spread.comment[5] = std::uint8_t(to_cell(M::Liquid) | (1u << kMotionShift));
-    d.push_back(spread);
-  } else {
-    // Gases taking part at bottom cells 1 (under the solid cell 5) and 2 (under the gas at 6). Step 3:
-    // gas 2, under a gas, spreads into the denser fluid beside it: not cell 3 (solid), so the water at
-    // 0 (its y neighbour). Step 4: gas 1 cannot rise; the top of its x neighbour's column (4, void)
-    // is a denser fluid, but the cell under it (0) now holds gas, so it stays. The fast step runs
-    // steps 3 and 4 column by column, so gas 1 goes up into 4 first.
-    d.push_back({"steps 3 and 4 column by column",
-                 block_of({M::Liquid, M::Gas, M::Gas, M::Solid, M::Void, M::Solid, M::Gas, M::Solid}),
-                 {false, true, true, false, false, false, false, false},
-                 block_of({M::Gas, M::Gas, M::Liquid, M::Solid, M::Void, M::Solid, M::Gas, M::Solid})});
-  }
+  std::vector<OrderBlock> d;
+  // Column 0: a gas taking part under void (first block) or water (second) rises in step 1.
+  // Column 1: water on water, taking part; columns 2 and 3 solid. Neither cell of column 0 moves
+  // again, so the water stays: in the first block it may not topple (1b) into the void the gas
+  // left, in the second the moving water (level 1) may not spread (step 2) into the gas that rose.
+  const std::array<bool, 8> mover{true, false, false, false, false, true, false, false};
+  d.push_back({"the void the gas left does not move again (1b)",
+               block_of({M::Gas, M::Liquid, M::Solid, M::Solid, M::Void, M::Liquid, M::Solid, M::Solid}), mover,
+               block_of({M::Void, M::Liquid, M::Solid, M::Solid, M::Gas, M::Liquid, M::Solid, M::Solid})});
+  OrderBlock spread{"the gas that rose does not move again (step 2)",
+                    block_of({M::Gas, M::Liquid, M::Solid, M::Solid, M::Liquid, M::Liquid, M::Solid, M::Solid}), mover,
+                    block_of({M::Liquid, M::Liquid, M::Solid, M::Solid, M::Gas, M::Liquid, M::Solid, M::Solid})};
+  spread.in[5] = spread.comment[5] = std::uint8_t(to_cell(M::Liquid) | (1u << kMotionShift));
+  d.push_back(spread);
+  // Gases taking part at bottom cells 1 (under the solid cell 5) and 2 (under the gas at 6). Step 3:
+  // gas 2, under a gas, spreads into the denser fluid beside it: not cell 3 (solid), so the water at
+  // 0 (its y neighbour). Step 4: gas 1 cannot rise; the top of its x neighbour's column (4, void)
+  // is a denser fluid, but the cell under it (0) now holds gas, so it stays.
+  d.push_back({"step 3 for every column before step 4",
+               block_of({M::Liquid, M::Gas, M::Gas, M::Solid, M::Void, M::Solid, M::Gas, M::Solid}),
+               {false, true, true, false, false, false, false, false},
+               block_of({M::Gas, M::Gas, M::Liquid, M::Solid, M::Void, M::Solid, M::Gas, M::Solid})});
   return d;
 }
 
-/// The cells taking part, for messages: "{0, 5}".
-std::string describe_movers(const std::array<bool, 8>& mover) {
-  std::string s;
-  for (int i = 0; i < 8; ++i)
-    if (mover[std::size_t(i)]) s += (s.empty() ? "" : ", ") + std::to_string(i);
-  return "{" + s + "}";
-}
-
-/// The movers of a departure as fluid_pass's bit mask.
+/// The movers of a block as fluid_pass's bit mask.
 std::uint32_t mover_bits(const std::array<bool, 8>& mover) {
   std::uint32_t bits = 0;
   for (int i = 0; i < 8; ++i)
@@ -299,52 +276,18 @@ std::uint32_t mover_bits(const std::array<bool, 8>& mover) {
   return bits;
 }
 
-/// "" when the fast step's fluid pass gives the comment's result on every block of `blocks`, else
-/// what it gives instead.
-std::string fast_departures(const std::vector<Departure>& blocks) {
-  const RuleSet rules = preset("inertial");
-  std::string out;
-  for (const Departure& d : blocks) {
-    const std::uint64_t fast = fluid::fluid_pass<true>(bytes_of(d.in), mover_bits(d.mover), 0, 0, step_materials(rules.materials));
-    if (fast == bytes_of(d.comment)) continue;
-    out += std::string(d.what) + ": block " + describe_block(d.in) + ", movers " + describe_movers(d.mover) +
-           ", symmetry 0, draws 0: the comment gives " +
-           describe_block(d.comment) + ", the fast step " + describe_block(cells_of(fast)) + "; ";
-  }
-  return out;
-}
-
 }  // namespace
 
-TEST_CASE("plain step: on the blocks where the fast step departs from the comment, the plain loop follows the comment, or with the departure's switch the fast step") {
+TEST_CASE("plain step: on blocks where the pass's order decides, the plain loop and the fast pass give the comment's result") {
   const RuleSet rules = preset("inertial");
   const StepMaterials mats = step_materials(rules.materials);
-  for (const bool moved_twice : {true, false})
-    for (const Departure& d : departures(moved_twice)) {
-      CAPTURE(d.what);
-      const BlockCells plain = reference::plain_fluid_pass(plain_materials(rules), d.in, d.mover, 0, 0, true);
-      CHECK_MESSAGE(plain == d.comment, "plain loop: " << describe_block(plain));
-      const BlockCells as_now = reference::plain_fluid_pass(plain_materials(rules, reference::kFastStepReadings), d.in,
-                                                            d.mover, 0, 0, true);
-      CHECK(bytes_of(as_now) == fluid::fluid_pass<true>(bytes_of(d.in), mover_bits(d.mover), 0, 0, mats));
-      reference::FastStepReadings one{};
-      (moved_twice ? one.moved_cell_exchanged_again : one.gas_steps_by_column) = true;
-      CHECK_MESSAGE(reference::plain_fluid_pass(plain_materials(rules, one), d.in, d.mover, 0, 0, true) != d.comment,
-                    "the switch of this departure alone changes the plain loop on its block");
-    }
-}
-
-// should_fail keeps the suite green while the fast step departs from the comment and fails the day
-// it follows it: then drop the decorator and the departure's switch in kFastStepReadings.
-TEST_CASE("plain step: the fast step follows the comment: a cell moves at most once per pass" * doctest::should_fail()) {
-  const std::string departs = fast_departures(departures(true));
-  CHECK_MESSAGE(departs.empty(), departs);
-}
-
-TEST_CASE("plain step: the fast step follows the comment: the gas spread (step 3) before the gas around a ceiling (step 4)" *
-          doctest::should_fail()) {
-  const std::string departs = fast_departures(departures(false));
-  CHECK_MESSAGE(departs.empty(), departs);
+  for (const OrderBlock& d : order_blocks()) {
+    CAPTURE(d.what);
+    const BlockCells plain = reference::plain_fluid_pass(plain_materials(rules), d.in, d.mover, 0, 0, true);
+    CHECK_MESSAGE(plain == d.comment, "plain loop: " << describe_block(plain));
+    const std::uint64_t fast = fluid::fluid_pass<true>(bytes_of(d.in), mover_bits(d.mover), 0, 0, mats);
+    CHECK_MESSAGE(fast == bytes_of(d.comment), "fast pass: " << describe_block(cells_of(fast)));
+  }
 }
 
 TEST_CASE("plain step: the fast step follows the comment: moving gravel sinks through sand in a block without a fluid") {

@@ -9,14 +9,16 @@
 ///     or liquid) taking part in the step, so sand sinks through water and water through oil; the
 ///     bottom cell starts it when it is a gas taking part, so gas rises through void and liquid. Two
 ///     granular materials pass each other only while one of them moves (motion level above 0), so a
-///     bed of sand and gravel sorts by density only while it is shaken. A faller that sinks here
+///     bed of sand and gravel sorts by density only while it is shaken (under a motion model: the
+///     one-step rules have no motion levels, so their grains never pass each other). A faller that sinks here
 ///     drops to motion level 0: it moves through something denser than void at a speed of its own.
 ///     A faller taking part that did not sink topples diagonally down into a bottom cell of a lighter
 ///     fluid under a top cell of a lighter fluid (the grains' topple, through water instead of void),
 ///     so sand poured into water heaps on the bottom instead of standing as a pillar.
 ///  2. Liquid spread: a liquid in the top layer taking part, standing on a liquid, moves sideways
 ///     (preference: the x neighbour, then y, then the diagonal) with chance MaterialDef::spread / 256:
-///     into a top cell of void, or while it moves (motion level above 0) of any lighter fluid. A liquid
+///     into a top cell of void, or while it moves (motion level above 0, so never under the one-step
+///     rules) of any lighter fluid. A liquid
 ///     standing on a grain or a static cell does not, so a pool on a floor spreads to one layer and
 ///     stops, and a settled pool is inert. A liquid surface whose top layer is partly filled keeps
 ///     moving: its cells cannot tell a bump of one cell from the partial layer of a level surface.
@@ -26,8 +28,11 @@
 ///  4. Gas around a ceiling: a gas in the bottom layer taking part that cannot rise (a static cell, a
 ///     grain or a gas above it) moves diagonally up into a top cell of another column when that cell
 ///     and the one below it are denser fluids (the mirror of the grains' topple).
-/// A cell moves at most once per pass, and only cells the caller names as movers start a move.
-/// Every move is an exchange of two cells, so the pass is a permutation: each material is conserved.
+/// Each step walks the block's columns in the viewed frame's order 0..3, and a move's targets in the
+/// order x neighbour, y neighbour, diagonal. A cell moves at most once per pass (neither starting nor
+/// taking a second move), and only cells the caller names as movers start a move. A faller that
+/// moves in step 1 or 1b drops to motion level 0. Every move is an exchange of two cells, so the
+/// pass is a permutation: each material is conserved.
 ///
 /// What the block cannot express: a cell holds one material, so a liquid does not seep into the
 /// pores of a sand bed (there are none at this scale); it stands on loose sand as on a floor, and
@@ -93,73 +98,83 @@ constexpr std::uint64_t fluid_pass(std::uint64_t bytes, std::uint32_t movers, in
   auto at = [&](int view) { return symmetry_preimage(view, symmetry); };
   auto level_above_zero = [&](int p) { return kLevels && ((bytes >> (8 * p)) & kLevelBits) != 0; };
   auto draw_allows = [&](int p, std::uint32_t m) { return int((draws >> (8 * p)) & 0xFFu) < int(mats.spread[m]); };
+  std::uint32_t moved = 0;  // cells this pass has moved: they neither start nor take a move again
+  auto starts = [&](int p) { return ((movers & ~moved) >> p) & 1u; };
+  auto free = [&](int p) { return ((moved >> p) & 1u) == 0; };
+  auto move = [&](int p, int q) {
+    bytes = exchange(bytes, p, q);
+    moved |= (1u << p) | (1u << q);
+  };
   // 1. Density, column by column.
   for (int column = 0; column < 4; ++column) {
     const int top = at(column + 4), bottom = at(column);
     const std::uint32_t m = material_at(bytes, top), below = material_at(bytes, bottom);
     const bool levels = level_above_zero(top) || level_above_zero(bottom);
-    if (!sinks(mats, m, below, ((movers >> top) & 1u) != 0, ((movers >> bottom) & 1u) != 0, levels)) continue;
-    bytes = exchange(bytes, top, bottom);
+    if (!sinks(mats, m, below, starts(top) != 0, starts(bottom) != 0, levels)) continue;
+    move(top, bottom);
     if constexpr (kLevels) bytes &= ~(kLevelBits << (8 * bottom));
-    movers &= ~((1u << top) | (1u << bottom));
   }
   // 1b. A faller that could not sink topples diagonally down into a lighter fluid.
   for (int column = 0; column < 4; ++column) {
     const int top = at(column + 4);
     const std::uint32_t m = material_at(bytes, top);
-    if (((movers >> top) & 1u) == 0 || !mats.is_faller(m)) continue;
+    if (starts(top) == 0 || !mats.is_faller(m)) continue;
     for (int flip = 1; flip <= 3; ++flip) {
       const int target = at(column ^ flip), above = at((column ^ flip) + 4);
-      if (topples_into(mats, m, material_at(bytes, target), material_at(bytes, above))) {
-        bytes = exchange(bytes, top, target);
+      if (free(target) && topples_into(mats, m, material_at(bytes, target), material_at(bytes, above))) {
+        move(top, target);
         if constexpr (kLevels) bytes &= ~(kLevelBits << (8 * target));
-        movers &= ~((1u << top) | (1u << target));
         break;
       }
     }
   }
-  // 2. Liquid spread in the top layer, 3. gas spread and 4. gas around a ceiling in the bottom layer.
+  // 2. Liquid spread in the top layer.
   for (int column = 0; column < 4; ++column) {
     const int top = at(column + 4), bottom = at(column);
     const std::uint32_t m = material_at(bytes, top), below = material_at(bytes, bottom);
-    const bool moving = !kLevels || level_above_zero(top);
-    if (((movers >> top) & 1u) != 0 && mats.is_liquid(m) && mats.is_liquid(below) && draw_allows(top, m)) {
-      for (int flip = 1; flip <= 3; ++flip) {
-        const int target = at((column ^ flip) + 4);
-        const std::uint32_t t = material_at(bytes, target);
-        if (fluid(mats, t) && mats.density[t] < mats.density[m] && (moving || mats.is_void(t))) {
-          bytes = exchange(bytes, top, target);
-          movers &= ~((1u << top) | (1u << target));
-          break;
-        }
+    const bool moving = level_above_zero(top);  // never without motion levels (the one-step rules)
+    if (starts(top) == 0 || !mats.is_liquid(m) || !mats.is_liquid(below) || !draw_allows(top, m)) continue;
+    for (int flip = 1; flip <= 3; ++flip) {
+      const int target = at((column ^ flip) + 4);
+      const std::uint32_t t = material_at(bytes, target);
+      if (free(target) && fluid(mats, t) && mats.density[t] < mats.density[m] && (moving || mats.is_void(t))) {
+        move(top, target);
+        break;
       }
     }
   }
+  // A gas in the bottom layer that cannot rise: a static cell, a grain or a gas above it.
+  auto capped_gas = [&](int column) {
+    const int bottom = at(column);
+    const std::uint32_t m = material_at(bytes, bottom), above = material_at(bytes, at(column + 4));
+    return starts(bottom) != 0 && mats.is_gas(m) && !(fluid(mats, above) && mats.density[above] > mats.density[m]);
+  };
+  // 3. Gas spread under gas in the bottom layer.
   for (int column = 0; column < 4; ++column) {
-    const int top = at(column + 4), bottom = at(column);
-    const std::uint32_t m = material_at(bytes, bottom), above = material_at(bytes, top);
-    if (((movers >> bottom) & 1u) == 0 || !mats.is_gas(m)) continue;
-    const bool capped = !(fluid(mats, above) && mats.density[above] > mats.density[m]);
-    if (!capped) continue;
-    bool moved = false;
-    if (mats.is_gas(above) && draw_allows(bottom, m)) {
-      for (int flip = 1; flip <= 3 && !moved; ++flip) {
-        const int target = at(column ^ flip);
-        const std::uint32_t t = material_at(bytes, target);
-        if (fluid(mats, t) && mats.density[t] > mats.density[m]) {
-          bytes = exchange(bytes, bottom, target);
-          movers &= ~((1u << bottom) | (1u << target));
-          moved = true;
-        }
+    const int bottom = at(column);
+    const std::uint32_t m = material_at(bytes, bottom);
+    if (!capped_gas(column) || !mats.is_gas(material_at(bytes, at(column + 4))) || !draw_allows(bottom, m)) continue;
+    for (int flip = 1; flip <= 3; ++flip) {
+      const int target = at(column ^ flip);
+      const std::uint32_t t = material_at(bytes, target);
+      if (free(target) && fluid(mats, t) && mats.density[t] > mats.density[m]) {
+        move(bottom, target);
+        break;
       }
     }
-    for (int flip = 1; flip <= 3 && !moved; ++flip) {
+  }
+  // 4. Gas around a ceiling: diagonally up into a column whose two cells are denser fluids.
+  for (int column = 0; column < 4; ++column) {
+    const int bottom = at(column);
+    const std::uint32_t m = material_at(bytes, bottom);
+    if (!capped_gas(column)) continue;
+    for (int flip = 1; flip <= 3; ++flip) {
       const int target_top = at((column ^ flip) + 4), target_bottom = at(column ^ flip);
       const std::uint32_t t = material_at(bytes, target_top), u = material_at(bytes, target_bottom);
-      if (fluid(mats, t) && mats.density[t] > mats.density[m] && fluid(mats, u) && mats.density[u] > mats.density[m]) {
-        bytes = exchange(bytes, bottom, target_top);
-        movers &= ~((1u << bottom) | (1u << target_top));
-        moved = true;
+      if (free(target_top) && fluid(mats, t) && mats.density[t] > mats.density[m] && fluid(mats, u) &&
+          mats.density[u] > mats.density[m]) {
+        move(bottom, target_top);
+        break;
       }
     }
   }

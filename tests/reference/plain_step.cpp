@@ -302,7 +302,6 @@ BlockCells plain_fluid_pass(const PlainRules& r, const BlockCells& cells, const 
   auto faller = [&](int p) { return is(p, Behaviour::Granular) || is(p, Behaviour::Liquid); };
   auto level = [&](int p) { return levels ? cell_motion(cell[p]) : 0; };
   auto starts = [&](int p) { return may_start[p] && !moved[p]; };
-  const bool again = r.readings.moved_cell_exchanged_again;  // a moved cell may be a target again
   auto exchange = [&](int p, int q) {
     std::swap(cell[p], cell[q]);
     moved[p] = moved[q] = true;
@@ -331,7 +330,7 @@ BlockCells plain_fluid_pass(const PlainRules& r, const BlockCells& cells, const 
     if (!starts(p) || !faller(p)) continue;
     for (int k = 1; k <= 3; ++k) {
       const int q = other(c, k), over = other(c, k) + 4;
-      if (moved[q] && !again) continue;
+      if (moved[q]) continue;
       const bool lighter = fluid(q) && fluid(over) && density(q) < density(p) && density(over) < density(p);
       if (!lighter || (is(q, Behaviour::Void) && is(over, Behaviour::Void))) continue;
       exchange(p, q);
@@ -345,10 +344,10 @@ BlockCells plain_fluid_pass(const PlainRules& r, const BlockCells& cells, const 
     const int p = c + 4;
     if (!starts(p) || !is(p, Behaviour::Liquid) || !is(c, Behaviour::Liquid)) continue;
     if (draw[p] >= material(p).spread) continue;
-    const bool moves = !levels || level(p) > 0;
+    const bool moves = levels && level(p) > 0;  // never without motion levels (the one-step rules)
     for (int k = 1; k <= 3; ++k) {
       const int q = other(c, k) + 4;
-      if (moved[q] && !again) continue;
+      if (moved[q]) continue;
       if (is(q, Behaviour::Void) || (moves && fluid(q) && density(q) < density(p))) {
         exchange(p, q);
         break;
@@ -363,7 +362,7 @@ BlockCells plain_fluid_pass(const PlainRules& r, const BlockCells& cells, const 
     if (draw[p] >= material(p).spread) return;
     for (int k = 1; k <= 3; ++k) {
       const int q = other(c, k);
-      if (moved[q] && !again) continue;
+      if (moved[q]) continue;
       if (fluid(q) && density(q) > density(p)) {
         exchange(p, q);
         return;
@@ -380,22 +379,15 @@ BlockCells plain_fluid_pass(const PlainRules& r, const BlockCells& cells, const 
     if (!(is(above, Behaviour::Static) || is(above, Behaviour::Granular) || is(above, Behaviour::Gas))) return;
     for (int k = 1; k <= 3; ++k) {
       const int q = other(c, k) + 4, under = other(c, k);
-      if (moved[q] && !again) continue;
+      if (moved[q]) continue;
       if (fluid(q) && density(q) > density(p) && fluid(under) && density(under) > density(p)) {
         exchange(p, q);
         return;
       }
     }
   };
-  if (r.readings.gas_steps_by_column) {
-    for (int c = 0; c < 4; ++c) {
-      gas_spread(c);
-      gas_around_ceiling(c);
-    }
-  } else {
-    for (int c = 0; c < 4; ++c) gas_spread(c);
-    for (int c = 0; c < 4; ++c) gas_around_ceiling(c);
-  }
+  for (int c = 0; c < 4; ++c) gas_spread(c);
+  for (int c = 0; c < 4; ++c) gas_around_ceiling(c);
   BlockCells out{};
   for (int i = 0; i < 8; ++i) out[i] = cell[map[i]];
   return out;

@@ -37,24 +37,6 @@ struct PlainMaterial {
   int roll_chance = 0;  ///< out of 256: chance that a moving faller blocked from below may roll
 };
 
-/// Where the fast step (granular/step, at commit 7eeac38) departs from fluid_block.hpp's comment, as
-/// switches of the plain loop, all off by default: off, the loop does what the comment says; on, what
-/// the fast step does instead. They let the tests check everything else against the fast step while
-/// the departures stand (test_plain_step.cpp names each one with a block where it shows).
-struct FastStepReadings {
-  /// A cell that has moved in the fluid pass may be exchanged again as the target of a later move
-  /// (the comment: "a cell moves at most once per pass"; the fast step only stops it starting one).
-  bool moved_cell_exchanged_again = false;
-  /// Steps 3 (gas spread) and 4 (gas around a ceiling) run column by column, 3 then 4 for each
-  /// column, instead of step 3 for every column and then step 4 ("in this order").
-  bool gas_steps_by_column = false;
-};
-
-/// The departures the fast step has now: the plain loop as the fast step runs, which the tests that
-/// compare the two follow (test_plain_step.cpp, test_golden.cpp). Switch one off here when the fast
-/// step is changed to do what the comment says (or drop it when the comment is changed instead).
-inline constexpr FastStepReadings kFastStepReadings{true, true};
-
 /// What the plain loop reads of a world: its table, the rule set's random variants, the motion
 /// model's sub-steps, the material table, and the seed of its random draws.
 struct PlainRules {
@@ -68,7 +50,6 @@ struct PlainRules {
   /// so that only gravity and flow are read from it, never its own fluid pass.
   std::array<std::uint8_t, 3> code_state{0, 1, 2};
   std::uint64_t seed = 0;          ///< WorldDef::seed
-  FastStepReadings readings;       ///< the fast step's departures to follow (none by default)
   /// True when the motion model is on.
   bool motion() const { return substeps > 1; }
 };
