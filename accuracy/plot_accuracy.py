@@ -118,9 +118,10 @@ def test_names(configurations):
     return names
 
 
-def log_axes(x_label):
-    """Power laws (fits against D, H, H0, a, t) are drawn on log-log axes."""
-    return any(w in x_label for w in ("D (cells)", "H (cells)", "H0 (cells)", "aspect ratio", "ticks t", "head h (cells)"))
+def log_axes(x_label, y_label):
+    """Power laws (fits against D, H, H0, a, t, h; a front against time) are drawn on log-log axes."""
+    return (any(w in x_label for w in ("D (cells)", "H (cells)", "H0 (cells)", "aspect ratio", "ticks t", "head h (cells)"))
+            or "front travel" in y_label)
 
 
 def plot_test(name, configurations, out_dir):
@@ -146,7 +147,7 @@ def plot_test(name, configurations, out_dir):
             title = t["title"]
             for s in t["series"]:
                 ax = axes[0][panels.index((s["x_label"], s["y_label"]))]
-                log = log_axes(s["x_label"])
+                log = log_axes(s["x_label"], s["y_label"])
                 pts = [(x, y) for x, y in zip(s["x"], s["y"])
                        if finite(x) and finite(y) and (not log or (x > 0 and y > 0))]
                 if not pts:
@@ -171,7 +172,7 @@ def plot_test(name, configurations, out_dir):
         ax.set_xlabel(xl)
         ax.set_ylabel(yl)
         ax.grid(alpha=0.3)
-        if log_axes(xl):
+        if log_axes(xl, yl):
             ax.set_xscale("log")
             ax.set_yscale("log")
         else:

@@ -79,7 +79,7 @@ TestReport run_buoyancy_test(const SuiteOptions& o) {
   const std::uint64_t limit = 16 * std::uint64_t(box.height);
   TestReport r;
   r.test = "buoyancy";
-  r.title = "Buoyancy: sand sinks through liquid, gas rises through it, every material conserved";
+  r.title = "Buoyancy: sand sinks, gas rises, every material conserved";
   r.scene = "closed box " + std::to_string(box.side) + "^2 x " + std::to_string(box.height) + ": liquid " +
             std::to_string(box.depth) + " deep, a block of sand " + std::to_string(box.side / 3) + "^2 x " +
             std::to_string(box.sand_layers) + " released " + std::to_string(box.drop) + " above it, a gas pocket " +

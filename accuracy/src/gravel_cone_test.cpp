@@ -5,7 +5,7 @@ namespace granular::accuracy {
 
 namespace {
 
-/// Dry gravel's angle of repose, the target of the table's gravel (issue 13: 40 +- 2 deg).
+/// Dry gravel's angle of repose, the target of the table's gravel (40 +- 2 deg).
 constexpr double kGravelReposeDeg = 40;
 
 }  // namespace
