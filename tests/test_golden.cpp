@@ -29,19 +29,6 @@ using granular::test::kGoldenCases;
 
 namespace {
 
-/// The plain loop's cells after each tick of case `c` from `initial`, with the rules and seed of
-/// `world`.
-granular::test::PlainTrajectory plain_run_of(const World& world, const Grid& initial, int ticks) {
-  const reference::PlainRules rules = reference::plain_rules(world.rules(), world.lut(), world.def().seed);
-  granular::test::PlainTrajectory run{initial.size(), {}};
-  std::vector<std::uint8_t> cells(initial.cells().begin(), initial.cells().end());
-  for (int t = 0; t < ticks; ++t) {
-    reference::plain_step(cells, initial.size(), rules, std::uint64_t(t));
-    run.after_tick.push_back(cells);
-  }
-  return run;
-}
-
 /// What went wrong with case `c` whose run gave `got`: the case, both hashes, the entry to paste
 /// if the change is intended, and the plain loop's verdict on the same initial grid.
 std::string golden_failure(const GoldenCase& c, const Grid& initial, bool sparse, std::uint64_t got) {
@@ -50,7 +37,7 @@ std::string golden_failure(const GoldenCase& c, const Grid& initial, bool sparse
                     " ticks), CPU " + (sparse ? "sparse" : "dense") + ": got " + hex64(got) + ", expected " +
                     hex64(c.hash) + ". ";
   World world(golden_def(c, BackendKind::Cpu, sparse), initial);
-  const granular::test::PlainTrajectory plain = plain_run_of(world, initial, c.ticks);
+  const granular::test::PlainTrajectory plain = granular::test::plain_trajectory(world, initial, c.ticks);
   const std::string departure = granular::test::departure_from_plain_loop(world, plain);
   if (!departure.empty()) return msg + "The fast step departs from the plain per-block loop: " + departure;
   return msg + "The fast step and the plain per-block loop agree after every tick (" +
@@ -103,7 +90,7 @@ TEST_CASE("golden: the plain per-block loop reaches the pinned hash of the scene
                              Material::Gravel, Material::State6, Material::State7})
       CHECK_MESSAGE(counts[to_cell(m)] > 0, "no " << material_name(m) << " in the scene of every material");
     const World world(golden_def(c, BackendKind::Cpu, false), initial);
-    const granular::test::PlainTrajectory plain = plain_run_of(world, initial, c.ticks);
+    const granular::test::PlainTrajectory plain = granular::test::plain_trajectory(world, initial, c.ticks);
     const std::uint64_t got = hash_cells(plain.size, plain.after_tick.back());
     CHECK_MESSAGE(got == c.hash, "preset '" << std::string(c.preset) << "': the plain loop gives " << hex64(got)
                                             << ", pinned " << hex64(c.hash));

@@ -41,18 +41,6 @@ reference::PlainRules plain_rules_of(const World& world) {
   return reference::plain_rules(world.rules(), world.lut(), world.def().seed);
 }
 
-/// The plain loop's cells after each of `ticks` ticks from `initial`, with the rules of `world`.
-granular::test::PlainTrajectory plain_run_of(const World& world, const Grid& initial, int ticks) {
-  const reference::PlainRules rules = plain_rules_of(world);
-  granular::test::PlainTrajectory run{initial.size(), {}};
-  std::vector<std::uint8_t> cells(initial.cells().begin(), initial.cells().end());
-  for (int t = 0; t < ticks; ++t) {
-    reference::plain_step(cells, initial.size(), rules, std::uint64_t(t));
-    run.after_tick.push_back(cells);
-  }
-  return run;
-}
-
 /// Block cells from materials in block order (bottom layer 0..3, then top layer 4..7).
 BlockCells block_of(std::array<Material, 8> m) {
   BlockCells b{};
@@ -136,7 +124,7 @@ TEST_CASE("plain step: World on the CPU, sparse and dense, 1 and 2 threads, equa
       const MaterialCounts counts = initial.count();
       for (int m = 0; m < kMaterialCount; ++m) REQUIRE_MESSAGE(counts[std::size_t(m)] > 0, "state " << m << " missing");
       const World first(test_def(size, preset.c_str(), 1, seed), initial);
-      const granular::test::PlainTrajectory plain = plain_run_of(first, initial, kTicks);
+      const granular::test::PlainTrajectory plain = granular::test::plain_trajectory(first, initial, kTicks);
       REQUIRE(plain.after_tick.back() != std::vector<std::uint8_t>(initial.cells().begin(), initial.cells().end()));
       // The plain loop conserves every material (each move is an exchange).
       Grid last(size);
@@ -175,7 +163,7 @@ TEST_CASE("plain step: a game's own materials (oil, a lighter liquid, and a heav
     WorldDef def = test_def(size, base, 2, 5);
     def.rule_set = rules;
     const World first(def, initial);
-    const granular::test::PlainTrajectory plain = plain_run_of(first, initial, kTicks);
+    const granular::test::PlainTrajectory plain = granular::test::plain_trajectory(first, initial, kTicks);
     for (const bool sparse : {true, false}) {
       def.sparse = sparse;
       World world(def, initial);
