@@ -80,16 +80,12 @@ constexpr bool topples_into(const StepMaterials& mats, std::uint32_t m, std::uin
          mats.density[above] < mats.density[m] && !(mats.is_void(target) && mats.is_void(above));
 }
 
-/// True when the step treats material `m` as a fluid that a denser fluid may displace sideways or a
-/// gas may rise into: void, a gas or a liquid.
-constexpr bool fluid(const StepMaterials& mats, std::uint32_t m) { return mats.is_fluid(m); }
-
 /// The fluid pass on a block's bytes (see the file comment). `movers` has bit p set when the cell at
 /// p may start a move (the caller decides who takes part in this step). `symmetry` is the block's
 /// horizontal symmetry (block.hpp: view position symmetry_image(p, s) holds cell p). `draws` holds
 /// one chance draw per cell (byte p for the cell at p; a move with chance c happens when the draw is
 /// below c, so 0 in every byte makes every chance above 0 certain). With `kLevels`, bits 3..6 of a
-/// byte are a faller's motion level, set to 0 when it sinks in step 1; without, the high bits are
+/// byte are a faller's motion level, set to 0 when it moves in step 1 or 1b; without, the high bits are
 /// carried along untouched (a table build tags each byte with its cell index there).
 template <bool kLevels>
 constexpr std::uint64_t fluid_pass(std::uint64_t bytes, std::uint32_t movers, int symmetry, std::uint64_t draws,
@@ -137,7 +133,7 @@ constexpr std::uint64_t fluid_pass(std::uint64_t bytes, std::uint32_t movers, in
     for (int flip = 1; flip <= 3; ++flip) {
       const int target = at((column ^ flip) + 4);
       const std::uint32_t t = material_at(bytes, target);
-      if (free(target) && fluid(mats, t) && mats.density[t] < mats.density[m] && (moving || mats.is_void(t))) {
+      if (free(target) && mats.is_fluid(t) && mats.density[t] < mats.density[m] && (moving || mats.is_void(t))) {
         move(top, target);
         break;
       }
@@ -147,7 +143,7 @@ constexpr std::uint64_t fluid_pass(std::uint64_t bytes, std::uint32_t movers, in
   auto capped_gas = [&](int column) {
     const int bottom = at(column);
     const std::uint32_t m = material_at(bytes, bottom), above = material_at(bytes, at(column + 4));
-    return starts(bottom) != 0 && mats.is_gas(m) && !(fluid(mats, above) && mats.density[above] > mats.density[m]);
+    return starts(bottom) != 0 && mats.is_gas(m) && !(mats.is_fluid(above) && mats.density[above] > mats.density[m]);
   };
   // 3. Gas spread under gas in the bottom layer.
   for (int column = 0; column < 4; ++column) {
@@ -157,7 +153,7 @@ constexpr std::uint64_t fluid_pass(std::uint64_t bytes, std::uint32_t movers, in
     for (int flip = 1; flip <= 3; ++flip) {
       const int target = at(column ^ flip);
       const std::uint32_t t = material_at(bytes, target);
-      if (free(target) && fluid(mats, t) && mats.density[t] > mats.density[m]) {
+      if (free(target) && mats.is_fluid(t) && mats.density[t] > mats.density[m]) {
         move(bottom, target);
         break;
       }
@@ -171,7 +167,7 @@ constexpr std::uint64_t fluid_pass(std::uint64_t bytes, std::uint32_t movers, in
     for (int flip = 1; flip <= 3; ++flip) {
       const int target_top = at((column ^ flip) + 4), target_bottom = at(column ^ flip);
       const std::uint32_t t = material_at(bytes, target_top), u = material_at(bytes, target_bottom);
-      if (free(target_top) && fluid(mats, t) && mats.density[t] > mats.density[m] && fluid(mats, u) &&
+      if (free(target_top) && mats.is_fluid(t) && mats.density[t] > mats.density[m] && mats.is_fluid(u) &&
           mats.density[u] > mats.density[m]) {
         move(bottom, target_top);
         break;
@@ -197,19 +193,19 @@ constexpr bool may_move(std::uint64_t bytes, const StepMaterials& mats) {
     if (mats.is_liquid(m) && mats.is_liquid(below) && mats.spread[m] > 0)
       for (int other = 4; other < 8; ++other) {
         const std::uint32_t t = material_at(bytes, other);
-        if (other != top && fluid(mats, t) && mats.density[t] < mats.density[m] &&
+        if (other != top && mats.is_fluid(t) && mats.density[t] < mats.density[m] &&
             (moving || mats.is_void(t)))
           return true;
       }
     if (mats.is_gas(below)) {
-      const bool capped = !(fluid(mats, m) && mats.density[m] > mats.density[below]);
+      const bool capped = !(mats.is_fluid(m) && mats.density[m] > mats.density[below]);
       if (!capped) continue;
       for (int other = 0; other < 4; ++other) {
         if (other == bottom) continue;
         const std::uint32_t t = material_at(bytes, other + 4), u = material_at(bytes, other);
-        const bool denser_below = fluid(mats, u) && mats.density[u] > mats.density[below];
+        const bool denser_below = mats.is_fluid(u) && mats.density[u] > mats.density[below];
         if (mats.is_gas(m) && mats.spread[below] > 0 && denser_below) return true;
-        if (denser_below && fluid(mats, t) && mats.density[t] > mats.density[below]) return true;
+        if (denser_below && mats.is_fluid(t) && mats.density[t] > mats.density[below]) return true;
       }
     }
   }
