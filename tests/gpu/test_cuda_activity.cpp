@@ -19,6 +19,7 @@
 
 #include "../reference/material_scenes.hpp"
 #include "../test_support.hpp"
+#include "fluid_tool_place.hpp"
 #include "granular/errors.hpp"
 #include "granular/rule_presets.hpp"
 #include "granular/scene.hpp"
@@ -183,14 +184,13 @@ TEST_CASE("cuda sparse: scenes of every material under every preset, water and g
         require_same(w);
       }
       CHECK(w.gpus[0].count() == initial.count());  // every move is an exchange
-      std::uniform_real_distribution<double> ux(-2.0, size.x + 2.0), uy(-2.0, size.y + 2.0), uz(size.z / 3.0, size.z + 2.0);
       for (int round = 0; round < 8; ++round) {
         CAPTURE(round);
-        const Vec3 c{ux(rng), uy(rng), uz(rng)};
-        const double r = 1.5 + double(rng() % 5);
-        const std::int64_t amount = 20 + std::int64_t(rng() % 200);
-        const Int3 lo{int(c.x) - 3, int(c.y) - 3, int(c.z) - 2};
-        const Box box{lo, {lo.x + 2 + int(rng() % 8), lo.y + 2 + int(rng() % 8), lo.z + 1 + int(rng() % 4)}};
+        const granular::test::FluidToolPlace place = granular::test::random_fluid_tool_place(rng, size);
+        const Vec3 c = place.centre;
+        const double r = place.radius;
+        const std::int64_t amount = place.amount;
+        const Box box = place.box;
         std::vector<std::optional<std::int64_t>> changed;
         w.each([&](World& world) {
           try {

@@ -16,6 +16,7 @@
 
 #include "../reference/material_scenes.hpp"
 #include "../test_support.hpp"
+#include "fluid_tool_place.hpp"
 #include "granular/errors.hpp"
 #include "granular/lut.hpp"
 #include "granular/rule_presets.hpp"
@@ -223,14 +224,13 @@ TEST_CASE("cuda: scenes of every material under every preset, dense, with water 
         require_same(w);
       }
       CHECK(w.gpu.count() == initial.count());
-      std::uniform_real_distribution<double> ux(-2.0, size.x + 2.0), uy(-2.0, size.y + 2.0), uz(size.z / 3.0, size.z + 2.0);
       for (int round = 0; round < 8; ++round) {
         CAPTURE(round);
-        const Vec3 c{ux(rng), uy(rng), uz(rng)};
-        const double r = 1.5 + double(rng() % 5);
-        const std::int64_t amount = 20 + std::int64_t(rng() % 200);
-        const Int3 lo{int(c.x) - 3, int(c.y) - 3, int(c.z) - 2};
-        const Box box{lo, {lo.x + 2 + int(rng() % 8), lo.y + 2 + int(rng() % 8), lo.z + 1 + int(rng() % 4)}};
+        const granular::test::FluidToolPlace place = granular::test::random_fluid_tool_place(rng, size);
+        const Vec3 c = place.centre;
+        const double r = place.radius;
+        const std::int64_t amount = place.amount;
+        const Box box = place.box;
         auto apply = [&](World& world) -> std::optional<ChangeReport> {
           try {
             switch (round % 4) {
