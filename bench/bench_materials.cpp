@@ -13,6 +13,9 @@
 ///
 ///   bench_materials [--backend cpu|cuda] [--n N] [--ticks T] [--max-ticks M] [--dense-until D] [--threads J]
 ///                   [--rules R]
+/// 3. *Scenes*: with --scene-ticks T > 0, each shipped scene of water, gas and gravel (dam_break,
+///    u_tube, sand_into_water, bubbles, gravel_and_sand; docs/SCENES.md) at --scene-n (0: its default
+///    N), emitters included, for T ticks: ms per tick and the real-time factor.
 /// Exit status 1 when the dense and sparse worlds' hashes differ or a material count changes.
 
 #include <cstdio>
@@ -21,6 +24,7 @@
 #include <string>
 
 #include "granular/errors.hpp"
+#include "granular/scene.hpp"
 #include "granular/time_scale.hpp"
 #include "granular/world.hpp"
 #include "timed_step.hpp"
@@ -37,6 +41,8 @@ struct Options {
   int ticks = 256;              ///< ticks of the mixed measurement
   int max_ticks = 20000;        ///< the settled world stops here even if not at rest
   int dense_until = 1 << 30;    ///< the dense world steps beside the sparse one up to this tick
+  int scene_ticks = 0;          ///< ticks of each shipped fluid scene (0: none)
+  int scene_n = 0;              ///< the scenes' N (0: each scene's default)
   int threads = 0;              ///< CPU threads (0 = all)
   std::string rules = WorldDef{}.rules;  ///< rule-set preset
 };
@@ -54,12 +60,15 @@ Options parse(int argc, char** argv) {
     else if (key == "--max-ticks") o.max_ticks = std::atoi(value.c_str());
     else if (key == "--threads") o.threads = std::atoi(value.c_str());
     else if (key == "--dense-until") o.dense_until = std::atoi(value.c_str());
+    else if (key == "--scene-ticks") o.scene_ticks = std::atoi(value.c_str());
+    else if (key == "--scene-n") o.scene_n = std::atoi(value.c_str());
     else if (key == "--rules") o.rules = value;
     else throw InvalidArgument("bench_materials: unknown option " + key);
   }
   if (o.backend != "cpu" && o.backend != "cuda") throw InvalidArgument("bench_materials: --backend " + o.backend + " (cpu or cuda)");
   if (o.n < 32 || o.n % 16 != 0) throw InvalidArgument("bench_materials: --n " + std::to_string(o.n) + " (a multiple of 16, >= 32)");
   if (o.ticks < 1 || o.max_ticks < 1) throw InvalidArgument("bench_materials: --ticks and --max-ticks must be >= 1");
+  if (o.scene_ticks < 0 || o.scene_n < 0) throw InvalidArgument("bench_materials: --scene-ticks and --scene-n must be >= 0");
   return o;
 }
 
@@ -105,7 +114,35 @@ void paint_settled(World& w, int n) {
   w.paint(Box{{5 * n / 8, 5 * n / 8, f}, {6 * n / 8, 6 * n / 8, f + h / 2}}, Material::Gravel);
 }
 
+/// Part 3: each shipped fluid scene for o.scene_ticks ticks; returns false when a count is off.
+bool run_scenes(const Options& o) {
+  for (const char* name : {"dam_break", "u_tube", "sand_into_water", "bubbles", "gravel_and_sand"}) {
+    const SceneInstance scene = instantiate(load_scene(find_scene(name)), o.scene_n);
+    World world(def_for(o, scene.grid.size(), true), scene.grid);
+    const MaterialCounts before = world.count();
+    MaterialCounts poured{};
+    double seconds = 0;
+    for (int t = 0; t < o.scene_ticks; ++t) {
+      const MaterialCounts p = run_emitters(world, scene.emitters);
+      for (int m = 0; m < kMaterialCount; ++m) poured[m] += p[m];
+      seconds += timed_step(world, 1);
+    }
+    MaterialCounts expected = before;
+    for (int m = 0; m < kMaterialCount; ++m) {
+      expected[m] += poured[m];
+      expected[to_cell(Material::Void)] -= poured[m];
+    }
+    const double ms = seconds * 1000.0 / o.scene_ticks, tick_ms = tick_seconds(world.rules()) * 1000.0;
+    std::printf("scene %-16s %dx%dx%d: %.4f ms/tick over %d ticks (%.2fx real time)%s\n", name, world.size().x,
+                world.size().y, world.size().z, ms, o.scene_ticks, tick_ms / ms,
+                world.count() == expected ? "" : "; material counts CHANGED");
+    if (world.count() != expected) return false;
+  }
+  return true;
+}
+
 int run(const Options& o) {
+  if (o.scene_ticks > 0 && !run_scenes(o)) return 1;
   const Int3 size{o.n, o.n, o.n};
   World mixed(def_for(o, size, true));
   paint_mixed(mixed, o.n);
