@@ -6,6 +6,7 @@
 #include <imgui.h>
 
 #include "granular/rule_set.hpp"
+#include "material_palette.hpp"
 
 namespace viewer {
 
@@ -19,8 +20,8 @@ std::optional<granular::Material> draw_material_panel(const std::vector<Material
   ImGui::Unindent(kSwatchSize + ImGui::GetStyle().ItemSpacing.x);
   for (const MaterialChoice& choice : choices) {
     ImGui::PushID(choice.key);
-    const ImVec4 colour(float((choice.colour >> 16) & 0xFF) / 255.0f, float((choice.colour >> 8) & 0xFF) / 255.0f,
-                        float(choice.colour & 0xFF) / 255.0f, 1.0f);
+    const glm::vec3 rgb = colour_of(choice.colour);
+    const ImVec4 colour(rgb.r, rgb.g, rgb.b, 1.0f);
     ImGui::ColorButton("##swatch", colour, ImGuiColorEditFlags_NoTooltip | ImGuiColorEditFlags_NoPicker,
                        ImVec2(kSwatchSize, kSwatchSize));
     ImGui::SameLine();

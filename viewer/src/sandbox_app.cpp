@@ -50,7 +50,7 @@ struct Session {
 
 /// What the left button does (Tab switches).
 enum class LeftTool {
-  Dig,    ///< World::dig: removes what is not solid
+  Dig,    ///< World::dig: removes every mobile material, static ones stay
   Erase,  ///< paints void: removes everything, solid included
 };
 
@@ -271,7 +271,7 @@ class SandboxApp final : public granular::engine::Subsystem {
         break;
       case GLFW_KEY_TAB:
         left_tool_ = left_tool_ == LeftTool::Dig ? LeftTool::Erase : LeftTool::Dig;
-        report("left button: %s", left_tool_ == LeftTool::Dig ? "dig (keeps solid)" : "erase (everything, solid included)");
+        report("left button: %s", left_tool_ == LeftTool::Dig ? "dig (static materials stay)" : "erase (everything, static materials included)");
         break;
       case GLFW_KEY_SPACE:
         session_->simulation->set_paused(!session_->simulation->paused());
