@@ -127,11 +127,7 @@ bool run_scenes(const Options& o) {
       for (int m = 0; m < kMaterialCount; ++m) poured[m] += p[m];
       seconds += timed_step(world, 1);
     }
-    MaterialCounts expected = before;
-    for (int m = 0; m < kMaterialCount; ++m) {
-      expected[m] += poured[m];
-      expected[to_cell(Material::Void)] -= poured[m];
-    }
+    const MaterialCounts expected = counts_after_pouring(before, poured);
     const double ms = seconds * 1000.0 / o.scene_ticks, tick_ms = tick_seconds(world.rules()) * 1000.0;
     std::printf("scene %-16s %dx%dx%d: %.4f ms/tick over %d ticks (%.2fx real time)%s\n", name, world.size().x,
                 world.size().y, world.size().z, ms, o.scene_ticks, tick_ms / ms,

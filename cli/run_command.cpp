@@ -8,6 +8,7 @@
 #include "granular/hex.hpp"
 #include "granular/lut.hpp"
 #include "granular/rule_set.hpp"
+#include "granular/scene.hpp"
 #include "granular/time_scale.hpp"
 #include "scene_runner.hpp"
 
@@ -55,13 +56,8 @@ void run(const RunOptions& o) {
   s["lut"] = {{"seconds", w.lut_seconds()}, {"from_cache", w.lut_from_cache()}, {"hash", hex64(w.lut().content_hash())}};
   s["grains_before"] = counts_json(before);
   s["grains_after"] = counts_json(after);
-  MaterialCounts expected = before;  // the emitters turned void cells into what they poured
-  bool poured = false;
-  for (int m = 0; m < kMaterialCount; ++m) {
-    expected[m] += p.poured[m];
-    expected[to_cell(Material::Void)] -= p.poured[m];
-    poured = poured || p.poured[m] != 0;
-  }
+  const MaterialCounts expected = counts_after_pouring(before, p.poured);
+  const bool poured = p.poured != MaterialCounts{};
   s["poured"] = counts_json(p.poured);
   s["mass_conserved"] = after == expected;
   s["hash"] = hex64(w.hash());

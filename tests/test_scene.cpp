@@ -934,10 +934,14 @@ TEST_CASE("scene: run_emitters pours `rate` cells on each tick in [start, stop) 
   REQUIRE(s.emitters.size() == 1);
   World world(test::test_def(s.grid.size()), s.grid);
   const std::uint64_t solid = count_of(s.grid, Material::Solid);
+  const MaterialCounts start = world.count();
+  MaterialCounts all_poured{};
   for (std::uint64_t tick = 0; tick < 12; ++tick) {
     CAPTURE(tick);
     REQUIRE(world.tick() == tick);
     const MaterialCounts poured = run_emitters(world, s.emitters);
+    for (int m = 0; m < kMaterialCount; ++m) all_poured[m] += poured[m];
+    CHECK(world.count() == counts_after_pouring(start, all_poured));
     CHECK(poured[to_cell(Material::Granular)] == (tick >= 2 && tick < 6 ? 5u : 0u));
     const std::uint64_t active_ticks = tick < 2 ? 0 : std::min<std::uint64_t>(tick, 5) - 1;
     CHECK(world.count()[to_cell(Material::Granular)] == 5 * active_ticks);

@@ -36,4 +36,12 @@ MaterialCounts run_emitters(World& world, const std::vector<Emitter>& emitters) 
   return poured;
 }
 
+MaterialCounts counts_after_pouring(MaterialCounts before, const MaterialCounts& poured) {
+  for (int m = 0; m < kMaterialCount; ++m) {
+    before[m] += poured[m];
+    before[to_cell(Material::Void)] -= poured[m];
+  }
+  return before;
+}
+
 }  // namespace granular

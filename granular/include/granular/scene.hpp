@@ -183,4 +183,8 @@ SceneInstance instantiate(const Scene& scene, int n = 0);
 /// world is unchanged. Returns the cells poured, per material.
 MaterialCounts run_emitters(World& world, const std::vector<Emitter>& emitters);
 
+/// The cells per material of a world that held `before` once emitters poured `poured` (run_emitters'
+/// results, summed): every poured cell was a void cell, and no step creates or destroys one.
+MaterialCounts counts_after_pouring(MaterialCounts before, const MaterialCounts& poured);
+
 }  // namespace granular
