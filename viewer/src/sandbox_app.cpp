@@ -400,7 +400,9 @@ class SandboxApp final : public granular::engine::Subsystem {
     const ToolState& tool = session_->tools->state();
     ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
     ImGui::SetNextWindowSize(ImVec2(440, 0), ImGuiCond_FirstUseEver);
-    ImGui::Begin("granular sandbox");
+    // No keyboard navigation in the HUD: Tab is the sandbox's key, and Dear ImGui would also take it
+    // to focus the next widget (the ticks slider, which then holds the keyboard as a text field).
+    ImGui::Begin("granular sandbox", nullptr, ImGuiWindowFlags_NoNavInputs);
     ImGui::Text("%.1f FPS, frame %.2f ms", fps_, frame_seconds_ * 1e3);
     const int ticks = session_->simulation->ticks_per_fixed_update();
     ImGui::Text("simulation %.3f ms/tick (%d ticks per fixed update)", session_->simulation->last_step_seconds() * 1e3 / ticks, ticks);
