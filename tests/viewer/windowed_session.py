@@ -2,14 +2,17 @@
 """A user's first minute with the windowed sandbox, on a virtual display (run it inside
 with_xvfb.py, as ctest viewer.windowed_session does, or `xvfb-run -a`): starts LAUNCHER (scripts/launch, what ./scripts/run execs after installing and
 building), checks the window is still open after 10 s, taps C (xdotool's default 12 ms key press)
-and sees the renderer switch, clicks on the sand and sees it dug, chooses the liquid (key 3) and
-pours it with a right click, chooses solid (key 1) and paints it with a right click, keeps the
-window open for more than 60 frames while tapping every material key 1..7 in turn (each must
-choose the material the sandbox listed for it at start), presses Esc and sees exit status 0 and,
-in the screenshot of the last frame, the HUD's colour swatch of every listed material.
-The sandbox prints one line per user action on stdout ("renderer: marching", "dig: 137 cells
-removed", "material: liquid (right button pours it)"); this script reads them. Every wait is
-bounded; exit status 0 on success, 1 with the reason otherwise.
+and sees the renderer switch, taps Tab through erase to shake (the default rules have a motion
+model), clicks on the sand and sees cells set moving, taps Tab back to dig, clicks on the sand and
+sees it dug, chooses the liquid (key 3) and pours it with a right click, chooses solid (key 1) and
+paints it with a right click, keeps the window open for more than 60 frames while tapping every
+material key 1..7 in turn (each must choose the material the sandbox listed for it at start),
+presses Esc and sees exit status 0 and, in the screenshot of the last frame, the HUD's colour
+swatch of every listed material.
+The sandbox prints one line per user action on stdout ("renderer: marching", "left button: shake
+(...)", "shake: 109 cells set moving", "dig: 137 cells removed", "material: liquid (right button pours
+it)"); this script reads them. Every wait is bounded; exit status 0 on success, 1 with the reason
+otherwise.
 
 usage: windowed_session.py LAUNCHER [ARGS...]
 """
@@ -134,6 +137,29 @@ def run(command, screenshot):
         if not sandbox.wait_for(r"^renderer: marching$", timeout=20, after=mark):
             return "a C tap did not switch the renderer to marching within 20 s"
         step("the renderer switched")
+
+        # Tab cycles the left button through dig, erase and shake; a click with shake chosen sets
+        # the sand at the cursor moving, and the next Tab brings dig back.
+        for tool in ("erase", "shake"):
+            mark = len(sandbox.lines)
+            xdotool("key", "Tab")
+            if not sandbox.wait_for(rf"^left button: {tool} \(", timeout=20, after=mark):
+                return f"a Tab tap did not switch the left button to {tool} within 20 s"
+        step("Tab switched the left button to erase, then to shake")
+        mark = len(sandbox.lines)
+        step(f"clicking at the window's centre ({centre_x}, {centre_y}), on the sand, with shake")
+        xdotool("mousemove", "--window", window, str(centre_x), str(centre_y), "click", "1")
+        shaken = sandbox.wait_for(r"^shake: (\d+) cells set moving$", timeout=20, after=mark)
+        if not shaken:
+            return "a click with shake chosen did not shake within 20 s"
+        if int(shaken.group(1)) <= 0:
+            return "a click on the sand with shake chosen set no cell moving"
+        step(f"the click set {shaken.group(1)} cells moving")
+        mark = len(sandbox.lines)
+        xdotool("key", "Tab")
+        if not sandbox.wait_for(r"^left button: dig \(", timeout=20, after=mark):
+            return "a Tab tap after shake did not switch the left button back to dig within 20 s"
+        step("Tab switched the left button back to dig")
 
         mark = len(sandbox.lines)
         step(f"clicking at the window's centre ({centre_x}, {centre_y}), on the sand")

@@ -14,7 +14,7 @@ struct Control {
 
 /// Every control of the windowed sandbox.
 inline constexpr std::array<Control, 17> kControls{{
-    {"left button", "dig (removes every mobile material: granular, liquid, gas; static ones stay) / erase (removes everything) where the cursor's ray hits"},
+    {"left button", "dig (removes every mobile material: granular, liquid, gas; static ones stay) / erase (removes everything) / shake (sets the grains and liquids moving at the rules' highest motion level) where the cursor's ray hits"},
     {"right button", "the chosen material: pour it above the hit point (granular, liquid, gas) / paint it as a sphere of structure in front of the hit face (static)"},
     {"wheel", "brush radius"},
     {"middle drag, or Alt + left drag", "orbit"},
@@ -23,7 +23,7 @@ inline constexpr std::array<Control, 17> kControls{{
     {"W A S D", "fly forward / left / back / right"},
     {"Q / E", "fly down / up"},
     {"F", "frame the content (every non-void cell, as at the start)"},
-    {"Tab", "switch the left button: dig / erase"},
+    {"Tab", "cycle the left button: dig / erase / shake (shake only under rules with a motion model, as the default inertial-24; one-step rules such as paper have none)"},
     {"1 .. 7", "choose the material of state 1..7 of the world's table (the HUD lists each with its colour; presets: solid, granular, liquid, gas, gravel, state6, state7)"},
     {"Space", "pause / resume"},
     {"N", "single step (while paused)"},

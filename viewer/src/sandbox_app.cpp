@@ -48,12 +48,6 @@ struct Session {
   std::unique_ptr<granular::engine::GranularSubsystem> simulation;
 };
 
-/// What the left button does (Tab switches).
-enum class LeftTool {
-  Dig,    ///< World::dig: removes every mobile material, static ones stay
-  Erase,  ///< paints void: removes everything, solid included
-};
-
 /// Prints one line on stdout for a user action and flushes it, so that whoever started the sandbox
 /// (a user's terminal, a test) sees it at once.
 [[gnu::format(printf, 1, 2)]] void report(const char* format, ...) {
@@ -63,6 +57,26 @@ enum class LeftTool {
   va_end(args);
   std::fputc('\n', stdout);
   std::fflush(stdout);
+}
+
+/// What the Tab line on stdout says the left button now does with `tool` under `rules`.
+std::string left_button_description(Tool tool, const granular::RuleSet& rules) {
+  switch (tool) {
+    case Tool::Dig: return "dig (static materials stay)";
+    case Tool::Erase: return "erase (everything, static materials included)";
+    case Tool::Shake:
+      return "shake (sets grains and liquids moving at motion level " + std::to_string(shake_level(rules)) + ")";
+    case Tool::Pour:
+    case Tool::Place: break;
+  }
+  return to_string(tool);
+}
+
+/// The left button's tools under `rules` in Tab's order, as the HUD lists them ("dig / erase / shake").
+std::string left_button_cycle(const granular::RuleSet& rules) {
+  std::string cycle;
+  for (Tool tool : left_button_tools(rules)) cycle += (cycle.empty() ? "" : " / ") + std::string(to_string(tool));
+  return cycle;
 }
 
 /// A mouse button held down with a tool: from its press to its release.
@@ -199,6 +213,8 @@ class SandboxApp final : public granular::engine::Subsystem {
     session->simulation = std::make_unique<granular::engine::GranularSubsystem>(*session->sandbox.world, ticks);
     session->simulation->set_paused(paused);
     session_ = std::move(session);
+    const std::vector<Tool> offered = left_button_tools(world().rules());
+    if (std::find(offered.begin(), offered.end(), left_tool_) == offered.end()) left_tool_ = Tool::Dig;
     choices_ = material_choices(world().rules().materials);
     ToolState& tools = session_->tools->state();
     if (std::none_of(choices_.begin(), choices_.end(), [&](const MaterialChoice& c) { return c.material == tools.material; }))
@@ -270,8 +286,8 @@ class SandboxApp final : public granular::engine::Subsystem {
         report("camera: framing the content");
         break;
       case GLFW_KEY_TAB:
-        left_tool_ = left_tool_ == LeftTool::Dig ? LeftTool::Erase : LeftTool::Dig;
-        report("left button: %s", left_tool_ == LeftTool::Dig ? "dig (static materials stay)" : "erase (everything, static materials included)");
+        left_tool_ = next_left_tool(left_tool_, world().rules());
+        report("left button: %s", left_button_description(left_tool_, world().rules()).c_str());
         break;
       case GLFW_KEY_SPACE:
         session_->simulation->set_paused(!session_->simulation->paused());
@@ -314,7 +330,7 @@ class SandboxApp final : public granular::engine::Subsystem {
     if (stroke_) return;  // one tool at a time
     ToolState& tool = session_->tools->state();
     if (button == GLFW_MOUSE_BUTTON_LEFT && !(mods & GLFW_MOD_ALT)) {
-      tool.tool = left_tool_ == LeftTool::Dig ? Tool::Dig : Tool::Erase;
+      tool.tool = left_tool_;
     } else if (button == GLFW_MOUSE_BUTTON_RIGHT) {
       tool.tool = choice_of(choices_, tool.material).use == MaterialUse::Pour ? Tool::Pour : Tool::Place;
     } else {
@@ -336,6 +352,7 @@ class SandboxApp final : public granular::engine::Subsystem {
       case Tool::Pour: report("pour: %lld %s cells added", cells, name_of(tools.state().material)); break;
       case Tool::Place: report("place: %lld %s cells placed", cells, name_of(tools.state().material)); break;
       case Tool::Erase: report("erase: %lld cells erased", cells); break;
+      case Tool::Shake: report("shake: %lld cells set moving", cells); break;
     }
   }
 
@@ -414,8 +431,10 @@ class SandboxApp final : public granular::engine::Subsystem {
                 static_cast<unsigned long long>(activity.total_bricks), static_cast<unsigned long long>(world().tick()));
     ImGui::Separator();
     const MaterialChoice& chosen = choice_of(choices_, tool.material);
-    ImGui::Text("left: %s (Tab: %s), right: %s %s, radius %.0f", left_tool_ == LeftTool::Dig ? "dig" : "erase",
-                left_tool_ == LeftTool::Dig ? "erase" : "dig", to_string(chosen.use), chosen.name.c_str(), tool.radius);
+    ImGui::Text("left button: %s (Tab cycles %s)", to_string(left_tool_), left_button_cycle(world().rules()).c_str());
+    if (shake_level(world().rules()) == 0)
+      ImGui::Text("no shake tool: rules '%s' have no motion model", world().rules().name.c_str());
+    ImGui::Text("right button: %s %s, brush radius %.0f", to_string(chosen.use), chosen.name.c_str(), tool.radius);
     ImGui::Text("active tool: %s", tool.held ? to_string(tool.tool) : "none");
     if (const auto clicked = draw_material_panel(choices_, tool.material, counts_))
       choose(session_->tools->state(), choice_of(choices_, *clicked));
@@ -464,7 +483,7 @@ class SandboxApp final : public granular::engine::Subsystem {
   WorldChoice choice_;
   bool pending_load_ = false;
   std::optional<Stroke> stroke_;
-  LeftTool left_tool_ = LeftTool::Dig;
+  Tool left_tool_ = Tool::Dig;  ///< the left button's tool, one of left_button_tools(world().rules())
   std::vector<MaterialChoice> choices_;  ///< the materials of the world's table, on keys 1..7
   double frame_seconds_ = 0;
   double fps_ = 0;

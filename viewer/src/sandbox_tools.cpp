@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 
 #include "granular/errors.hpp"
 
@@ -14,8 +15,24 @@ const char* to_string(Tool tool) {
     case Tool::Pour: return "pour";
     case Tool::Place: return "place";
     case Tool::Erase: return "erase";
+    case Tool::Shake: return "shake";
   }
   return "?";
+}
+
+int shake_level(const granular::RuleSet& rules) { return rules.motion.enabled() ? rules.motion.max_level() : 0; }
+
+std::vector<Tool> left_button_tools(const granular::RuleSet& rules) {
+  std::vector<Tool> tools{Tool::Dig, Tool::Erase};
+  if (shake_level(rules) > 0) tools.push_back(Tool::Shake);
+  return tools;
+}
+
+Tool next_left_tool(Tool current, const granular::RuleSet& rules) {
+  const std::vector<Tool> tools = left_button_tools(rules);
+  const auto at = std::find(tools.begin(), tools.end(), current);
+  if (at == tools.end()) return Tool::Dig;
+  return std::next(at) == tools.end() ? tools.front() : *std::next(at);
 }
 
 std::int64_t apply_tool(granular::World& world, const ToolState& state) {
@@ -33,6 +50,10 @@ std::int64_t apply_tool(granular::World& world, const ToolState& state) {
       }
       case Tool::Place: return world.paint(granular::Sphere{state.target_in_front.value_or(hit), r}, state.material).cells_changed;
       case Tool::Erase: return world.paint(granular::Sphere{hit, r}, granular::Material::Void).cells_changed;
+      case Tool::Shake: {
+        const int level = shake_level(world.rules());
+        return level > 0 ? world.shake(granular::Sphere{hit, r}, level).cells_shaken : 0;
+      }
     }
   } catch (const granular::InvalidArgument&) {
     // The brush lies wholly outside the grid (e.g. pouring above the top): nothing to do.

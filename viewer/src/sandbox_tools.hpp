@@ -11,6 +11,7 @@
 #include "granular/engine/subsystem.hpp"
 #include "granular/geometry.hpp"
 #include "granular/material.hpp"
+#include "granular/rule_set.hpp"
 #include "granular/scene.hpp"
 #include "granular/world.hpp"
 
@@ -22,10 +23,24 @@ enum class Tool {
   Pour,   ///< World::pour: emits cells of the chosen material above the point
   Place,  ///< World::paint(sphere, chosen material) in front of the hit face: builds structure
   Erase,  ///< World::paint(sphere, Void): erases everything, solid included
+  Shake,  ///< World::shake(sphere, shake_level(rules)): sets the grains and liquids in the sphere moving
 };
 
-/// "dig", "pour", "place", "erase".
+/// "dig", "pour", "place", "erase", "shake".
 const char* to_string(Tool tool);
+
+/// The motion level the shake tool sets under `rules`: the highest they allow
+/// (MotionParams::max_level()), which stirs a slope the most; 0 when they have no motion model, so
+/// that World::shake would refuse and the sandbox offers no shake tool.
+int shake_level(const granular::RuleSet& rules);
+
+/// The tools the left button offers under `rules`, in the order Tab cycles through them: dig, erase,
+/// and shake where the rules have a motion model.
+std::vector<Tool> left_button_tools(const granular::RuleSet& rules);
+
+/// The left button's tool after `current` in Tab's cycle under `rules`; dig when `current` is not
+/// one of left_button_tools(rules).
+Tool next_left_tool(Tool current, const granular::RuleSet& rules);
 
 /// The brush and what it is doing this frame.
 struct ToolState {
@@ -49,7 +64,7 @@ class ToolSubsystem final : public granular::engine::Subsystem {
   void apply_once();
   /// The brush (the input code writes it every frame).
   ToolState& state() { return state_; }
-  /// Cells changed by tools since construction.
+  /// Cells changed by tools since construction (for the shake tool, the cells it set moving).
   std::int64_t cells_changed() const { return cells_changed_; }
   /// Times a tool was applied (by fixed_update while held, or by apply_once) since construction.
   std::int64_t applications() const { return applications_; }
@@ -62,8 +77,9 @@ class ToolSubsystem final : public granular::engine::Subsystem {
   std::int64_t applications_ = 0;
 };
 
-/// Applies `state`'s tool once to `world` at its target; returns the cells changed (0 when there is
-/// no target or the button is up).
+/// Applies `state`'s tool once to `world` at its target; returns the cells changed, for Shake the
+/// cells set moving (0 when there is no target, the button is up, or the tool is Shake and the
+/// world's rules have no motion model).
 std::int64_t apply_tool(granular::World& world, const ToolState& state);
 
 }  // namespace viewer
