@@ -1,6 +1,7 @@
 #include "brick_activity.hpp"
 
 #include <algorithm>
+#include <limits>
 
 #include "step/brick_grid.hpp"
 
@@ -11,14 +12,24 @@ BrickActivity::BrickActivity(Int3 grid_size) : size_(grid_size), bricks_(brick_c
   awake_.assign(n, 1);
   dirty_.assign(n, 1);
   changed_.assign(n, 0);
+  changed_pass_.assign(n, 0);
+  quiet_pass_.assign(n * 8, 0);
   rebuild_active();
 }
 
-BrickRecord BrickActivity::record() {
+BrickRecord BrickActivity::next_pass() {
+  if (pass_ == std::numeric_limits<std::uint32_t>::max()) {
+    pass_ = 0;
+    std::fill(changed_pass_.begin(), changed_pass_.end(), 0);
+    std::fill(quiet_pass_.begin(), quiet_pass_.end(), 0);
+  }
   BrickRecord r;
   r.bricks = bricks_;
   r.dirty = dirty_.data();
   r.changed = changed_.data();
+  r.pass = ++pass_;
+  r.changed_pass = changed_pass_.data();
+  r.quiet_pass = quiet_pass_.data();
   return r;
 }
 
@@ -59,6 +70,7 @@ void BrickActivity::wake(std::span<const std::uint32_t> bricks) {
   if (bricks.empty()) return;
   for (const std::uint32_t b : bricks) {
     dirty_[b] = 1;
+    changed_pass_[b] = pass_ + 1;  // 0 after the last pass before the count wraps, which forgets it
     set_neighbours_awake(b);
   }
   rebuild_active();

@@ -14,7 +14,9 @@ namespace granular {
 
 /// Per brick: awake (stepped this cycle), dirty (owned a block with a non-inert key this cycle, or
 /// touched by a tool) and changed (a cell changed since the last take_changed). At the end of every
-/// 8-tick cycle the awake set becomes the dirty set grown by one brick in all 26 directions.
+/// 8-tick cycle the awake set becomes the dirty set grown by one brick in all 26 directions. Also
+/// the passes that let a quiet brick skip a step (BrickRecord): per brick, the last pass one of its
+/// cells changed in, and per brick and offset, the last pass its blocks were all quiet in.
 class BrickActivity {
  public:
   /// The state of a new world of `grid_size` cells: every brick dirty and awake.
@@ -33,12 +35,14 @@ class BrickActivity {
   const std::vector<Run>& runs() const { return runs_; }
   /// Cells inside the awake bricks.
   std::uint64_t active_cells() const { return active_cells_; }
-  /// Where the kernel records dirty and changed bricks.
-  BrickRecord record();
+  /// Starts the next pass and returns where its kernel records dirty and changed bricks. Pass
+  /// numbers are 32-bit: before the count wraps, every brick's passes are forgotten.
+  BrickRecord next_pass();
   /// Ends an 8-tick cycle: awake = dirty grown by one brick, then nothing is dirty.
   void end_cycle();
-  /// Cells of `bricks` were overwritten from outside (tools, load): they are dirty for this cycle and
-  /// they and their neighbours are awake from the next tick on.
+  /// Cells of `bricks` were overwritten from outside (tools, load): they are dirty for this cycle,
+  /// they and their neighbours are awake from the next tick on, and they count as changed in the
+  /// next pass.
   void wake(std::span<const std::uint32_t> bricks);
   /// Sets flags[i] = 1 for every brick whose cells changed since the last call; clears the record.
   void take_changed(std::span<std::uint8_t> flags);
@@ -50,6 +54,9 @@ class BrickActivity {
   Int3 size_;
   Int3 bricks_;
   std::vector<std::uint8_t> awake_, dirty_, changed_;
+  std::uint32_t pass_ = 0;                   // the last pass started
+  std::vector<std::uint32_t> changed_pass_;  // per brick (BrickRecord::changed_pass)
+  std::vector<std::uint32_t> quiet_pass_;    // per brick and offset (BrickRecord::quiet_pass)
   std::vector<std::uint32_t> active_;
   std::vector<Run> runs_;
   std::uint64_t active_cells_ = 0;

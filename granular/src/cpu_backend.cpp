@@ -73,6 +73,7 @@ CpuBackend::CpuBackend(const BackendCreateInfo& info)
   step_rules_.random_axis_order = rules.random_axis_order;
   step_rules_.motion = rules.motion;
   step_rules_.materials = step_materials(rules.materials);
+  outside_row_.assign(std::size_t(grid_.size().x), std::uint8_t(step_rules_.materials.outside));
 }
 
 std::string CpuBackend::description() const {
@@ -112,11 +113,16 @@ void CpuBackend::step(std::uint64_t first_tick, int ticks) {
 }
 
 StepContext CpuBackend::context(std::uint64_t tick, int substep) {
-  return StepContext{.cells = grid_.cells().data(), .size = grid_.size(), .rules = step_rules_, .tick = tick, .substep = substep};
+  return StepContext{.cells = grid_.cells().data(),
+                     .size = grid_.size(),
+                     .outside_row = outside_row_.data(),
+                     .rules = step_rules_,
+                     .tick = tick,
+                     .substep = substep};
 }
 
 void CpuBackend::step_pass_sparse(const StepContext& c) {
-  const BrickRecord record = activity_.record();
+  const BrickRecord record = activity_.next_pass();
   const auto& runs = activity_.runs();
   const int count = int(runs.size());
   const int tasks = std::min(count, pool_.thread_count() == 1 ? 1 : pool_.thread_count() * 8);

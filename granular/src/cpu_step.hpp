@@ -17,6 +17,8 @@ namespace granular {
 struct StepContext {
   std::uint8_t* cells = nullptr;  ///< the grid, x fastest
   Int3 size{};                    ///< grid extent
+  std::uint8_t* outside_row = nullptr;  ///< size.x cells of the outside state (rules.materials.outside),
+                                        ///< what a row of cells outside the grid reads; never written
   StepRules rules;                ///< the rule set's tables and parameters (host memory)
   std::uint64_t tick = 0;         ///< the tick being computed
   int substep = 0;                ///< its sub-step (0 without a motion model)
