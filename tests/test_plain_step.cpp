@@ -288,7 +288,9 @@ TEST_CASE("plain step: the fast step follows the comment: moving gravel sinks th
   const RuleSet rules = preset("inertial");
   const StepMaterials mats = step_materials(rules.materials);
   const motion::SubStep sub = motion::sub_step(rules.motion, mats, 1, 0, 1, false);
-  auto load = [](BlockKey k) { return motion::motion_rule(motion::full_code_key(k)); };
+  auto load = [](std::uint32_t index) {
+    return motion::motion_entry_at(index, [](std::uint32_t k) { return motion::motion_rule(motion::full_code_key(k)); });
+  };
   for (const bool with_water : {false, true}) {
     CAPTURE(with_water);
     BlockCells in = block_of({M::Granular, M::Solid, M::Solid, with_water ? M::Liquid : M::Solid, M::Gravel, M::Solid,

@@ -51,6 +51,22 @@ struct DevicePlatform {
     for (int i = 0; i < 8; ++i) viewed |= ((key >> (3 * i)) & 7u) << (3 * map[i]);
     return viewed;
   }
+  /// The block step's byte operations (block_bytes.hpp) through the byte permute instruction.
+  struct ByteOps {
+    /// lookup_bytes: each half's 4 materials packed to the nibbles of a selector into the table.
+    __device__ static std::uint64_t lookup(std::uint64_t table, std::uint64_t bytes) {
+      const std::uint32_t lo = std::uint32_t(bytes) & 0x07070707u, hi = std::uint32_t(bytes >> 32) & 0x07070707u;
+      const std::uint32_t t0 = std::uint32_t(table), t1 = std::uint32_t(table >> 32);
+      const std::uint32_t sel_lo = __byte_perm(lo | (lo >> 4), 0u, 0x4420u);
+      const std::uint32_t sel_hi = __byte_perm(hi | (hi >> 4), 0u, 0x4420u);
+      return std::uint64_t(__byte_perm(t0, t1, sel_lo)) | (std::uint64_t(__byte_perm(t0, t1, sel_hi)) << 32);
+    }
+    /// gather_bytes: the low and the high nibbles of `from` select the result's two halves.
+    __device__ static std::uint64_t gather(std::uint64_t bytes, std::uint32_t from) {
+      const std::uint32_t b0 = std::uint32_t(bytes), b1 = std::uint32_t(bytes >> 32);
+      return std::uint64_t(__byte_perm(b0, b1, from & 0xFFFFu)) | (std::uint64_t(__byte_perm(b0, b1, from >> 16)) << 32);
+    }
+  };
   /// The inverse of view: the cell at map[i] returns to i.
   __device__ static BlockKey unview(BlockKey key, int s) {
     const auto map = horizontal_symmetry(s);

@@ -101,9 +101,9 @@ class CudaBackend final : public Backend {
     step_rules_.inert = inert_.data();
     stream_.synchronize("building the result table");
     if (rules.motion.enabled()) {
-      // The motion model looks up the motion table (256 KiB, cache-resident on the device).
-      const std::vector<Transition> motion_table = derive_motion_table(info.lut->entries());
-      table_ = cuda::DeviceBuffer<Transition>(motion_table.size(), "the motion table");
+      // The motion model looks up the motion entries (2 MiB, cache-resident on the device).
+      const std::vector<motion::MotionEntry> motion_table = derive_motion_table(info.lut->entries());
+      table_ = cuda::DeviceBuffer<motion::MotionEntry>(motion_table.size(), "the motion entries");
       cuda::check(cudaMemcpy(table_.data(), motion_table.data(), table_.bytes(), cudaMemcpyHostToDevice),
                   "cudaMemcpy (upload motion table)");
     }
@@ -548,7 +548,7 @@ class CudaBackend final : public Backend {
   std::uint64_t writes_ = 0;                       ///< last value signalled on ready_
   std::uint64_t handoffs_ = 0;                     ///< last value handed out for released_
   cuda::DeviceBuffer<BlockKey> result_;
-  cuda::DeviceBuffer<Transition> table_;  ///< the motion table (motion rule sets only, motion_table.hpp)
+  cuda::DeviceBuffer<motion::MotionEntry> table_;  ///< the motion entries (motion rule sets only, motion_table.hpp)
   cuda::DeviceBuffer<unsigned long long> scratch_;
   bool sparse_;
   double dense_fraction_;  ///< awake fraction above which step() uses dense-recording ticks

@@ -4,10 +4,12 @@
 
 namespace granular {
 
-std::vector<Transition> derive_motion_table(std::span<const Transition> lut) {
-  std::vector<Transition> table(motion::kMotionTableKeys);
-  for (std::uint32_t k = 0; k < motion::kMotionTableKeys; ++k) table[k] = lut[motion::full_code_key(k)];
-  return table;
+std::vector<motion::MotionEntry> derive_motion_table(std::span<const Transition> lut) {
+  std::vector<motion::MotionEntry> entries(motion::kMotionEntries);
+  const auto transition = [&](std::uint32_t k) { return lut[motion::full_code_key(k)]; };
+  for (std::uint32_t index = 0; index < motion::kMotionEntries; ++index)
+    entries[index] = motion::motion_entry_at(index, transition);
+  return entries;
 }
 
 }  // namespace granular

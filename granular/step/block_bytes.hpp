@@ -25,4 +25,29 @@ constexpr std::uint64_t unpack_key(BlockKey k) {
   return (t & 0x0007000700070007ull) | ((t & 0x0038003800380038ull) << 5);
 }
 
+/// A per-cell lookup in a table of 8 bytes: byte i of the result is byte (b & 7) of `table`, where b
+/// is byte i of `bytes` (its low 3 bits: the cell's material).
+constexpr std::uint64_t lookup_bytes(std::uint64_t table, std::uint64_t bytes) {
+  std::uint64_t out = 0;
+  for (int i = 0; i < 8; ++i) out |= ((table >> (8 * ((bytes >> (8 * i)) & 7u))) & 0xFFu) << (8 * i);
+  return out;
+}
+
+/// A byte permutation in gather form: byte p of the result is byte (nibble p of `from`) of `bytes`
+/// (each nibble below 8).
+constexpr std::uint64_t gather_bytes(std::uint64_t bytes, std::uint32_t from) {
+  std::uint64_t out = 0;
+  for (int p = 0; p < 8; ++p) out |= ((bytes >> (8 * ((from >> (4 * p)) & 7u))) & 0xFFu) << (8 * p);
+  return out;
+}
+
+/// The portable forms of the byte operations of the block step; a Platform (block_step.hpp) may
+/// supply faster ones of the same names and meaning (a GPU's byte permute).
+struct PortableByteOps {
+  /// lookup_bytes.
+  static constexpr std::uint64_t lookup(std::uint64_t table, std::uint64_t bytes) { return lookup_bytes(table, bytes); }
+  /// gather_bytes.
+  static constexpr std::uint64_t gather(std::uint64_t bytes, std::uint32_t from) { return gather_bytes(bytes, from); }
+};
+
 }  // namespace granular

@@ -36,7 +36,7 @@ namespace granular {
 /// keeps them: host memory for the CPU, device memory for a GPU).
 struct StepRules {
   const BlockKey* result = nullptr;        ///< per key, the key after its transition (one-step rules)
-  const Transition* transitions = nullptr; ///< the motion table (motion model only, motion_table.hpp)
+  const motion::MotionEntry* transitions = nullptr; ///< the motion entries (motion model only, motion_table.hpp)
   const std::uint64_t* inert = nullptr;    ///< inert-key bits (sparse stepping with random variants)
   std::uint64_t seed = 0;                  ///< world seed
   bool random_symmetry = false;            ///< RuleSet::random_symmetry
@@ -44,6 +44,24 @@ struct StepRules {
   MotionParams motion;                     ///< RuleSet::motion
   StepMaterials materials;                 ///< RuleSet::materials as the step reads it
 };
+
+/// The byte operations of a Platform: its own (Platform::ByteOps, e.g. a GPU's byte permute), or
+/// the portable ones (PortableByteOps); both give the same bytes.
+template <class Platform>
+struct PlatformByteOps {
+  using type = PortableByteOps;  ///< the portable ones
+};
+
+/// A Platform that brings its own byte operations.
+template <class Platform>
+  requires requires { typename Platform::ByteOps; }
+struct PlatformByteOps<Platform> {
+  using type = typename Platform::ByteOps;  ///< the Platform's own
+};
+
+/// The byte operations the block step uses on `Platform`.
+template <class Platform>
+using ByteOpsOf = typename PlatformByteOps<Platform>::type;
 
 /// A rule set without a motion model, for one tick.
 template <bool kRandom, class Platform>
@@ -91,7 +109,7 @@ struct OneStepRule {
 /// One sub-step of a rule set's motion model.
 template <class Platform>
 struct MotionRule {
-  const Transition* table;      ///< the motion table (motion_table.hpp)
+  const motion::MotionEntry* table;///< the motion entries (motion_table.hpp)
   const std::uint64_t* inert;   ///< inert-key bits (sparse stepping)
   motion::SubStep sub;          ///< seed, tick, sub-step, materials
   BlockOffset offset;           ///< the sub-step's partition offset
@@ -112,7 +130,8 @@ struct MotionRule {
   /// of 2 or more takes part (motion_window), so a block without one is left at once.
   constexpr std::uint64_t step(std::uint64_t bytes, int x0, int y0, int z0) const {
     if (sub.substep >= 2 && ((bytes >> 32) & 0x70707070u) == 0) return bytes;
-    return motion::step_block(bytes, sub, x0, y0, z0, [this](BlockKey key) { return Platform::load(table + key); });
+    return motion::step_block<ByteOpsOf<Platform>>(bytes, sub, x0, y0, z0,
+                                                   [this](std::uint32_t k) { return Platform::load(table + k); });
   }
 
   /// True when the block stays as it is in every sub-step whatever the draws (motion::rest_key, and
@@ -123,7 +142,7 @@ struct MotionRule {
     const BlockKey key = motion::rest_key(before, offset.z, sub.materials, at_rest);
     if (!at_rest || !is_inert(inert, key)) return false;
     const StepMaterials& mats = sub.materials;
-    return !mats.fluid_pass_applies(present_materials(before)) || !fluid::may_move(before, mats);
+    return !mats.fluid_pass_applies(present_materials<ByteOpsOf<Platform>>(before)) || !fluid::may_move(before, mats);
   }
 };
 

@@ -15,9 +15,9 @@
 ///     with chance roll_chance / 256 (its material's GrainMotion), as a roller (3), which the table lets roll sideways onto the
 ///     top of a neighbour column one cell lower. Bottom-layer grains never move on their own, so
 ///     their code is always 2.
-///  2. The key is viewed under the block's random symmetry, looked up in the motion table (motion_rule's
-///     transitions at 2 bits per cell, kMotionTableKeys), and the permutation is mapped back: cell i
-///     goes to position dest[i].
+///  2. The block's random symmetry and its key (2 bits per cell) pick one of the motion entries
+///     (MotionEntry: motion_rule's transition of the key seen under the symmetry, kMotionTableKeys
+///     keys, mapped back to the block's own frame as a byte gather, with where each top cell went).
 ///  3. The 8 bytes are permuted with their motion levels, and each grain that took part updates
 ///     its level: one that fell straight down gains 1 in the first sub-step of its window when
 ///     nothing is beside it in the top layer (gravity accelerates free grains, not a dense flow);
@@ -104,6 +104,57 @@ constexpr BlockKey full_code_key(std::uint32_t compact) {
   return key;
 }
 
+/// What the step looks up for a block: the motion table's transition of the block's key under one
+/// of the 8 horizontal symmetries, mapped back to the block's own frame, in the form the step
+/// applies at once. Nibble p (its low 3 bits) names the cell whose byte goes to position p (a
+/// gather, gather_bytes); the nibbles' high bits say where each top-layer cell 4 + k went: bit 3 +
+/// 8 k and bit 7 + 8 k hold its MotionMove.
+using MotionEntry = std::uint32_t;
+
+/// Entries per symmetry: one per motion table key; entry (symmetry << 16) | key (kMotionEntries in all).
+inline constexpr std::uint32_t kMotionEntries = 8 * kMotionTableKeys;
+
+/// The entry of a block where nothing moves.
+inline constexpr MotionEntry kStillEntry = 0x76543210u;
+
+/// Where a top-layer cell went in a block's transition.
+enum MotionMove : std::uint32_t {
+  kStayed = 0,    ///< it kept its place
+  kRolled = 1,    ///< to another column's top cell
+  kFell = 2,      ///< straight down, to its own column's bottom cell
+  kToppled = 3,   ///< diagonally down, to another column's bottom cell
+};
+
+/// The motion table key of a block of motion table key `key` seen under symmetry `symmetry`
+/// (block.hpp: cell i at position symmetry_image(i, symmetry)).
+constexpr std::uint32_t viewed_motion_key(std::uint32_t key, int symmetry) {
+  std::uint32_t viewed = 0;
+  for (int i = 0; i < 8; ++i) viewed |= ((key >> (2 * i)) & 3u) << (2 * symmetry_image(i, symmetry));
+  return viewed;
+}
+
+/// The entry of a block whose transition seen under symmetry `symmetry` is `viewed` (the motion
+/// table's transition at viewed_motion_key).
+constexpr MotionEntry motion_entry(Transition viewed, int symmetry) {
+  MotionEntry entry = 0;
+  for (int i = 0; i < 8; ++i) {
+    const int dest = symmetry_preimage(destination(viewed, symmetry_image(i, symmetry)), symmetry);
+    entry |= MotionEntry(i) << (4 * dest);
+    if (i < 4) continue;
+    const std::uint32_t move = dest >= 4 ? (dest == i ? kStayed : kRolled) : ((dest & 3) == (i & 3) ? kFell : kToppled);
+    entry |= ((move & 1u) << (3 + 8 * (i - 4))) | ((move >> 1) << (7 + 8 * (i - 4)));
+  }
+  return entry;
+}
+
+/// Entry `index` of the motion entries ((symmetry << 16) | key) of a motion table whose transition at
+/// motion table key k is `transition(k)`.
+template <class TransitionOf>
+constexpr MotionEntry motion_entry_at(std::uint32_t index, TransitionOf transition) {
+  const int symmetry = int(index >> 16);
+  return motion_entry(transition(viewed_motion_key(index & 0xFFFFu, symmetry)), symmetry);
+}
+
 /// The partition offset of sub-step `substep` of tick `tick` (see the file comment); with
 /// `random_axis_order`, x and y are exchanged on the 8-tick cycles cycle_swaps_axes draws.
 constexpr BlockOffset motion_offset(std::uint64_t tick, int substep, std::uint64_t seed, bool random_axis_order) {
@@ -125,28 +176,23 @@ struct SubStep {
   int substeps = 2;             ///< MotionParams::substeps (the highest level follows from it)
   bool random_symmetry = false; ///< draw a horizontal symmetry per block
   StepMaterials materials;      ///< the rule set's material table (codes, grains, grain motion)
+
+  /// The step's number across ticks, tick * substeps + substep: what its random words are drawn at.
+  constexpr std::uint64_t step() const { return tick * std::uint64_t(substeps) + std::uint64_t(substep); }
+  /// block_seed_key of the block random words (seed) and of the fluid pass's draws (seed ^ kDrawSalt).
+  std::uint64_t random_key = 0, draw_key = 0;
 };
 
 /// The SubStep of sub-step `substep` of tick `tick` for a rule set's motion model.
 constexpr SubStep sub_step(const MotionParams& motion, const StepMaterials& materials, std::uint64_t seed,
                            std::uint64_t tick, int substep, bool random_symmetry) {
-  return SubStep{seed, tick, substep, motion.substeps, random_symmetry, materials};
+  return SubStep{seed,      tick, substep, motion.substeps, random_symmetry, materials, block_seed_key(seed),
+                 block_seed_key(seed ^ fluid::kDrawSalt)};
 }
 
 /// The phase a grain in cell i of a block takes at sub-step 0, as its bit: 0 in the top layer (its
 /// window starts at once), kMotionPhaseBit in the bottom layer (it is in a top layer from sub-step 1).
 constexpr std::uint32_t rest_phase(int i) { return i >= 4 ? 0u : kMotionPhaseBit; }
-
-/// The bytes with every grain's phase set as at sub-step 0 (rest_phase).
-constexpr std::uint64_t with_phases(std::uint64_t bytes, const StepMaterials& materials) {
-  std::uint64_t out = 0;
-  for (int i = 0; i < 8; ++i) {
-    std::uint32_t byte = std::uint32_t(bytes >> (8 * i)) & 0xFFu;
-    if (materials.is_faller(byte & kMaterialMask)) byte = (byte & ~std::uint32_t(kMotionPhaseBit)) | rest_phase(i);
-    out |= std::uint64_t(byte) << (8 * i);
-  }
-  return out;
-}
 
 /// The phase bits of a block whose cells are all grains at rest, at partition z offset `offset_z`
 /// (rest_phase of each cell's layer at sub-step 0): set in the layer that is the bottom one there.
@@ -186,94 +232,90 @@ constexpr std::uint64_t rest_block(const StepMaterials& materials, int offset_z)
   return 0;
 }
 
-/// True when the top-layer cell i of a block has only void beside it in the top layer: a grain
-/// there that falls is in free fall and gains speed, while one that moves down in contact with
-/// others (a dense flow) does not.
-constexpr bool laterally_free(std::uint64_t bytes, int i, const StepMaterials& materials) {
-  for (int j = 4; j < 8; ++j)
-    if (j != i && materials.code((bytes >> (8 * j)) & kMaterialMask) != kCodeVoid) return false;
-  return true;
-}
-
 /// The block's 8 bytes (cell i in byte i) after sub-step `m` (see the file comment). `load(k)`
-/// reads the motion table's entry of motion table key k (kMotionTableKeys; a plain read on the CPU,
-/// a read-only cache load on a GPU).
-template <class Load>
+/// reads entry k of the motion entries (kMotionEntries; a plain read on the CPU, a read-only cache
+/// load on a GPU); ByteOps does the per-cell lookups and the byte gather (PortableByteOps, or a
+/// Platform's own). The cells are worked on as words of 8 bytes, 4 at a time per layer where the
+/// step's conditions allow it, which is what keeps a block's instructions few on a GPU.
+template <class ByteOps = PortableByteOps, class Load>
 constexpr std::uint64_t step_block(std::uint64_t bytes, const SubStep& m, int x0, int y0, int z0, Load load) {
   const StepMaterials& mats = m.materials;
   const int s = m.substep;
-  if (s == 0) bytes = with_phases(bytes, mats);
-  // Which cells take part: top-layer fallers inside their window, and in sub-steps 0 and 1 bottom-
-  // layer gases. Only they ever start a move or change, so a block without one is left as it is
-  // before its random word is drawn.
-  unsigned takes_part = 0;
-  for (int i = 4; i < 8; ++i) {
-    const std::uint32_t byte = std::uint32_t(bytes >> (8 * i)) & 0xFFu;
-    if (!mats.is_faller(byte & kMaterialMask)) continue;
-    const int level = int((byte >> kMotionShift) & kMotionLevelMask);
-    const int start = (byte & kMotionPhaseBit) ? 1 : 0;
-    if (s >= start && s - start < motion_window(level)) takes_part |= 1u << i;
+  const std::uint64_t props = ByteOps::lookup(mats.cell_props, bytes);  // byte i: material i's cell_props
+  const std::uint64_t fallers = (props >> 2) & kEveryByte;              // 1 in each faller's byte
+  if (s == 0) bytes = (bytes & ~(fallers << 7)) | ((fallers << 7) & 0x0000000080808080ull);  // rest_phase
+  // Which cells take part (1 in their byte): top-layer fallers inside their window, and in sub-steps 0
+  // and 1 bottom-layer gases. Only they ever start a move or change, so a block without one is left as
+  // it is before its random word is drawn. A top faller at level L with phase start (0 or 1) is in its
+  // window at sub-step s > start when 2 L + start >= s + 2 (s - start < motion_window(L)), and always
+  // at s = start; in sub-step 0 every top faller's start is 0.
+  const std::uint32_t top = std::uint32_t(bytes >> 32);
+  const std::uint32_t top_fallers = std::uint32_t(fallers >> 32);
+  std::uint32_t part = top_fallers;
+  if (s > 0) {
+    const std::uint32_t start = (top >> 7) & 0x01010101u;
+    const std::uint32_t reach = ((top >> 2) & 0x1E1E1E1Eu) | start;  // 2 L + start, at most 31 per byte
+    const std::uint32_t late = ((reach + 0x01010101u * std::uint32_t(0x80 - (s + 2))) >> 7) & 0x01010101u;
+    part &= late | (s == 1 ? start : 0u);
   }
-  unsigned gas_turn = 0;
-  if (s < 2 && mats.gases != 0)
-    for (int i = 0; i < 4; ++i)
-      if (mats.is_gas(std::uint32_t(bytes >> (8 * i)) & kMaterialMask)) gas_turn |= 1u << i;
-  if ((takes_part | gas_turn) == 0) return bytes;
-  const std::uint64_t random = block_random(m.seed, m.tick * std::uint64_t(m.substeps) + std::uint64_t(s), x0, y0, z0);
-  BlockKey key = 0;
-  std::uint32_t present = 0;  // bit m for each material m in the block (the same after any permutation)
-  for (int i = 0; i < 8; ++i) {
-    const std::uint32_t byte = std::uint32_t(bytes >> (8 * i)) & 0xFFu;
-    const std::uint32_t material = byte & kMaterialMask;
-    present |= 1u << material;
-    std::uint32_t code = mats.code(material);
-    if (code == kCodeGrain && i >= 4) {
-      // A top-layer grain outside its window is too slow to move now: an obstacle.
-      if (((takes_part >> i) & 1u) == 0)
-        code = kCodeObstacle;
-      else if (((byte >> kMotionShift) & kMotionLevelMask) > 0 &&
-               int((random >> (8 * (i - 3))) & 0xFFu) < int(mats.roll_chance[material]))
-        code = kCodeRoller;
-    }
-    key |= code << (3 * i);
-  }
-  // The symmetry as arithmetic on cell indices (no arrays: a GPU keeps everything in registers).
+  const std::uint32_t gases = s < 2 && mats.gases != 0 ? std::uint32_t(props >> 3) & 0x01010101u : 0u;
+  if ((part | gases) == 0) return bytes;
+  const std::uint64_t random = block_random_keyed(m.random_key, m.step(), x0, y0, z0);
   const int symmetry = m.random_symmetry ? int(random & 7u) : 0;
-  std::uint32_t viewed = 0;  // the motion table key of the block in the drawn frame
-  for (int i = 0; i < 8; ++i) viewed |= ((key >> (3 * i)) & 3u) << (2 * symmetry_image(i, symmetry));
-  const Transition t = takes_part != 0 ? load(viewed) : kIdentityTransition;
-  const int max_level = MotionParams{.substeps = m.substeps}.max_level();
-  std::uint64_t out = 0;
-  const bool fluid_pass = mats.fluid_pass_applies(present);
-  const unsigned may_start = fluid_pass ? takes_part | gas_turn : 0u;
-  unsigned movers = 0;  // who may start a move in the fluid pass: cells that took part and stayed
-  for (int i = 0; i < 8; ++i) {
-    const int dest = symmetry_preimage(destination(t, symmetry_image(i, symmetry)), symmetry);
-    if (dest == i) movers |= may_start & (1u << i);
-    std::uint32_t byte = std::uint32_t(bytes >> (8 * i)) & 0xFFu;
-    if ((takes_part >> i) & 1u) {
-      const std::uint32_t material = byte & kMaterialMask;
-      int level = int((byte >> kMotionShift) & kMotionLevelMask);
-      const std::uint32_t phase = byte & kMotionPhaseBit;
-      const int draw = int((random >> (40 + 6 * (i - 4))) & 63u) * 4;
-      if (dest < 4) {
-        if ((dest & 3) == (i & 3)) {
-          if (s == (phase ? 1 : 0) && laterally_free(bytes, i, mats)) ++level;
-        } else if (draw < int(mats.topple_gain[material])) {
-          ++level;
-        }
-        if (level > max_level) level = max_level;
-      } else if (level > 0 && draw < (dest != i ? int(mats.roll_cost[material]) : kStuckCost)) {
-        --level;
-      }
-      byte = material | (std::uint32_t(level) << kMotionShift) | phase;
-    }
-    out |= std::uint64_t(byte) << (8 * dest);
+  // The table codes: a top faller outside its window is too slow to move now, an obstacle (code 2 ->
+  // 1); one inside it with a motion level above 0 is, with chance roll_chance / 256, a roller (2 -> 3).
+  const std::uint64_t codes = props & (kEveryByte * kPropCode);
+  std::uint32_t top_codes = std::uint32_t(codes >> 32) - (top_fallers & ~part);
+  for (int k = 0; k < 4; ++k) {
+    const std::uint32_t byte = (top >> (8 * k)) & 0xFFu;
+    if (((part >> (8 * k)) & 1u) != 0 && ((byte >> kMotionShift) & kMotionLevelMask) > 0 &&
+        int((random >> (8 * (k + 1))) & 0xFFu) < int(mats.roll_chance[byte & kMaterialMask]))
+      top_codes += 1u << (8 * k);
   }
-  if (!fluid_pass) return out;
-  const std::uint64_t draws =
-      block_random(m.seed ^ fluid::kDrawSalt, m.tick * std::uint64_t(m.substeps) + std::uint64_t(s), x0, y0, z0);
-  return fluid::fluid_pass<true>(out, movers, symmetry, draws, mats);
+  std::uint64_t packed = (codes & 0xFFFFFFFFull) | (std::uint64_t(top_codes) << 32);  // to 2 bits per cell
+  packed = (packed | (packed >> 6)) & 0x000F000F000F000Full;
+  packed = (packed | (packed >> 12)) & 0x000000FF000000FFull;
+  const std::uint32_t key = std::uint32_t(packed | (packed >> 24)) & 0xFFFFu;
+  const MotionEntry entry = part != 0 ? load((std::uint32_t(symmetry) << 16) | key) : kStillEntry;
+  // Each top cell that took part updates its level by where it went (MotionMove).
+  std::uint32_t occupied = std::uint32_t(codes >> 32);  // top cells that are not void: bit k for cell 4 + k
+  occupied = (occupied | (occupied >> 1)) & 0x01010101u;
+  occupied = (occupied | (occupied >> 7) | (occupied >> 14) | (occupied >> 21)) & 15u;
+  const int max_level = MotionParams{.substeps = m.substeps}.max_level();
+  std::uint32_t new_top = top;
+  for (int k = 0; k < 4; ++k) {
+    if (((part >> (8 * k)) & 1u) == 0) continue;
+    const std::uint32_t byte = (top >> (8 * k)) & 0xFFu;
+    const std::uint32_t material = byte & kMaterialMask, phase = byte & kMotionPhaseBit;
+    int level = int((byte >> kMotionShift) & kMotionLevelMask);
+    const std::uint32_t move = ((entry >> (3 + 8 * k)) & 1u) | ((entry >> (6 + 8 * k)) & 2u);
+    const int draw = int((random >> (40 + 6 * k)) & 63u) * 4;
+    if (move == kFell) {
+      // Gravity accelerates a grain in free fall (nothing beside it in the top layer), in the first
+      // sub-step of its window.
+      if (s == (phase ? 1 : 0) && (occupied & ~(1u << k)) == 0) ++level;
+    } else if (move == kToppled) {
+      if (draw < int(mats.topple_gain[material])) ++level;
+    } else if (level > 0 && draw < (move == kRolled ? int(mats.roll_cost[material]) : kStuckCost)) {
+      --level;
+    }
+    if (move >= kFell && level > max_level) level = max_level;
+    const std::uint32_t updated = material | (std::uint32_t(level) << kMotionShift) | phase;
+    new_top = (new_top & ~(0xFFu << (8 * k))) | (updated << (8 * k));
+  }
+  const std::uint64_t out = ByteOps::gather((bytes & 0xFFFFFFFFull) | (std::uint64_t(new_top) << 32), entry & 0x77777777u);
+  // The fluid pass, on a block holding a liquid, a gas or two granular materials.
+  if (!mats.fluid_pass_applies(present_materials<ByteOps>(bytes))) return out;
+  // Its movers: the cells that took part and kept their place (nibble p of the entry is p).
+  std::uint32_t stayed = (entry & 0x77777777u) ^ kStillEntry;
+  stayed = ~(stayed | (stayed >> 1) | (stayed >> 2)) & 0x11111111u;
+  stayed = (stayed | (stayed >> 3)) & 0x03030303u;
+  stayed = (stayed | (stayed >> 6)) & 0x000F000Fu;
+  stayed = (stayed | (stayed >> 12)) & 0xFFu;
+  std::uint32_t took_part = (part << 4) | gases;  // 1 in byte k for cell 4 + k, in byte j for cell j
+  took_part = (took_part | (took_part >> 7) | (took_part >> 14) | (took_part >> 21)) & 0xFFu;
+  const std::uint64_t draws = block_random_keyed(m.draw_key, m.step(), x0, y0, z0);
+  return fluid::fluid_pass<true>(out, took_part & stayed, symmetry, draws, mats);
 }
 
 }  // namespace granular::motion

@@ -8,11 +8,16 @@
 #include "granular/material.hpp"
 #include "granular/motion.hpp"
 #include "granular/rule_set.hpp"
+#include "step/block_bytes.hpp"
 
 namespace granular {
 
 /// Table codes of the motion model (motion_block.hpp): what its transition table is indexed by.
 inline constexpr std::uint32_t kCodeVoid = 0, kCodeObstacle = 1, kCodeGrain = 2, kCodeRoller = 3;
+
+/// Bits of a material's byte in StepMaterials::cell_props: its table code (2 bits), whether it falls
+/// as a grain, whether it is a gas.
+inline constexpr std::uint32_t kPropCode = 3, kPropFaller = 4, kPropGas = 8;
 
 /// The material table as the step reads it.
 struct StepMaterials {
@@ -30,6 +35,8 @@ struct StepMaterials {
   std::uint16_t spread[kMaterialCount] = {};       ///< MaterialDef::spread per material
   std::int8_t density[kMaterialCount] = {};        ///< MaterialDef::density per material (static: unused)
   std::uint8_t pair_codes[64] = {};  ///< the codes of two cells (6 bits of a key) from their materials
+  std::uint64_t cell_props = 0;      ///< byte m: what the block step asks of material m at once (kPropCode,
+                                     ///< kPropFaller, kPropGas), for per-cell lookups (lookup_bytes)
 
   /// The key of table codes of a key of materials (3 bits per cell, block order).
   constexpr BlockKey code_key(BlockKey materials) const {
@@ -94,14 +101,22 @@ inline StepMaterials step_materials(const MaterialTable& table) {
   }
   for (std::uint32_t pair = 0; pair < 64; ++pair)
     m.pair_codes[pair] = std::uint8_t(m.code(pair & 7u) | (m.code(pair >> 3) << 3));
+  for (std::uint32_t s = 0; s < kMaterialCount; ++s) {
+    const std::uint32_t props = m.code(s) | (m.is_faller(s) ? kPropFaller : 0u) | (m.is_gas(s) ? kPropGas : 0u);
+    m.cell_props |= std::uint64_t(props) << (8 * s);
+  }
   return m;
 }
 
-/// Bit m set for each material m among a block's 8 cell bytes (the material in each byte's low 3 bits).
+/// Bit m set for each material m among a block's 8 cell bytes (the material in each byte's low 3
+/// bits), through ByteOps's per-cell lookup (block_bytes.hpp).
+template <class ByteOps = PortableByteOps>
 constexpr std::uint32_t present_materials(std::uint64_t bytes) {
-  std::uint32_t present = 0;
-  for (int i = 0; i < 8; ++i) present |= 1u << ((bytes >> (8 * i)) & kMaterialMask);
-  return present;
+  std::uint64_t one_hot = ByteOps::lookup(0x8040201008040201ull, bytes);  // byte i: 1 << material i
+  one_hot |= one_hot >> 32;
+  one_hot |= one_hot >> 16;
+  one_hot |= one_hot >> 8;
+  return std::uint32_t(one_hot) & 0xFFu;
 }
 
 /// The key of a block's materials as table codes (3 bits per cell, block order).

@@ -59,7 +59,9 @@ Grid motion_scene(Int3 size, std::uint64_t seed) {
 /// with motion::step_block; cells outside the grid read as solid and are never written.
 void reference_tick(std::vector<std::uint8_t>& cells, Int3 size, const RuleSet& rules, const Lut& lut,
                     std::uint64_t seed, std::uint64_t tick) {
-  const auto load = [&](std::uint32_t key) { return lut[motion::full_code_key(key)]; };
+  const auto load = [&](std::uint32_t index) {
+    return motion::motion_entry_at(index, [&](std::uint32_t k) { return lut[motion::full_code_key(k)]; });
+  };
   motion::SubStep sub = motion::sub_step(rules.motion, step_materials(rules.materials), seed, tick, 0, rules.random_symmetry);
   for (int s = 0; s < rules.motion.substeps; ++s) {
     sub.substep = s;

@@ -111,17 +111,27 @@ constexpr BlockOffset block_offset(std::uint64_t tick) {
 /// cell 2k - offset; blocks that straddle the edge are included (their outside cells act as solid).
 constexpr int block_count(int extent, int offset) { return (extent + offset + 1) / 2; }
 
+/// The mixing function of block_random (SplitMix64's finaliser).
+constexpr std::uint64_t random_mix(std::uint64_t z) {
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  return z ^ (z >> 31);
+}
+
+/// The part of block_random that depends on the seed alone (a step may compute it once).
+constexpr std::uint64_t block_seed_key(std::uint64_t seed) { return random_mix(seed ^ 0x5EEDB10C5EEDB10Cull); }
+
+/// block_random from the seed's block_seed_key.
+constexpr std::uint64_t block_random_keyed(std::uint64_t seed_key, std::uint64_t tick, int x0, int y0, int z0) {
+  const std::uint64_t pos = std::uint64_t(std::uint32_t(x0 + 1)) | (std::uint64_t(std::uint32_t(y0 + 1)) << 21) |
+                            (std::uint64_t(std::uint32_t(z0 + 1)) << 42);
+  return random_mix(seed_key + random_mix(tick * 0x9E3779B97F4A7C15ull + pos));
+}
+
 /// The 64-bit random word of the block whose lowest corner is (x0, y0, z0) (may be -1) at `tick`,
 /// for rules with random choices. Deterministic for (seed, tick, position) on every backend.
 constexpr std::uint64_t block_random(std::uint64_t seed, std::uint64_t tick, int x0, int y0, int z0) {
-  auto mix = [](std::uint64_t z) {
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  };
-  const std::uint64_t pos = std::uint64_t(std::uint32_t(x0 + 1)) | (std::uint64_t(std::uint32_t(y0 + 1)) << 21) |
-                            (std::uint64_t(std::uint32_t(z0 + 1)) << 42);
-  return mix(mix(seed ^ 0x5EEDB10C5EEDB10Cull) + mix(tick * 0x9E3779B97F4A7C15ull + pos));
+  return block_random_keyed(block_seed_key(seed), tick, x0, y0, z0);
 }
 
 /// Salt of the per-cycle draw of the offset order (keeps it independent of the per-block draws).
