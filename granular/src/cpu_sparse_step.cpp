@@ -51,18 +51,38 @@ inline unsigned changed_codes(unsigned straddle, std::uint64_t diff) {
   return straddle == 0 ? 1u : kBrickCodes.codes[straddle][changed_cells(diff)];
 }
 
-/// The Notes (cpu_block_row.hpp) of one brick's blocks in one row of blocks: whether one was not
-/// quiet (tested only until one is), and which of their bytes that are grid cells changed.
+/// True when every one of `count` blocks is quiet (`before`, `after`: their bytes). Out of line: the
+/// walk's loops stay small, and the test runs only on bricks not yet seen non-inert in the cycle.
+template <class Rule>
+[[gnu::noinline]] bool all_quiet(const Rule& rule, const std::uint64_t* before, const std::uint64_t* after, int count) {
+  for (int k = 0; k < count; ++k)
+    if (!rule.quiet(before[k], after[k])) return false;
+  return true;
+}
+
+/// The Notes (cpu_block_row.hpp) of one brick's blocks in one row of blocks: which of their bytes
+/// that are grid cells changed, apart for the block that reaches into the brick below along x
+/// (offset 1: the brick's first block), and whether one was not quiet (tested only until one is).
 template <class Rule>
 struct BrickNotes {
   const Rule& rule;
-  bool non_inert;          ///< a block that is not quiet was seen (or the brick was dirty already)
-  std::uint64_t diff = 0;  ///< OR over the blocks of their changed bytes inside the grid
+  bool non_inert;                ///< a block that is not quiet was seen (or the brick was dirty already)
+  int below_x;                   ///< the x0 of the block reaching into the brick below along x (-2: none)
+  std::uint64_t diff = 0;        ///< OR over the other blocks of their changed bytes inside the grid
+  std::uint64_t below_diff = 0;  ///< the same for the block reaching into the brick below
 
-  /// Adds a stepped block.
-  void block(std::uint64_t before, std::uint64_t after, std::uint64_t inside) {
-    diff |= (before ^ after) & inside;
-    if (!non_inert) non_inert = !rule.quiet(before, after);
+  /// Adds stepped blocks.
+  void blocks(int x0, const std::uint64_t* before, const std::uint64_t* after, int count, std::uint64_t inside) {
+    const std::uint64_t first = (before[0] ^ after[0]) & inside;
+    std::uint64_t rest = 0;
+    for (int k = 1; k < count; ++k) rest |= before[k] ^ after[k];
+    rest &= inside;
+    if (x0 == below_x)
+      below_diff = first;
+    else
+      rest |= first;
+    diff |= rest;
+    if (!non_inert) non_inert = !all_quiet(rule, before, after, count);
   }
 };
 
@@ -85,6 +105,15 @@ class RunStepper {
     const BlockSpan bz = owned_blocks(first_.z, r_.bricks.z, c_.size.z, o.z);
     x_first_ = 2 * bx_first.first - o.x;
     x_stop_ = 2 * bx_last.last - o.x;
+    x_inside_end_ = inside_end(c_, x_first_ < 0 ? x_first_ + 2 : x_first_, x_stop_);
+    // Bricks regular_begin_ .. regular_end_ - 1 own one group of eight blocks inside the grid each
+    // (starting with the one reaching into the brick below along x at offset 1); the others (an
+    // edge block at x = -1, a partial brick or the extra block at the grid's end) take the general
+    // path.
+    regular_begin_ = x_first_ < 0 ? 1 : 0;
+    const bool last_regular = x_stop_ == x_first_ + length_ * kBrickSize && x_inside_end_ == x_stop_;
+    regular_end_ = last_regular ? length_ : length_ - 1;
+    if (regular_end_ < regular_begin_) regular_end_ = regular_begin_;
     const int y_min = first_.y * kBrickSize, z_min = first_.z * kBrickSize;
     for (int kz = bz.first; kz < bz.last; ++kz) {
       const int z0 = 2 * kz - o.z;
@@ -111,7 +140,8 @@ class RunStepper {
         r_.dirty[b] = 1;
       else
         r_.quiet_pass[std::size_t(b) * 8 + std::size_t(offset)] = r_.pass;
-      const unsigned codes = codes_[std::size_t(i)];
+      unsigned codes = 0;
+      for (unsigned s = 0; s < 8; ++s) codes |= changed_codes(s, changed_[std::size_t(i)][s]);
       for (unsigned code = 0; code < 8; ++code)
         if ((codes >> code) & 1u)
           mark_changed(brick_index(r_.bricks, first_.x + i - int(code & 1u), first_.y - int((code >> 1) & 1u),
@@ -120,36 +150,41 @@ class RunStepper {
   }
 
  private:
-  /// One row of blocks across the run: per brick, the block reaching into the brick below along x
-  /// (offset 1), then its other blocks (eight at a time where they may pass), then the edge block
-  /// at the grid's far side. `straddle`: the row's y and z straddle flags (kBrickCodes).
+  /// One row of blocks across the run. `straddle`: the row's y and z straddle flags (kBrickCodes).
   template <bool kWhole>
   void step_row(const BlockRow& row, int y0, int z0, unsigned straddle) {
-    for (int i = 0; i < length_; ++i) {
-      BrickNotes<Rule> notes{rule_, non_inert_[std::size_t(i)]};
-      const int x_min = (first_.x + i) * kBrickSize;
-      const int stop = i + 1 == length_ ? x_stop_ : x_first_ + (i + 1) * kBrickSize;
-      int x = x_first_ + i * kBrickSize;
-      std::uint64_t below_diff = 0;  // changed bytes of the block reaching into the brick below along x
-      if (x < 0) {
-        step_low_edge_block(rule_, row, y0, z0, notes);  // its outside column is no brick's
-        x += 2;
-      } else if (x < x_min) {
-        if (x + 16 <= inside_end(c_, x, stop) && group_stays(rule_, row, x)) {
-          x += 16;
-        } else {
-          step_block_at<kWhole>(rule_, row, x, y0, z0, notes);
-          below_diff = notes.diff;
-          notes.diff = 0;
-          x += 2;
-        }
-      }
-      const int x_end = inside_end(c_, x, stop);
-      step_blocks<kWhole>(rule_, row, x, x_end, y0, z0, notes);
-      if (x_end < stop) step_high_edge_block(rule_, row, x_end, y0, z0, notes);
+    if (regular_begin_ > 0) step_brick_row<kWhole>(0, row, y0, z0, straddle);
+    // The regular bricks: one group of eight each, its first block reaching into the brick below
+    // along x at offset 1.
+    const bool below = rule_.offset.x != 0;
+    int x = x_first_ + regular_begin_ * kBrickSize;
+    for (int i = regular_begin_; i < regular_end_; ++i, x += kBrickSize) {
+      BrickNotes<Rule> notes{rule_, non_inert_[std::size_t(i)], below ? x : -2};
+      step_group<kWhole>(rule_, row, x, y0, z0, notes);
       non_inert_[std::size_t(i)] = notes.non_inert;
-      codes_[std::size_t(i)] |= changed_codes(straddle, notes.diff) | changed_codes(straddle | 1u, below_diff);
+      changed_[std::size_t(i)][straddle] |= notes.diff;
+      changed_[std::size_t(i)][straddle | 1u] |= notes.below_diff;
     }
+    if (regular_end_ < length_) step_brick_row<kWhole>(length_ - 1, row, y0, z0, straddle);
+  }
+
+  /// Brick i's blocks in one row of blocks, in general: the edge block at x = -1, its blocks eight
+  /// at a time where eight remain, the edge block at the grid's far side.
+  template <bool kWhole>
+  void step_brick_row(int i, const BlockRow& row, int y0, int z0, unsigned straddle) {
+    int x = x_first_ + i * kBrickSize;
+    BrickNotes<Rule> notes{rule_, non_inert_[std::size_t(i)], x >= 0 && x < (first_.x + i) * kBrickSize ? x : -2};
+    const int stop = i + 1 == length_ ? x_stop_ : x + kBrickSize;
+    const int x_end = stop < x_inside_end_ ? stop : x_inside_end_;
+    if (x < 0) {
+      step_edge_block(rule_, row, -1, y0, z0, notes);  // its outside column is no brick's
+      x += 2;
+    }
+    step_blocks<kWhole>(rule_, row, x, x_end, y0, z0, notes);
+    if (x_end < stop) step_edge_block(rule_, row, x_end, y0, z0, notes);
+    non_inert_[std::size_t(i)] = notes.non_inert;
+    changed_[std::size_t(i)][straddle] |= notes.diff;
+    changed_[std::size_t(i)][straddle | 1u] |= notes.below_diff;
   }
 
   void mark_changed(std::uint32_t brick) const {
@@ -164,8 +199,12 @@ class RunStepper {
   Int3 first_;
   int length_;
   int x_first_ = 0, x_stop_ = 0;  // the first block start of the run's first brick, one past its last brick's
+  int x_inside_end_ = 0;          // one past the run's last block start inside the grid along x
+  int regular_begin_ = 0, regular_end_ = 0;  // the bricks that own one group of eight inside the grid each
   std::array<bool, kMaxBrickRun> non_inert_{};
-  std::array<unsigned, kMaxBrickRun> codes_{};  // per brick, the codes (kBrickCodes) of the bricks whose cells changed
+  /// Per brick and straddle flags s (kBrickCodes), the OR of the changed bytes inside the grid of
+  /// the blocks with those flags.
+  std::array<std::array<std::uint64_t, 8>, kMaxBrickRun> changed_{};
 };
 
 /// True when brick `b` (at `at`) may skip the pass: all its blocks were quiet at this offset in a

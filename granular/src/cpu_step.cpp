@@ -17,12 +17,12 @@ void step_row(const StepContext& c, const Rule& rule, const BlockRow& row, int y
   NoNotes notes;
   int x = -rule.offset.x;
   if (x < 0) {
-    step_low_edge_block(rule, row, y0, z0, notes);
+    step_edge_block(rule, row, -1, y0, z0, notes);
     x += 2;
   }
   const int x_end = inside_end(c, x, c.size.x);
   step_blocks<kWhole>(rule, row, x, x_end, y0, z0, notes);
-  if (x_end < c.size.x) step_high_edge_block(rule, row, x_end, y0, z0, notes);
+  if (x_end < c.size.x) step_edge_block(rule, row, x_end, y0, z0, notes);
 }
 
 template <class Rule>
