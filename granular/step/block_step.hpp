@@ -135,8 +135,10 @@ struct MotionRule {
   }
 
   /// True when the block stays as it is in every sub-step whatever the draws (motion::rest_key, and
-  /// fluid::may_move for its liquids and gases): then it cannot keep its brick awake.
-  constexpr bool quiet(std::uint64_t before, std::uint64_t) const {
+  /// fluid::may_move for its liquids and gases): then it cannot keep its brick awake. A block that
+  /// changed in this sub-step (`after`) is not.
+  constexpr bool quiet(std::uint64_t before, std::uint64_t after) const {
+    if (before != after) return false;
     if (before == resting_grains) return true;  // the inside of a heap: the commonest quiet block
     bool at_rest = false;
     const BlockKey key = motion::rest_key(before, offset.z, sub.materials, at_rest);
