@@ -5,6 +5,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "box_transfer.cuh"
@@ -287,8 +288,12 @@ class CudaBackend final : public Backend {
           result_.data(), step_rules_.random_symmetry, inert_.data());
       cuda::check_launch("inert-key table kernel launch");
     }
-    // Enough CUDA blocks of the sparse kernel to fill the device; each walks the list from there.
-    const std::uint64_t resident = std::uint64_t(device_.sm_count) * (2048 / cuda::kBrickThreads);
+    // As many CUDA blocks of this rule set's sparse kernel as the device runs at once; each walks the
+    // list from there.
+    std::uint64_t resident = 1;
+    with_rule_type<cuda::DevicePlatform>(step_rules_, [&](auto* tag) {
+      resident = cuda::sparse_resident_blocks<std::remove_pointer_t<decltype(tag)>>(device_.sm_count);
+    });
     sparse_grid_ = unsigned(std::max<std::uint64_t>(1, std::min<std::uint64_t>(resident, total_bricks_)));
   }
 

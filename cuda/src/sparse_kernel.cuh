@@ -239,6 +239,16 @@ inline unsigned activity_blocks(std::uint64_t n) {
   return unsigned(blocks < 4096 ? (blocks > 0 ? blocks : 1) : 4096);
 }
 
+/// The CUDA blocks of the sparse kernel of `Rule` a device of `sm_count` multiprocessors runs at
+/// once: the list is walked by exactly that many, so no CUDA block waits for another to finish.
+template <class Rule>
+inline unsigned sparse_resident_blocks(int sm_count) {
+  int per_sm = 0;
+  check(cudaOccupancyMaxActiveBlocksPerMultiprocessor(&per_sm, sparse_kernel<Rule>, kBrickThreads, 0),
+        "cudaOccupancyMaxActiveBlocksPerMultiprocessor (sparse step kernel)");
+  return unsigned((per_sm > 0 ? per_sm : 1) * (sm_count > 0 ? sm_count : 1));
+}
+
 /// Enqueues one sparse (sub-)step of `rule` with `grid` CUDA blocks walking the list; `count` and
 /// `last_tick` as sparse_kernel.
 template <class Rule>
