@@ -122,15 +122,24 @@ StepContext CpuBackend::context(std::uint64_t tick, int substep) {
 }
 
 void CpuBackend::step_pass_sparse(const StepContext& c) {
-  const BrickRecord record = activity_.next_pass();
+  // One task per few runs, taken by the threads as they come free: runs differ in cost (sand or
+  // air), so many small tasks balance best. The task reads everything through one pointer, which
+  // keeps the std::function the pool takes free of an allocation.
+  struct Pass {
+    const StepContext& context;
+    BrickRecord record;
+    const std::vector<BrickActivity::Run>& runs;
+    int tasks;
+  };
   const auto& runs = activity_.runs();
   const int count = int(runs.size());
-  const int tasks = std::min(count, pool_.thread_count() == 1 ? 1 : pool_.thread_count() * 8);
-  if (tasks > 0)
-    pool_.run(tasks, [&](int task) {
-      const int first = int(std::int64_t(count) * task / tasks);
-      const int last = int(std::int64_t(count) * (task + 1) / tasks);
-      for (int i = first; i < last; ++i) step_brick_run(c, record, runs[std::size_t(i)].first, runs[std::size_t(i)].length);
+  const Pass pass{c, activity_.next_pass(), runs, std::min(count, pool_.thread_count() == 1 ? 1 : pool_.thread_count() * 32)};
+  if (pass.tasks > 0)
+    pool_.run(pass.tasks, [p = &pass](int task) {
+      const std::size_t count = p->runs.size();
+      const std::size_t first = count * std::size_t(task) / std::size_t(p->tasks);
+      const std::size_t last = count * std::size_t(task + 1) / std::size_t(p->tasks);
+      for (std::size_t i = first; i < last; ++i) step_brick_run(p->context, p->record, p->runs[i].first, p->runs[i].length);
     });
 }
 
@@ -142,13 +151,19 @@ void CpuBackend::take_changed_bricks(std::span<std::uint8_t> flags) {
 }
 
 void CpuBackend::step_pass(const StepContext& c) {
+  // Several layer ranges per thread so that uneven layers (sand vs. air) still balance; the task
+  // reads everything through one pointer (no allocation for the pool's std::function).
+  struct Pass {
+    const StepContext& context;
+    int layers;
+    int tasks;
+  };
   const int layers = block_layers(c);
-  // Several layer ranges per thread so that uneven layers (sand vs. air) still balance.
-  const int tasks = std::min(layers, pool_.thread_count() == 1 ? 1 : pool_.thread_count() * 8);
-  pool_.run(tasks, [&](int task) {
-    const int first = int(std::int64_t(layers) * task / tasks);
-    const int last = int(std::int64_t(layers) * (task + 1) / tasks);
-    for (int layer = first; layer < last; ++layer) step_block_layer(c, layer);
+  const Pass pass{c, layers, std::min(layers, pool_.thread_count() == 1 ? 1 : pool_.thread_count() * 8)};
+  pool_.run(pass.tasks, [p = &pass](int task) {
+    const int first = int(std::int64_t(p->layers) * task / p->tasks);
+    const int last = int(std::int64_t(p->layers) * (task + 1) / p->tasks);
+    for (int layer = first; layer < last; ++layer) step_block_layer(p->context, layer);
   });
 }
 

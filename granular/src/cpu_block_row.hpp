@@ -148,8 +148,13 @@ inline void step_group(const Rule& rule, const BlockRow& row, int x, int y0, int
   if (diff == 0 && !rule.steps_uniform(row.cells[0][x])) return;
   for (int k = 0; k < 8; ++k) in[k] = load_block(row, x + 2 * k);
 #endif
-  for (int k = 0; k < 8; ++k) out[k] = rule.step(in[k], x + 2 * k, y0, z0);
+  std::uint64_t changed = 0;
+  for (int k = 0; k < 8; ++k) {
+    out[k] = rule.step(in[k], x + 2 * k, y0, z0);
+    changed |= in[k] ^ out[k];
+  }
   notes.blocks(x, in, out, 8, inside);
+  if (changed == 0) return;  // the cells stay as they are
 #if defined(__SSE2__)
   // The inverse: 32-bit halves back to rows 0 and 1 (pairs A) and rows 2 and 3 (pairs C), then
   // the 16-bit pairs of each row together.
