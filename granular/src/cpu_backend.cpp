@@ -133,13 +133,15 @@ void CpuBackend::step_pass_sparse(const StepContext& c) {
   };
   const auto& runs = activity_.runs();
   const int count = int(runs.size());
-  const Pass pass{c, activity_.next_pass(), runs, std::min(count, pool_.thread_count() == 1 ? 1 : pool_.thread_count() * 32)};
+  const int tasks = std::min(count, pool_.thread_count() == 1 ? 1 : pool_.thread_count() * 32);
+  const Pass pass{c, activity_.next_pass(), runs, tasks};
   if (pass.tasks > 0)
     pool_.run(pass.tasks, [p = &pass](int task) {
       const std::size_t count = p->runs.size();
       const std::size_t first = count * std::size_t(task) / std::size_t(p->tasks);
       const std::size_t last = count * std::size_t(task + 1) / std::size_t(p->tasks);
-      for (std::size_t i = first; i < last; ++i) step_brick_run(p->context, p->record, p->runs[i].first, p->runs[i].length);
+      for (std::size_t i = first; i < last; ++i)
+        step_brick_run(p->context, p->record, p->runs[i].first, p->runs[i].length);
     });
 }
 

@@ -7,8 +7,9 @@
 
 #include <cstdint>
 
-#if defined(__SSE2__)
+#if defined(__SSE2__) && defined(__x86_64__)
 #include <emmintrin.h>
+#define GRANULAR_ROW_SSE2 1  // step_group moves cell rows in 16-byte SSE2 registers (x86-64)
 #endif
 
 #include "cpu_block_ops.hpp"
@@ -118,13 +119,14 @@ inline void step_edge_block(const Rule& rule, const BlockRow& row, int x0, int y
 }
 
 /// Steps the eight blocks at x, x + 2, ..., x + 14 (inside the grid along x), unless their 64 cells
-/// are equal and the rule says such a block does not change (such blocks are quiet too). With SSE2 the 16 bytes of each cell row are
-/// loaded once and transposed into the blocks' bytes and back.
+/// are equal and the rule says such a block does not change (such blocks are quiet too); a group
+/// that stays as it was is not stored. With SSE2 the 16 bytes of each cell row are loaded once and
+/// transposed into the blocks' bytes, and back.
 template <bool kWhole, class Rule, class Notes>
 inline void step_group(const Rule& rule, const BlockRow& row, int x, int y0, int z0, Notes& notes) {
   const std::uint64_t inside = kWhole ? kWholeBlock : row.inside;
   std::uint64_t in[8], out[8];
-#if defined(__SSE2__)
+#ifdef GRANULAR_ROW_SSE2
   const auto load_row = [&](int r) { return _mm_loadu_si128(reinterpret_cast<const __m128i*>(row.cells[r] + x)); };
   const __m128i r0 = load_row(0), r1 = load_row(1), r2 = load_row(2), r3 = load_row(3);
   const __m128i ref = _mm_set1_epi8(char(row.cells[0][x]));
@@ -155,7 +157,7 @@ inline void step_group(const Rule& rule, const BlockRow& row, int x, int y0, int
   }
   notes.blocks(x, in, out, 8, inside);
   if (changed == 0) return;  // the cells stay as they are
-#if defined(__SSE2__)
+#ifdef GRANULAR_ROW_SSE2
   // The inverse: 32-bit halves back to rows 0 and 1 (pairs A) and rows 2 and 3 (pairs C), then
   // the 16-bit pairs of each row together.
   const auto lanes = [&](int k) { return _mm_set_epi64x(std::int64_t(out[2 * k + 1]), std::int64_t(out[2 * k])); };
@@ -175,7 +177,8 @@ inline void step_group(const Rule& rule, const BlockRow& row, int x, int y0, int
   const __m128i rows[4] = {_mm_unpacklo_epi64(s01_lo, s01_hi), _mm_unpackhi_epi64(s01_lo, s01_hi),
                            _mm_unpacklo_epi64(s23_lo, s23_hi), _mm_unpackhi_epi64(s23_lo, s23_hi)};
   for (int r = 0; r < 4; ++r)
-    if (kWhole || ((row.inside >> (16 * r)) & 1u)) _mm_storeu_si128(reinterpret_cast<__m128i*>(row.cells[r] + x), rows[r]);
+    if (kWhole || ((row.inside >> (16 * r)) & 1u))
+      _mm_storeu_si128(reinterpret_cast<__m128i*>(row.cells[r] + x), rows[r]);
 #else
   for (int k = 0; k < 8; ++k)
     for (int r = 0; r < 4; ++r)

@@ -61,7 +61,7 @@ template <class Rule>
 }
 
 /// The Notes (cpu_block_row.hpp) of one brick's blocks in one row of blocks: which of their bytes
-/// that are grid cells changed, apart for the block that reaches into the brick below along x
+/// that are grid cells changed, apart from the block that reaches into the brick below along x
 /// (offset 1: the brick's first block), and whether one was not quiet (tested only until one is).
 template <class Rule>
 struct BrickNotes {
@@ -226,7 +226,8 @@ void step_run(const StepContext& c, const Rule& rule, const BrickRecord& record,
   const int offset = offset_index(rule.offset);
   const Int3 at = brick_coords(record.bricks, first);
   std::array<bool, kMaxBrickRun> skip{};
-  for (int i = 0; i < length; ++i) skip[std::size_t(i)] = may_skip(record, first + std::uint32_t(i), {at.x + i, at.y, at.z}, offset);
+  for (int i = 0; i < length; ++i)
+    skip[std::size_t(i)] = may_skip(record, first + std::uint32_t(i), {at.x + i, at.y, at.z}, offset);
   // The other bricks, stepped in runs of consecutive ones.
   for (int i = 0; i < length;) {
     if (skip[std::size_t(i)]) {
