@@ -44,7 +44,7 @@ class CpuBackend final : public Backend {
   std::shared_ptr<const std::vector<BlockKey>> result_;  ///< per key, the key after its transition (one-step rule sets)
   bool sparse_;
   std::shared_ptr<const std::vector<std::uint64_t>> inert_;  ///< inert-key bits (sparse, random symmetry or motion)
-  std::vector<Transition> motion_table_;  ///< the motion table (motion rule sets; motion_table.hpp)
+  std::vector<motion::MotionEntry> motion_table_;  ///< the motion entries (motion rule sets; motion_table.hpp)
   StepRules step_rules_;  ///< the tables and parameters every step's Rule is made from
   std::vector<std::uint8_t> outside_row_;  ///< a row of cells outside the grid (StepContext::outside_row)
   BrickActivity activity_;

@@ -190,12 +190,10 @@ constexpr SubStep sub_step(const MotionParams& motion, const StepMaterials& mate
                  block_seed_key(seed ^ fluid::kDrawSalt)};
 }
 
-/// The phase a grain in cell i of a block takes at sub-step 0, as its bit: 0 in the top layer (its
-/// window starts at once), kMotionPhaseBit in the bottom layer (it is in a top layer from sub-step 1).
-constexpr std::uint32_t rest_phase(int i) { return i >= 4 ? 0u : kMotionPhaseBit; }
-
-/// The phase bits of a block whose cells are all grains at rest, at partition z offset `offset_z`
-/// (rest_phase of each cell's layer at sub-step 0): set in the layer that is the bottom one there.
+/// The phase bits of a block whose cells are all grains, as sub-step 0 sets them, at partition z
+/// offset `offset_z`: a grain takes phase 0 in the top layer of its block at sub-step 0 (its window
+/// starts at once) and kMotionPhaseBit in the bottom layer (it is in a top layer from sub-step 1), so
+/// the bits are set in the layer that is the bottom one at sub-step 0 (rest_phase_bits(0) at sub-step 0).
 constexpr std::uint64_t rest_phase_bits(int offset_z) {
   return offset_z == 0 ? 0x0000000080808080ull : 0x8080808000000000ull;
 }
@@ -215,7 +213,7 @@ constexpr BlockKey rest_key(std::uint64_t bytes, int offset_z, const StepMateria
   const std::uint64_t x = unpack_key(key) ^ (kEveryByte * kCodeGrain);
   const std::uint64_t grains = (x - kEveryByte) & ~x & (kEveryByte * 0x80u);
   // At rest: no motion level, and the phase bit set exactly in the grains whose layer at sub-step 0
-  // is the bottom one (rest_phase): this layer when offset_z is 0, else the other.
+  // is the bottom one (rest_phase_bits): this layer when offset_z is 0, else the other.
   const std::uint64_t bottom = rest_phase_bits(offset_z);
   all_at_rest = (bytes & (kEveryByte * std::uint64_t(kMotionLevelMask << kMotionShift))) == 0 &&
                 (bytes & (kEveryByte * 0x80u)) == (grains & bottom);
@@ -243,7 +241,7 @@ constexpr std::uint64_t step_block(std::uint64_t bytes, const SubStep& m, int x0
   const int s = m.substep;
   const std::uint64_t props = ByteOps::lookup(mats.cell_props, bytes);  // byte i: material i's cell_props
   const std::uint64_t fallers = (props >> 2) & kEveryByte;              // 1 in each faller's byte
-  if (s == 0) bytes = (bytes & ~(fallers << 7)) | ((fallers << 7) & 0x0000000080808080ull);  // rest_phase
+  if (s == 0) bytes = (bytes & ~(fallers << 7)) | ((fallers << 7) & rest_phase_bits(0));
   // Which cells take part (1 in their byte): top-layer fallers inside their window, and in sub-steps 0
   // and 1 bottom-layer gases. Only they ever start a move or change, so a block without one is left as
   // it is before its random word is drawn. A top faller at level L with phase start (0 or 1) is in its

@@ -146,30 +146,31 @@ def run(command, screenshot):
             if not sandbox.wait_for(rf"^left button: {tool} \(", timeout=20, after=mark):
                 return f"a Tab tap did not switch the left button to {tool} within 20 s"
         step("Tab switched the left button to erase, then to shake")
-        mark = len(sandbox.lines)
-        step(f"clicking at the window's centre ({centre_x}, {centre_y}), on the sand, with shake")
-        xdotool("mousemove", "--window", window, str(centre_x), str(centre_y), "click", "1")
-        shaken = sandbox.wait_for(r"^shake: (\d+) cells set moving$", timeout=20, after=mark)
-        if not shaken:
-            return "a click with shake chosen did not shake within 20 s"
-        if int(shaken.group(1)) <= 0:
-            return "a click on the sand with shake chosen set no cell moving"
-        step(f"the click set {shaken.group(1)} cells moving")
+
+        def click_sand(tool, line, did):
+            """A left click at the centre, on the sand, must print `line` with a count above 0."""
+            mark = len(sandbox.lines)
+            step(f"clicking at the window's centre ({centre_x}, {centre_y}), on the sand, with {tool}")
+            xdotool("mousemove", "--window", window, str(centre_x), str(centre_y), "click", "1")
+            printed = sandbox.wait_for(line, timeout=20, after=mark)
+            if not printed:
+                return f"a click with {tool} chosen printed nothing within 20 s"
+            if int(printed.group(1)) <= 0:
+                return f"a click on the sand with {tool} chosen {did} no cell"
+            step(f"the click with {tool}: {printed.group(0)}")
+            return None
+
+        failure = click_sand("shake", r"^shake: (\d+) cells set moving$", "set moving")
+        if failure:
+            return failure
         mark = len(sandbox.lines)
         xdotool("key", "Tab")
         if not sandbox.wait_for(r"^left button: dig \(", timeout=20, after=mark):
             return "a Tab tap after shake did not switch the left button back to dig within 20 s"
         step("Tab switched the left button back to dig")
-
-        mark = len(sandbox.lines)
-        step(f"clicking at the window's centre ({centre_x}, {centre_y}), on the sand")
-        xdotool("mousemove", "--window", window, str(centre_x), str(centre_y), "click", "1")
-        dug = sandbox.wait_for(r"^dig: (\d+) cells removed$", timeout=20, after=mark)
-        if not dug:
-            return "a click did not dig within 20 s"
-        if int(dug.group(1)) <= 0:
-            return "a click on the sand removed no cell"
-        step(f"the click dug {dug.group(1)} cells")
+        failure = click_sand("dig", r"^dig: (\d+) cells removed$", "removed")
+        if failure:
+            return failure
 
         # Key 3 chooses the presets' liquid (poured), key 1 solid (painted as structure); a right
         # click applies each at the window's centre.
