@@ -147,16 +147,25 @@ def run(command, screenshot):
                 return f"a Tab tap did not switch the left button to {tool} within 20 s"
         step("Tab switched the left button to erase, then to shake")
 
-        def click_sand(tool, line, did):
-            """A left click at the centre, on the sand, must print `line` with a count above 0."""
+        def click_centre(button, line, unanswered, nothing):
+            """A click of `button` at the window's centre must print `line` with a count above 0:
+            returns the match, or the failure's text."""
             mark = len(sandbox.lines)
-            step(f"clicking at the window's centre ({centre_x}, {centre_y}), on the sand, with {tool}")
-            xdotool("mousemove", "--window", window, str(centre_x), str(centre_y), "click", "1")
+            xdotool("mousemove", "--window", window, str(centre_x), str(centre_y), "click", button)
             printed = sandbox.wait_for(line, timeout=20, after=mark)
             if not printed:
-                return f"a click with {tool} chosen printed nothing within 20 s"
+                return unanswered
             if int(printed.group(1)) <= 0:
-                return f"a click on the sand with {tool} chosen {did} no cell"
+                return nothing
+            return printed
+
+        def click_sand(tool, line, did):
+            """A left click at the centre, on the sand, with `tool`; None when it printed `line`."""
+            step(f"clicking at the window's centre ({centre_x}, {centre_y}), on the sand, with {tool}")
+            printed = click_centre("1", line, f"a click with {tool} chosen printed nothing within 20 s",
+                                   f"a click on the sand with {tool} chosen {did} no cell")
+            if isinstance(printed, str):
+                return printed
             step(f"the click with {tool}: {printed.group(0)}")
             return None
 
@@ -183,15 +192,12 @@ def run(command, screenshot):
             name, use = chosen.group(1), chosen.group(2)
             if name != materials[key]:
                 return f"key {key} chose {name}, but the sandbox listed {materials[key]} for it"
-            mark = len(sandbox.lines)
-            xdotool("mousemove", "--window", window, str(centre_x), str(centre_y), "click", "3")
             pattern = (rf"^pour: (\d+) {re.escape(name)} cells added$" if use == "pours"
                        else rf"^place: (\d+) {re.escape(name)} cells placed$")
-            applied = sandbox.wait_for(pattern, timeout=20, after=mark)
-            if not applied:
-                return f"a right click with {name} chosen did not {use[:-1]} it within 20 s"
-            if int(applied.group(1)) <= 0:
-                return f"a right click with {name} chosen changed no cell"
+            applied = click_centre("3", pattern, f"a right click with {name} chosen did not {use[:-1]} it within 20 s",
+                                   f"a right click with {name} chosen changed no cell")
+            if isinstance(applied, str):
+                return applied
             step(f"a right click {use} {applied.group(1)} cells of {name}")
 
         # More than 60 frames with the window open, counted by the sandbox's own acknowledgements:
