@@ -82,39 +82,29 @@ struct EdgeBlock {
   std::uint64_t inside;  ///< the bytes that are cells of the grid (the ones written)
 };
 
-/// Steps the block at x0 = -1 (cell column x0 outside the grid, read as the rule's outside state).
-/// The edge blocks are out of line: at most two a row, they stay out of the walk's loops.
+/// Steps the edge block at x0 = -1 (cell column x0 outside the grid) or x0 = size.x - 1 (cell
+/// column x0 + 1 outside): the outside column reads as the rule's outside state and is never
+/// written. Out of line: at most two a row, they stay out of the walk's loops.
 template <class Rule>
-[[gnu::noinline]] EdgeBlock step_low_edge_block(const Rule& rule, const BlockRow& row, int y0, int z0) {
-  const std::uint64_t outside = std::uint64_t(rule.outside & 0xFFu);
+[[gnu::noinline]] EdgeBlock step_edge(const Rule& rule, const BlockRow& row, int x0, int y0, int z0) {
+  const bool low = x0 < 0;
+  const int x = low ? 0 : x0;                   // the block's cell column inside the grid
+  const unsigned inside_shift = low ? 8u : 0u;  // its bytes' place in each 16-bit row pair
+  const std::uint64_t outside = std::uint64_t(rule.outside & 0xFFu) << (8u - inside_shift);
   std::uint64_t v = 0;
-  for (int r = 0; r < 4; ++r) v |= (outside | (std::uint64_t(row.cells[r][0]) << 8)) << (16 * r);
-  const std::uint64_t out = rule.step(v, -1, y0, z0);
-  const std::uint64_t inside = row.inside & kHighColumn;
-  if (((v ^ out) & inside) != 0)
-    for (int r = 0; r < 4; ++r)
-      if ((row.inside >> (16 * r)) & 1u) row.cells[r][0] = std::uint8_t(out >> (16 * r + 8));
-  return {v, out, inside};
-}
-
-/// Steps the block at x0 = size.x - 1 (cell column x0 + 1 outside the grid).
-template <class Rule>
-[[gnu::noinline]] EdgeBlock step_high_edge_block(const Rule& rule, const BlockRow& row, int x0, int y0, int z0) {
-  const std::uint64_t outside = std::uint64_t(rule.outside & 0xFFu);
-  std::uint64_t v = 0;
-  for (int r = 0; r < 4; ++r) v |= (std::uint64_t(row.cells[r][x0]) | (outside << 8)) << (16 * r);
+  for (int r = 0; r < 4; ++r) v |= ((std::uint64_t(row.cells[r][x]) << inside_shift) | outside) << (16 * r);
   const std::uint64_t out = rule.step(v, x0, y0, z0);
-  const std::uint64_t inside = row.inside & kLowColumn;
+  const std::uint64_t inside = row.inside & (low ? kHighColumn : kLowColumn);
   if (((v ^ out) & inside) != 0)
     for (int r = 0; r < 4; ++r)
-      if ((row.inside >> (16 * r)) & 1u) row.cells[r][x0] = std::uint8_t(out >> (16 * r));
+      if ((row.inside >> (16 * r)) & 1u) row.cells[r][x] = std::uint8_t(out >> (16 * r + int(inside_shift)));
   return {v, out, inside};
 }
 
 /// Steps the edge block at x0 (-1 or size.x - 1) and hands it to `notes`.
 template <class Rule, class Notes>
 inline void step_edge_block(const Rule& rule, const BlockRow& row, int x0, int y0, int z0, Notes& notes) {
-  const EdgeBlock e = x0 < 0 ? step_low_edge_block(rule, row, y0, z0) : step_high_edge_block(rule, row, x0, y0, z0);
+  const EdgeBlock e = step_edge(rule, row, x0, y0, z0);
   notes.blocks(x0, &e.before, &e.after, 1, e.inside);
 }
 

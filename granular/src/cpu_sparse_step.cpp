@@ -161,9 +161,7 @@ class RunStepper {
     for (int i = regular_begin_; i < regular_end_; ++i, x += kBrickSize) {
       BrickNotes<Rule> notes{rule_, non_inert_[std::size_t(i)], below ? x : -2};
       step_group<kWhole>(rule_, row, x, y0, z0, notes);
-      non_inert_[std::size_t(i)] = notes.non_inert;
-      changed_[std::size_t(i)][straddle] |= notes.diff;
-      changed_[std::size_t(i)][straddle | 1u] |= notes.below_diff;
+      keep(i, notes, straddle);
     }
     if (regular_end_ < length_) step_brick_row<kWhole>(length_ - 1, row, y0, z0, straddle);
   }
@@ -182,6 +180,11 @@ class RunStepper {
     }
     step_blocks<kWhole>(rule_, row, x, x_end, y0, z0, notes);
     if (x_end < stop) step_edge_block(rule_, row, x_end, y0, z0, notes);
+    keep(i, notes, straddle);
+  }
+
+  /// Keeps what brick i's blocks of one row (straddle flags `straddle`) saw.
+  void keep(int i, const BrickNotes<Rule>& notes, unsigned straddle) {
     non_inert_[std::size_t(i)] = notes.non_inert;
     changed_[std::size_t(i)][straddle] |= notes.diff;
     changed_[std::size_t(i)][straddle | 1u] |= notes.below_diff;
