@@ -6,9 +6,12 @@
 #include <random>
 #include <set>
 
+#include "granular/lut.hpp"
 #include "granular/rule_set.hpp"
 #include "granular/scene.hpp"
 #include "granular/world.hpp"
+#include "step/motion_block.hpp"
+#include "step/motion_table.hpp"
 #include "test_support.hpp"
 
 using namespace granular;
@@ -264,4 +267,44 @@ TEST_CASE("activity: grids holding all 8 states (reserved ones are obstacles) ma
       REQUIRE(sparse.hash() == dense.hash());
     }
   }
+}
+
+TEST_CASE("activity: a block whose reach is below s + 2 stays as it is in sub-step s (what lets a brick be idle)") {
+  WorldDef def;
+  def.rules = "inertial-24";
+  const World world(def);
+  const RuleSet& rules = world.rules();
+  const StepMaterials mats = step_materials(rules.materials);
+  const std::vector<motion::MotionEntry> entries = derive_motion_table(world.lut().entries());
+  const int max_level = rules.motion.max_level();
+  std::mt19937_64 rng(7);
+  int idle_blocks = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    std::uint64_t bytes = 0;
+    std::uint32_t plain_reach = 0;
+    for (int i = 0; i < 8; ++i) {
+      const std::uint32_t m = std::uint32_t(rng() % kMaterialCount);
+      std::uint32_t byte = m;
+      if (mats.is_faller(m)) {
+        // Mostly slow fallers, so that many blocks have a low reach.
+        const std::uint32_t level = rng() % 3 == 0 ? std::uint32_t(rng() % (max_level + 1)) : std::uint32_t(rng() % 3);
+        const std::uint32_t start = std::uint32_t(rng() & 1u);
+        byte |= (level << kMotionShift) | (start << 7);
+        plain_reach = std::max(plain_reach, 2 * level + start);
+      }
+      bytes |= std::uint64_t(byte) << (8 * i);
+    }
+    REQUIRE(motion::reach_of(bytes) == plain_reach);
+    const std::uint64_t tick = rng() % 1000;
+    for (int s = 2; s < rules.motion.substeps; ++s) {
+      if (plain_reach >= std::uint32_t(s) + 2) continue;
+      ++idle_blocks;
+      const motion::SubStep sub = motion::sub_step(rules.motion, mats, 3, tick, s, rules.random_symmetry);
+      const std::uint64_t after =
+          motion::step_block(bytes, sub, 2 * int(rng() % 64), 2 * int(rng() % 64), 2 * int(rng() % 64),
+                             [&](std::uint32_t k) { return entries[k]; });
+      REQUIRE(after == bytes);
+    }
+  }
+  CHECK(idle_blocks > 100000);
 }

@@ -272,6 +272,10 @@ class CudaBackend final : public Backend {
     awake_ = cuda::DeviceBuffer<std::uint8_t>(total_bricks_, "awake bricks");
     dirty_ = cuda::DeviceBuffer<std::uint8_t>(total_bricks_, "dirty bricks");
     changed_ = cuda::DeviceBuffer<std::uint8_t>(total_bricks_, "changed bricks");
+    if (step_rules_.motion.enabled()) {
+      reach_ = cuda::DeviceBuffer<std::uint8_t>(total_bricks_, "brick reaches");
+      cuda::check(cudaMemsetAsync(reach_.data(), 0, total_bricks_, s), "cudaMemsetAsync (brick reaches)");
+    }
     list_ = cuda::DeviceBuffer<std::uint32_t>(total_bricks_, "the awake brick list");
     count_ = cuda::DeviceBuffer<unsigned>(1, "the awake brick count");
     counters_ = cuda::DeviceBuffer<unsigned long long>(cuda::kCounterSlots, "activity counters");
@@ -305,6 +309,7 @@ class CudaBackend final : public Backend {
     sp.awake = awake_.data();
     sp.dirty = dirty_.data();
     sp.changed = changed_.data();
+    sp.reach = reach_.data();
     sp.list = list_.data();
     sp.count = count_.data();
     sp.counters = counters_.data();
@@ -562,7 +567,7 @@ class CudaBackend final : public Backend {
   mutable std::uint64_t known_awake_;  ///< bricks awake at the last tick the host knows of (an upper
                                        ///< bound after a tool's wake); all at creation
   unsigned sparse_grid_ = 1;
-  cuda::DeviceBuffer<std::uint8_t> awake_, dirty_, changed_;
+  cuda::DeviceBuffer<std::uint8_t> awake_, dirty_, changed_, reach_;
   cuda::DeviceBuffer<std::uint32_t> list_;
   cuda::DeviceBuffer<unsigned> count_;
   cuda::DeviceBuffer<unsigned long long> counters_;

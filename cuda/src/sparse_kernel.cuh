@@ -28,6 +28,7 @@
 #include "cuda_check.cuh"
 #include "granular/block.hpp"
 #include "step/brick_grid.hpp"
+#include "step/brick_reach.hpp"
 #include "step/inert_keys.hpp"
 
 namespace granular::cuda {
@@ -38,6 +39,7 @@ static_assert(kBrickBlocks % kGroupBlocks == 0, "a brick row is whole groups");
 
 /// Threads of the sparse step kernel's CUDA block: one per group of one brick.
 inline constexpr int kBrickThreads = kBrickGroups * kBrickBlocks * kBrickBlocks;
+static_assert(kBrickThreads >= kReachNeighbours, "a thread per neighbour reads the neighbours' reach");
 
 /// Threads per CUDA block of the small bookkeeping kernels.
 inline constexpr int kActivityThreads = 256;
@@ -58,6 +60,8 @@ struct SparseParams {
   std::uint8_t* awake = nullptr;          ///< per brick: stepped this cycle
   std::uint8_t* dirty = nullptr;          ///< per brick: non-inert key seen / tool this cycle
   std::uint8_t* changed = nullptr;        ///< per brick: a cell changed (until the host takes it)
+  std::uint8_t* reach = nullptr;          ///< per brick: its reach in the tick (brick_reach.hpp; motion
+                                          ///< model only)
   std::uint32_t* list = nullptr;          ///< the awake bricks, in any order
   unsigned* count = nullptr;              ///< length of the list
   unsigned long long* counters = nullptr; ///< ActivityCounter slots
@@ -74,10 +78,14 @@ struct BrickNotes {
   __device__ BrickNotes(const SparseParams& params, Int3 brick_coords, std::uint32_t index)
       : s(params), brick(brick_coords), non_inert(params.dirty[index] != 0) {}
 
-  /// A stepped block that is not quiet marks the brick dirty.
+  /// A stepped block that is not quiet marks the brick dirty, and adds to its reach.
   template <class Rule>
   __device__ void block(const Rule& rule, std::uint64_t before, std::uint64_t after) {
     if (!non_inert && !rule.quiet(before, after)) non_inert = true;
+    if constexpr (Rule::kReach) {
+      const std::uint32_t added = rule.reach_added(before, after);
+      if (added > reach) reach = added;
+    }
   }
 
   /// Records that cell (x, y, z) changed: in the brick it is collected per CUDA block; a cell of a
@@ -93,7 +101,25 @@ struct BrickNotes {
   Int3 brick;                  ///< the brick's coordinates
   bool non_inert = false;      ///< a block was not quiet
   bool owner_changed = false;  ///< a cell of the brick itself changed
+  std::uint32_t reach = 0;     ///< the largest reach its blocks added (Rule::kReach)
 };
+
+/// True when `rule` leaves brick `index` (at `brick`) out of its sub-step: the brick is dirty already
+/// and idle (brick_reach.hpp). Thread t < kReachNeighbours reads neighbour t's reach; the answer is the
+/// CUDA block's, the same for every thread.
+template <class Rule>
+__device__ inline bool leaves_out(const Rule& rule, const SparseParams& s, Int3 brick, std::uint32_t index) {
+  if constexpr (!Rule::kReach) {
+    return false;
+  } else {
+    if (!rule.may_idle() || s.dirty[index] == 0) return false;
+    std::uint32_t neighbour = 0;
+    const int t = int(threadIdx.x);
+    const bool busy = t < kReachNeighbours && reach_neighbour(s.bricks, brick, t, neighbour) &&
+                      !rule.idle(s.reach[neighbour]);
+    return __syncthreads_or(busy) == 0;
+  }
+}
 
 /// One (sub-)step of `rule` over the awake bricks (see the file comment). `count`: add the bricks to
 /// kBrickTicks / kCellTicks (once per tick: at a motion model's first sub-step); `last_tick`: also to
@@ -102,6 +128,7 @@ template <class Rule>
 static __global__ void __launch_bounds__(kBrickThreads)
     sparse_kernel(DeviceCells g, Rule rule, SparseParams s, bool count, bool last_tick) {
   __shared__ int any_non_inert, any_changed;
+  __shared__ unsigned brick_reach;
   const BlockOffset o = rule.offset;
   const int t = int(threadIdx.x);
   const int group = t % kBrickGroups, row = (t / kBrickGroups) % kBrickBlocks, layer = t / (kBrickGroups * kBrickBlocks);
@@ -111,9 +138,11 @@ static __global__ void __launch_bounds__(kBrickThreads)
     if (t == 0) {
       any_non_inert = 0;
       any_changed = 0;
+      brick_reach = 0;
     }
     __syncthreads();
     const std::uint32_t index = s.list[entry];
+    if (leaves_out(rule, s, brick_coords(s.bricks, index), index)) continue;
     BrickNotes notes(s, brick_coords(s.bricks, index), index);
     const Int3 brick = notes.brick;
     const BlockSpan bx = owned_blocks(brick.x, s.bricks.x, g.size.x, o.x);
@@ -136,10 +165,15 @@ static __global__ void __launch_bounds__(kBrickThreads)
     }
     if (notes.non_inert) any_non_inert = 1;
     if (notes.owner_changed) any_changed = 1;
+    if constexpr (Rule::kReach)
+      if (notes.reach > 0) atomicMax(&brick_reach, notes.reach);
     __syncthreads();
     if (t == 0) {
       if (any_non_inert) s.dirty[index] = 1;
       if (any_changed) s.changed[index] = 1;
+      if constexpr (Rule::kReach) {
+        if (rule.reach_restarts() || brick_reach > s.reach[index]) s.reach[index] = std::uint8_t(brick_reach);
+      }
       ++bricks_done;
       cells_done += brick_cells(g.size, brick.x, brick.y, brick.z);
     }

@@ -14,6 +14,7 @@ BrickActivity::BrickActivity(Int3 grid_size) : size_(grid_size), bricks_(brick_c
   changed_.assign(n, 0);
   changed_pass_.assign(n, 0);
   quiet_pass_.assign(n * 8, 0);
+  reach_.assign(n, 0);
   rebuild_active();
 }
 
@@ -30,6 +31,7 @@ BrickRecord BrickActivity::next_pass() {
   r.pass = ++pass_;
   r.changed_pass = changed_pass_.data();
   r.quiet_pass = quiet_pass_.data();
+  r.reach = reach_.data();
   return r;
 }
 

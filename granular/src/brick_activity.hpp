@@ -57,6 +57,7 @@ class BrickActivity {
   std::uint32_t pass_ = 0;                   // the last pass started
   std::vector<std::uint32_t> changed_pass_;  // per brick (BrickRecord::changed_pass)
   std::vector<std::uint32_t> quiet_pass_;    // per brick and offset (BrickRecord::quiet_pass)
+  std::vector<std::uint8_t> reach_;          // per brick (BrickRecord::reach)
   std::vector<std::uint32_t> active_;
   std::vector<Run> runs_;
   std::uint64_t active_cells_ = 0;

@@ -6,6 +6,7 @@
 #include "cpu_block_ops.hpp"
 #include "cpu_block_row.hpp"
 #include "step/brick_grid.hpp"
+#include "step/brick_reach.hpp"
 
 namespace granular {
 
@@ -70,9 +71,15 @@ struct BrickNotes {
   int below_x;                   ///< the x0 of the block reaching into the brick below along x (-2: none)
   std::uint64_t diff = 0;        ///< OR over the other blocks of their changed bytes inside the grid
   std::uint64_t below_diff = 0;  ///< the same for the block reaching into the brick below
+  std::uint32_t reach = 0;       ///< the largest reach the blocks added (Rule::kReach)
 
   /// Adds stepped blocks.
   void blocks(int x0, const std::uint64_t* before, const std::uint64_t* after, int count, std::uint64_t inside) {
+    if constexpr (Rule::kReach)
+      for (int k = 0; k < count; ++k) {
+        const std::uint32_t added = rule.reach_added(before[k], after[k]);
+        if (added > reach) reach = added;
+      }
     const std::uint64_t first = (before[0] ^ after[0]) & inside;
     std::uint64_t rest = 0;
     for (int k = 1; k < count; ++k) rest |= before[k] ^ after[k];
@@ -140,6 +147,11 @@ class RunStepper {
         r_.dirty[b] = 1;
       else
         r_.quiet_pass[std::size_t(b) * 8 + std::size_t(offset)] = r_.pass;
+      if constexpr (Rule::kReach) {
+        std::atomic_ref<std::uint8_t> stored(r_.reach[b]);
+        if (rule_.reach_restarts() || reach_[std::size_t(i)] > stored.load(std::memory_order_relaxed))
+          stored.store(std::uint8_t(reach_[std::size_t(i)]), std::memory_order_relaxed);
+      }
       unsigned codes = 0;
       for (unsigned s = 0; s < 8; ++s) codes |= changed_codes(s, changed_[std::size_t(i)][s]);
       for (unsigned code = 0; code < 8; ++code)
@@ -186,6 +198,7 @@ class RunStepper {
   /// Keeps what brick i's blocks of one row (straddle flags `straddle`) saw.
   void keep(int i, const BrickNotes<Rule>& notes, unsigned straddle) {
     non_inert_[std::size_t(i)] = notes.non_inert;
+    if (notes.reach > reach_[std::size_t(i)]) reach_[std::size_t(i)] = notes.reach;
     changed_[std::size_t(i)][straddle] |= notes.diff;
     changed_[std::size_t(i)][straddle | 1u] |= notes.below_diff;
   }
@@ -205,6 +218,7 @@ class RunStepper {
   int x_inside_end_ = 0;          // one past the run's last block start inside the grid along x
   int regular_begin_ = 0, regular_end_ = 0;  // the bricks that own one group of eight inside the grid each
   std::array<bool, kMaxBrickRun> non_inert_{};
+  std::array<std::uint32_t, kMaxBrickRun> reach_{};  ///< per brick: the largest reach its blocks added
   /// Per brick and straddle flags s (kBrickCodes), the OR of the changed bytes inside the grid of
   /// the blocks with those flags.
   std::array<std::array<std::uint64_t, 8>, kMaxBrickRun> changed_{};
@@ -224,13 +238,34 @@ inline bool may_skip(const BrickRecord& r, std::uint32_t b, Int3 at, int offset)
   return true;
 }
 
+/// True when `rule` leaves brick `b` (at `at`) out of its sub-step: the brick is dirty already and
+/// idle (brick_reach.hpp).
+template <class Rule>
+inline bool leaves_out(const Rule& rule, const BrickRecord& r, std::uint32_t b, Int3 at) {
+  if constexpr (!Rule::kReach) {
+    return false;
+  } else {
+    if (!rule.may_idle() || r.dirty[b] == 0) return false;
+    for (int n = 0; n < kReachNeighbours; ++n) {
+      std::uint32_t neighbour = 0;
+      if (reach_neighbour(r.bricks, at, n, neighbour) &&
+          !rule.idle(std::atomic_ref<std::uint8_t>(r.reach[neighbour]).load(std::memory_order_relaxed)))
+        return false;
+    }
+    return true;
+  }
+}
+
 template <class Rule>
 void step_run(const StepContext& c, const Rule& rule, const BrickRecord& record, std::uint32_t first, int length) {
   const int offset = offset_index(rule.offset);
   const Int3 at = brick_coords(record.bricks, first);
   std::array<bool, kMaxBrickRun> skip{};
-  for (int i = 0; i < length; ++i)
-    skip[std::size_t(i)] = may_skip(record, first + std::uint32_t(i), {at.x + i, at.y, at.z}, offset);
+  for (int i = 0; i < length; ++i) {
+    const Int3 brick{at.x + i, at.y, at.z};
+    skip[std::size_t(i)] = may_skip(record, first + std::uint32_t(i), brick, offset) ||
+                           leaves_out(rule, record, first + std::uint32_t(i), brick);
+  }
   // The other bricks, stepped in runs of consecutive ones.
   for (int i = 0; i < length;) {
     if (skip[std::size_t(i)]) {

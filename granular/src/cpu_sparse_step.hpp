@@ -30,6 +30,9 @@ struct BrickRecord {
   std::uint32_t* quiet_pass = nullptr;   ///< per brick and offset (8 a brick, offset_index): the last
                                          ///< pass at that offset in which all its blocks were quiet (0:
                                          ///< none; used only by the task stepping that brick)
+  std::uint8_t* reach = nullptr;         ///< per brick: its reach in the tick under a motion model
+                                         ///< (brick_reach.hpp; written by the task stepping that
+                                         ///< brick, read by others: relaxed atomic loads and stores)
 };
 
 /// The index (0..7) of a partition offset in BrickRecord::quiet_pass.
@@ -41,7 +44,8 @@ inline constexpr int kMaxBrickRun = 32;
 /// Steps the blocks of tick context.tick owned by the `length` (1..kMaxBrickRun) bricks
 /// first_brick, first_brick + 1, ... (consecutive along x, one row of bricks), recording into
 /// `record`. A run walks each row of cells once across all its bricks, like the dense kernel, and
-/// leaves out the bricks the record lets skip. Bricks of one tick own disjoint blocks, so any set
+/// leaves out the bricks the record lets skip and, under a motion model, the dirty bricks that are
+/// idle (brick_reach.hpp). Bricks of one tick own disjoint blocks, so any set
 /// of runs may run concurrently.
 void step_brick_run(const StepContext& context, const BrickRecord& record, std::uint32_t first_brick, int length);
 

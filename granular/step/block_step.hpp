@@ -81,6 +81,9 @@ struct OneStepRule {
   /// A block of 8 equal bytes never changes: every permutation of it is itself.
   constexpr bool steps_uniform(std::uint32_t) const { return false; }
 
+  /// No motion windows, so no brick reach (brick_reach.hpp): sparse stepping walks every awake brick.
+  static constexpr bool kReach = false;
+
   /// The key of the block at (x0, y0, z0) after the tick (`key` its key now).
   constexpr BlockKey next_key(BlockKey key, int x0, int y0, int z0) const {
     if constexpr (kRandom) {
@@ -125,6 +128,26 @@ struct MotionRule {
   /// A block of 8 equal faller bytes (granular or liquid) may change (sub-step 0 sets the phases of its
   /// two layers apart); one of any other material never does (a gas has no denser fluid to pass).
   constexpr bool steps_uniform(std::uint32_t byte) const { return sub.materials.is_faller(byte & kMaterialMask); }
+
+  /// Bricks keep a reach (brick_reach.hpp): a sub-step leaves out a brick near which nothing can move.
+  static constexpr bool kReach = true;
+
+  /// What a block stepped in this sub-step (`before`, `after`) adds to its owner brick's reach
+  /// (motion::reach_of): every block in sub-steps 0 and 1, where every brick is stepped, and later a
+  /// block that changed (a faller that did not move, and whose level did not change, is counted already).
+  constexpr std::uint32_t reach_added(std::uint64_t before, std::uint64_t after) const {
+    return sub.substep < 2 || before != after ? motion::reach_of(after) : 0u;
+  }
+
+  /// True in a sub-step where a brick may be idle (from sub-step 2 on: every brick steps in 0 and 1).
+  constexpr bool may_idle() const { return sub.substep >= 2; }
+
+  /// True when the sub-step leaves every block of a brick as it is, `nearby` being the largest reach
+  /// of the brick and its 26 neighbours (brick_reach.hpp).
+  constexpr bool idle(std::uint32_t nearby) const { return may_idle() && nearby < std::uint32_t(sub.substep) + 2u; }
+
+  /// True in the tick's first sub-step, where each stepped brick's reach starts anew.
+  constexpr bool reach_restarts() const { return sub.substep == 0; }
 
   /// The block's bytes after the sub-step. After sub-step 1 only a top-layer grain at a motion level
   /// of 2 or more takes part (motion_window), so a block without one is left at once.

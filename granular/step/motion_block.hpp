@@ -220,6 +220,23 @@ constexpr BlockKey rest_key(std::uint64_t bytes, int offset_z, const StepMateria
   return key;
 }
 
+/// The largest, over a block's 8 bytes, of 2 L + start for a faller at motion level L whose window
+/// starts at sub-step `start` (its phase bit): step_block lets such a faller take part in a sub-step
+/// s >= 2 only when s + 2 <= 2 L + start, so no cell of a block whose value is below s + 2 takes part
+/// in sub-step s, and the block stays as it is. Bytes without motion state (bits 3..7 zero: void,
+/// gases, static materials) add 0.
+constexpr std::uint32_t reach_of(std::uint64_t bytes) {
+  // Per byte 2 L + start (below 32), then the largest byte by halving: a >= b where the borrow-free
+  // (a | 0x80) - b keeps its 0x80 bit.
+  std::uint64_t r = ((bytes >> 2) & (kEveryByte * 0x1Eu)) | ((bytes >> 7) & kEveryByte);
+  for (int shift = 32; shift >= 8; shift /= 2) {
+    const std::uint64_t other = r >> shift;
+    const std::uint64_t keep = ((((r | (kEveryByte * 0x80u)) - other) >> 7) & kEveryByte) * 0xFFu;
+    r = (r & keep) | (other & ~keep);
+  }
+  return std::uint32_t(r & 0xFFu);
+}
+
 /// The bytes of a block full of the table's first granular material, every grain at rest (level
 /// 0, the phase rest_key asks for at partition z offset `offset_z`): its key is uniform, so inert, and
 /// it is quiet. 0 (a void block, quiet too) when the table has no granular material.
