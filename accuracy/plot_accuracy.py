@@ -64,6 +64,14 @@ LIMITS = [
     "  of running at Ritter's 2 sqrt(g H0). A pressure state (or a pressure pass that moves liquid up",
     "  along a connected body toward lower heads) is what these three need; buoyancy needs none: density",
     "  exchanges in a column sort sand below and gas above the liquid.",
+    "  Why there is none yet (prototypes on the quick U-tube, 2026-12-02): a resting liquid cell has 4 or",
+    "  5 spare bits. A hydraulic head kept modulo 16 in them, relaxed block by block, with void inside",
+    "  the liquid moving up the head field, levels the legs only while neighbouring cells differ by less",
+    "  than half the modulus; under a low free surface fed from a high head the field is steeper than",
+    "  that, the value wraps and the legs freeze at a difference the field cannot see (34 cells after",
+    "  470 ticks, from 40). A head kept per 16^3 brick has no bit limit but cannot see walls and channels",
+    "  thinner than a brick, and froze at 20 cells. A head that wraps only at gradients of tens of cells",
+    "  per cell needs a byte of its own per liquid cell.",
     "",
 ]
 
