@@ -8,6 +8,7 @@
 /// host timers of the rendered rows). Prints a table and appends CSV rows.
 ///
 ///   bench_viewer --size 512 --ticks-per-frame 4 --frames 200 --csv bench/viewer_results.csv
+///   bench_viewer --size 1024 --real-time --frames 200   (the sandbox's rate: one tick per tick of wall time)
 
 #include <cstdint>
 #include <CLI/CLI.hpp>
@@ -23,6 +24,7 @@
 #include "camera.hpp"
 #include "granular/external_memory.hpp"
 #include "granular/scene.hpp"
+#include "granular/time_scale.hpp"
 #include "offscreen_renderer.hpp"
 #include "renderer_factory.hpp"
 #include "scene_loader.hpp"
@@ -41,6 +43,7 @@ struct Row {
   std::string renderer;
   double fps = 0, frame_ms = 0, sim_ms = 0, record_ms = 0, upload_ms = 0, build_ms = 0, draw_ms = 0;
   double bricks_rebuilt = 0;
+  double ticks_per_frame = 0;  ///< ticks stepped per measured frame (a mean with --real-time)
 };
 
 }  // namespace
@@ -52,7 +55,7 @@ int main(int argc, char** argv) {
   int width = 1920, height = 1080, ticks = 4, frames = 120, warmup = 10;
   std::uint64_t skip_ticks = 0;
   std::string renderers = "cubes,marching,raymarch", csv, camera_text;
-  bool validation = false, no_interop = false;
+  bool validation = false, no_interop = false, real_time = false;
   app.add_option("--scene", choice.scene, "scene");
   app.add_option("--size", choice.size, "scene size parameter N");
   app.add_option("--backend", choice.backend, "auto, cpu or cuda");
@@ -68,9 +71,13 @@ int main(int argc, char** argv) {
   app.add_option("--csv", csv, "append CSV rows to this file");
   app.add_flag("--validation", validation, "Vulkan validation layers (slow; for checking, not timing)");
   app.add_flag("--no-interop", no_interop, "with --backend cuda: upload through the host instead of sharing the cells");
+  app.add_flag("--real-time", real_time,
+               "step the ticks the wall clock owes before each frame (the sandbox's rate: one tick per "
+               "granular::tick_seconds of the rules), at most --ticks-per-frame of them (default 4 then)");
   try {
     app.parse(argc, argv);
     if (ticks < 0 || frames < 1 || warmup < 0) throw std::invalid_argument("--ticks-per-frame >= 0, --frames >= 1, --warmup >= 0");
+    if (real_time && ticks < 1) throw std::invalid_argument("--real-time needs --ticks-per-frame >= 1 (the most ticks a frame may step)");
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const std::exception& e) {
@@ -90,7 +97,7 @@ int main(int argc, char** argv) {
     std::string cells_path = "upload";
     std::vector<Row> rows;
     std::string backend;
-    if (ticks > 0) {
+    if (ticks > 0 && !real_time) {
       // The simulation alone (no rendering): on the CUDA backend step() is asynchronous, so the
       // host timers of the rendered runs do not show its device time; this row does.
       viewer::SandboxWorld sandbox = viewer::load_world(choice);
@@ -105,6 +112,7 @@ int main(int argc, char** argv) {
       row.frame_ms = ms_since(start) / frames;
       row.fps = 1000.0 / row.frame_ms;
       row.sim_ms = row.frame_ms;
+      row.ticks_per_frame = ticks;
       rows.push_back(row);
     }
     std::stringstream list(renderers);
@@ -126,17 +134,34 @@ int main(int argc, char** argv) {
       viewer::OffscreenRenderer renderer(context, world, {std::uint32_t(width), std::uint32_t(height)}, *kind, shared.get());
       Row row;
       row.renderer = name;
+      // The ticks a frame steps: `ticks`, or with --real-time those the wall clock owes since
+      // `clock_start` (at most `ticks`; the rest is dropped, as the sandbox drops it).
+      const double tick_ms = 1000.0 * granular::tick_seconds(world.rules());
+      Clock::time_point clock_start = Clock::now();
+      std::uint64_t ticks_owed_done = 0, ticks_stepped = 0;
+      auto frame_ticks = [&] {
+        if (!real_time) return ticks;
+        const auto owed = std::uint64_t(ms_since(clock_start) / tick_ms);
+        const std::uint64_t due = owed > ticks_owed_done ? owed - ticks_owed_done : 0;
+        ticks_owed_done = owed;
+        return int(std::min<std::uint64_t>(due, std::uint64_t(ticks)));
+      };
       for (int frame = 0; frame < warmup; ++frame) {
-        if (ticks) world.step(ticks);
+        if (const int k = frame_ticks()) world.step(k);
         renderer.render(camera);
       }
       renderer.wait_idle();
       renderer.take_finished_timings();
       double sim_ms = 0, record_ms = 0, rebuilt = 0;
       const auto start = Clock::now();
+      clock_start = start;
+      ticks_owed_done = 0;
       for (int frame = 0; frame < frames; ++frame) {
         const auto sim_start = Clock::now();
-        if (ticks) world.step(ticks);
+        if (const int k = frame_ticks()) {
+          world.step(k);
+          ticks_stepped += std::uint64_t(k);
+        }
         sim_ms += ms_since(sim_start);
         const auto record_start = Clock::now();
         rebuilt += double(renderer.render(camera).bricks_rebuilt);
@@ -159,28 +184,31 @@ int main(int argc, char** argv) {
       row.sim_ms = sim_ms / frames;
       row.record_ms = record_ms / frames;
       row.bricks_rebuilt = rebuilt / frames;
+      row.ticks_per_frame = real_time ? double(ticks_stepped) / frames : ticks;
       rows.push_back(row);
     }
-    std::printf("device %s, backend %s, cells %s, scene %s N=%d, %dx%d, %d ticks/frame, %d frames after tick %llu\n",
+    const std::string rate = real_time ? "real time (at most " + std::to_string(ticks) + " ticks/frame)"
+                                       : std::to_string(ticks) + " ticks/frame";
+    std::printf("device %s, backend %s, cells %s, scene %s N=%d, %dx%d, %s, %d frames after tick %llu\n",
                 context.device_name().c_str(), backend.c_str(), cells_path.c_str(), choice.scene.c_str(), choice.size, width,
-                height, ticks, frames, static_cast<unsigned long long>(skip_ticks));
-    std::printf("%-9s %8s %9s %8s %9s %10s %9s %8s %9s\n", "renderer", "fps", "frame_ms", "sim_ms", "record_ms", "upload_ms",
-                "build_ms", "draw_ms", "rebuilt");
+                height, rate.c_str(), frames, static_cast<unsigned long long>(skip_ticks));
+    std::printf("%-9s %8s %9s %8s %9s %10s %9s %8s %9s %7s\n", "renderer", "fps", "frame_ms", "sim_ms", "record_ms",
+                "upload_ms", "build_ms", "draw_ms", "rebuilt", "ticks");
     for (const Row& r : rows)
-      std::printf("%-9s %8.1f %9.2f %8.2f %9.2f %10.2f %9.2f %8.2f %9.0f\n", r.renderer.c_str(), r.fps, r.frame_ms, r.sim_ms,
-                  r.record_ms, r.upload_ms, r.build_ms, r.draw_ms, r.bricks_rebuilt);
+      std::printf("%-9s %8.1f %9.2f %8.2f %9.2f %10.2f %9.2f %8.2f %9.0f %7.2f\n", r.renderer.c_str(), r.fps, r.frame_ms,
+                  r.sim_ms, r.record_ms, r.upload_ms, r.build_ms, r.draw_ms, r.bricks_rebuilt, r.ticks_per_frame);
     if (!csv.empty()) {
       const bool fresh = !std::ifstream(csv).good();
       std::ofstream out(csv, std::ios::app);
       if (!out) throw std::runtime_error("cannot write " + csv);
       if (fresh)
         out << "device,backend,cells,scene,n,width,height,ticks_per_frame,skip_ticks,frames,renderer,fps,frame_ms,sim_ms,record_ms,gpu_upload_ms,"
-               "gpu_build_ms,gpu_draw_ms,bricks_rebuilt_per_frame\n";
+               "gpu_build_ms,gpu_draw_ms,bricks_rebuilt_per_frame,ticks_stepped_per_frame\n";
       for (const Row& r : rows)
         out << '"' << context.device_name() << "\",\"" << backend << "\"," << cells_path << ',' << choice.scene << ',' << choice.size << ',' << width
             << ',' << height << ',' << ticks << ',' << skip_ticks << ',' << frames << ',' << r.renderer << ',' << r.fps << ',' << r.frame_ms << ','
             << r.sim_ms << ',' << r.record_ms << ',' << r.upload_ms << ',' << r.build_ms << ',' << r.draw_ms << ','
-            << r.bricks_rebuilt << '\n';
+            << r.bricks_rebuilt << ',' << r.ticks_per_frame << '\n';
     }
     if (validation && context.validation_messages()) {
       std::fprintf(stderr, "error: %llu validation messages\n", static_cast<unsigned long long>(context.validation_messages()));

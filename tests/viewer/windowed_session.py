@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """A user's first minute with the windowed sandbox, on a virtual display (run it inside
 with_xvfb.py, as ctest viewer.windowed_session does, or `xvfb-run -a`): starts LAUNCHER (scripts/launch, what ./scripts/run execs after installing and
-building), checks the window is still open after 10 s, taps C (xdotool's default 12 ms key press)
-and sees the renderer switch, taps Tab through erase to shake (the default rules have a motion
+building), checks the window is still open after 10 s and that the automatic renderer choice
+(--renderer auto, the default) printed its final choice, taps C (xdotool's default 12 ms key press)
+and sees the renderer switch to the next one, taps Tab through erase to shake (the default rules have a motion
 model), clicks on the sand and sees cells set moving, taps Tab back to dig, clicks on the sand and
 sees it dug, chooses the liquid (key 3) and pours it with a right click, chooses solid (key 1) and
 paints it with a right click, keeps the window open for more than 60 frames while tapping every
@@ -131,11 +132,18 @@ def run(command, screenshot):
         xdotool("mousemove", "--window", window, str(centre_x), str(centre_y))
         time.sleep(0.5)
 
+        # --renderer auto (the default) has tried the renderers in order and kept one by now.
+        chosen = [m for m in (re.match(r"^renderer: (\w+) \(auto: (.*)\)$", line) for line in sandbox.lines) if m]
+        if not chosen or not chosen[-1].group(2).endswith(("holds 60", "the fastest measured")):
+            return "the automatic renderer choice printed no final 'renderer: NAME (auto: ...)' line within 10 s"
+        step("auto renderer choice: " + "; ".join(m.group(0) for m in chosen))
+        order = ["cubes", "marching", "raymarch"]
+        renderer = order[(order.index(chosen[-1].group(1)) + 1) % 3]
         mark = len(sandbox.lines)
         step("tapping C (12 ms)")
         xdotool("key", "c")
-        if not sandbox.wait_for(r"^renderer: marching$", timeout=20, after=mark):
-            return "a C tap did not switch the renderer to marching within 20 s"
+        if not sandbox.wait_for(rf"^renderer: {renderer}$", timeout=20, after=mark):
+            return f"a C tap did not switch the renderer to {renderer} within 20 s"
         step("the renderer switched")
 
         # Tab cycles the left button through dig, erase and shake; a click with shake chosen sets
@@ -202,9 +210,11 @@ def run(command, screenshot):
 
         # More than 60 frames with the window open, counted by the sandbox's own acknowledgements:
         # each tap of a material key is sent after the previous one was acknowledged, so each
-        # acknowledgement is printed by a later frame. Paused and ray marched, a frame costs little
-        # even on lavapipe.
-        for key, reply in (("c", "renderer: raymarch"), ("space", "paused")):
+        # acknowledgement is printed by a later frame. Paused and ray marched (C taps up to it), a
+        # frame costs little even on lavapipe.
+        current = order.index(renderer)
+        taps = [("c", f"renderer: {order[(current + k) % 3]}") for k in range(1, (2 - current) % 3 + 1)]
+        for key, reply in taps + [("space", "paused")]:
             mark = len(sandbox.lines)
             xdotool("key", key)
             if not sandbox.wait_for(f"^{reply}$", timeout=20, after=mark):

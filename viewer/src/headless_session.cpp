@@ -1,5 +1,6 @@
 #include "headless_session.hpp"
 
+#include <chrono>
 #include <cstdint>
 #include <cstdio>
 #include <memory>
@@ -13,6 +14,7 @@
 #include "offscreen_renderer.hpp"
 #include "png_writer.hpp"
 #include "render_subsystem.hpp"
+#include "renderer_choice.hpp"
 #include "renderer_factory.hpp"
 #include "sandbox_tools.hpp"
 #include "shader_loader.hpp"
@@ -31,9 +33,11 @@ int run_headless(const SandboxOptions& options) {
   std::unique_ptr<SharedCells> shared;
   if (interop) shared = std::make_unique<SharedCells>(context, world);
   const OrbitCamera camera = initial_camera(options.camera, world, float(options.width) / float(options.height));
+  const bool automatic = options.renderer == "auto";
+  RendererChoice choice;
+  RendererKind kind = automatic ? choice.first() : *parse_renderer_kind(options.renderer);
   OffscreenRenderer offscreen(context, world,
-                              {std::uint32_t(options.width), std::uint32_t(options.height)},
-                              *parse_renderer_kind(options.renderer), shared.get());
+                              {std::uint32_t(options.width), std::uint32_t(options.height)}, kind, shared.get());
 
   // One fixed update per frame: the manual clock advances exactly one tick length per frame.
   granular::engine::ManualClock clock;
@@ -46,8 +50,19 @@ int run_headless(const SandboxOptions& options) {
   loop.add(render);
   const int frames = headless_frames(options);
   for (int frame = 0; frame < frames; ++frame) {
+    const auto start = std::chrono::steady_clock::now();
     loop.run_frame();
     clock.advance(loop.timestep().tick_seconds());
+    if (automatic && choice.measuring()) {
+      // The choice measures the frames as drawn here, back to back (two in flight).
+      const std::optional<RendererKind> next =
+          choice.frame(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+      if (next) {
+        kind = *next;
+        offscreen.set_kind(kind);
+      }
+      if (next || !choice.measuring()) std::printf("%s\n", choice.report().c_str());
+    }
   }
   const GpuTimings gpu = offscreen.last_timings();
   if (!options.screenshot.empty()) {
@@ -58,7 +73,7 @@ int run_headless(const SandboxOptions& options) {
   std::printf("device         %s\n", context.device_name().c_str());
   std::printf("shaders        %s\n", shader_dir().string().c_str());
   std::printf("scene          %s (N=%d), backend %s\n", sandbox.scene_name.c_str(), sandbox.n, world.backend_description().c_str());
-  std::printf("renderer       %s, %dx%d\n", options.renderer.c_str(), options.width, options.height);
+  std::printf("renderer       %s%s, %dx%d\n", to_string(kind), automatic ? " (auto)" : "", options.width, options.height);
   std::printf("cells          %s\n", shared ? (shared->dedicated() ? "shared with CUDA (dedicated allocation)" : "shared with CUDA")
                                              : "uploaded through staging (changed bricks)");
   std::printf("frames         %d, ticks %llu (%.3f ms/tick)\n", frames, static_cast<unsigned long long>(world.tick()), ms_per_tick);

@@ -29,6 +29,7 @@
 #include "material_choices.hpp"
 #include "material_panel.hpp"
 #include "png_writer.hpp"
+#include "renderer_choice.hpp"
 #include "renderer_factory.hpp"
 #include "sandbox_tools.hpp"
 #include "shared_cells.hpp"
@@ -98,7 +99,7 @@ class SandboxApp final : public granular::engine::Subsystem {
         swapchain_(context_, window_.framebuffer_extent()),
         input_(window_.handle()),
         hud_(context_, window_, swapchain_.target().compatible_pass(), swapchain_.min_image_count(), swapchain_.image_count()),
-        kind_(*parse_renderer_kind(options.renderer)),
+        kind_(options.renderer == "auto" ? choice_of_renderer_.first() : *parse_renderer_kind(options.renderer)),
         requested_extent_(window_.framebuffer_extent()) {
     load(options.world);
     camera_ = initial_camera(options.camera, world(), aspect());
@@ -145,6 +146,14 @@ class SandboxApp final : public granular::engine::Subsystem {
     input_.sample();
     frame_seconds_ = frame_seconds;
     if (frame_seconds > 0) fps_ = fps_ * 0.95 + 0.05 / frame_seconds;
+    if (options_.renderer == "auto" && choice_of_renderer_.measuring()) {
+      const std::optional<RendererKind> next = choice_of_renderer_.frame(frame_seconds);
+      if (next) {
+        kind_ = *next;
+        renderer_->set_kind(*next);
+      }
+      if (next || !choice_of_renderer_.measuring()) report("%s", choice_of_renderer_.report().c_str());
+    }
     pick();
     handle_events();
     handle_held_input(frame_seconds);
@@ -246,7 +255,9 @@ class SandboxApp final : public granular::engine::Subsystem {
     hud_.set_min_image_count(swapchain_.min_image_count());
   }
 
+  /// The user's choice of renderer: it ends the automatic one.
   void set_renderer(RendererKind kind) {
+    choice_of_renderer_.stop();
     kind_ = kind;
     renderer_->set_kind(kind);
     report("renderer: %s", to_string(kind));
@@ -473,6 +484,7 @@ class SandboxApp final : public granular::engine::Subsystem {
   Swapchain swapchain_;
   InputTracker input_;
   Hud hud_;
+  RendererChoice choice_of_renderer_;  ///< measures the renderers while --renderer is auto
   RendererKind kind_;
   VkExtent2D requested_extent_;
   granular::engine::SteadyClock clock_;

@@ -36,7 +36,9 @@ void add_sandbox_options(CLI::App& app, SandboxOptions& o) {
   app.add_option("--camera", o.camera,
                  "yaw,pitch,distance[,tx,ty,tz]: degrees, distance and target as fractions of the grid "
                  "(default: framing the scene's non-void cells)");
-  app.add_option("--renderer", o.renderer, "cubes, marching or raymarch");
+  app.add_option("--renderer", o.renderer,
+                 "auto (the default: the first of cubes, marching, raymarch that holds 60 FPS here, else the "
+                 "fastest), cubes, marching or raymarch");
   app.add_option("--ticks-per-frame", o.ticks_per_frame, "world ticks per fixed update");
   app.add_option("--width", o.width, "image width in pixels");
   app.add_option("--height", o.height, "image height in pixels");
@@ -49,7 +51,8 @@ void validate(const SandboxOptions& o) {
   if (o.ticks_per_frame < 1) throw std::invalid_argument("--ticks-per-frame must be >= 1, got " + std::to_string(o.ticks_per_frame));
   if (o.width < 16 || o.height < 16 || o.width > 16384 || o.height > 16384)
     throw std::invalid_argument("--width/--height must be in 16..16384, got " + std::to_string(o.width) + "x" + std::to_string(o.height));
-  if (!parse_renderer_kind(o.renderer)) throw std::invalid_argument("--renderer '" + o.renderer + "': expected cubes, marching or raymarch");
+  if (o.renderer != "auto" && !parse_renderer_kind(o.renderer))
+    throw std::invalid_argument("--renderer '" + o.renderer + "': expected auto, cubes, marching or raymarch");
 }
 
 }  // namespace viewer

@@ -20,7 +20,7 @@ struct SandboxOptions {
   std::optional<int> frames;      ///< --frames: frames to run (unset: headless_frames(), windowed until closed)
   std::string screenshot;         ///< PNG of the last frame
   std::string camera;             ///< "yaw,pitch,distance[,tx,ty,tz]" (empty: framing the content)
-  std::string renderer = "cubes"; ///< cubes, marching or raymarch
+  std::string renderer = "auto";  ///< auto (renderer_choice.hpp), cubes, marching or raymarch
   int ticks_per_frame = 1;        ///< world ticks per engine fixed update (one fixed update per frame headless)
   int width = 1280;               ///< image width
   int height = 720;               ///< image height
