@@ -2,8 +2,6 @@
 
 #include <cstdio>
 
-#include "renderer_factory.hpp"
-
 namespace viewer {
 
 std::optional<RendererKind> RendererChoice::frame(double seconds) {
@@ -15,29 +13,30 @@ std::optional<RendererKind> RendererChoice::frame(double seconds) {
   ++frames_;
   seconds_ += seconds;
   if (frames_ < kTrialFrames || seconds_ < kTrialSeconds) return std::nullopt;
-  fps_[current_] = frames_ / seconds_;
+  const double fps = frames_ / seconds_;
+  const bool holds = fps >= kTargetFps;
+  const int last = int(std::size(kOrder)) - 1;
   char line[160];
-  if (fps_[current_] >= kTargetFps || current_ == 2) {
+  std::optional<RendererKind> next;
+  if (holds && current_ < last) {
+    next = kOrder[current_ + 1];
+    std::snprintf(line, sizeof line, "renderer: %s (auto: %s %.1f FPS holds %.0f, trying the next)",
+                  to_string(*next), to_string(kOrder[current_]), fps, kTargetFps);
+    ++current_;
+    first_frame_ = true;
+    frames_ = 0;
+    seconds_ = 0;
+  } else {
     done_ = true;
-    int best = current_;
-    for (int i = 0; i <= current_; ++i)
-      if (fps_[i] > fps_[best]) best = i;
-    std::snprintf(line, sizeof line, "renderer: %s (auto: %s %.1f FPS%s)", to_string(order_[best]),
-                  to_string(order_[current_]), fps_[current_],
-                  fps_[current_] >= kTargetFps ? ", holds 60" : ", none held 60: the fastest measured");
-    report_ = line;
-    if (best == current_) return std::nullopt;
-    current_ = best;
-    return order_[best];
+    const int kept = holds || current_ == 0 ? current_ : current_ - 1;
+    if (kept != current_) next = kOrder[kept];
+    std::snprintf(line, sizeof line, "renderer: %s (auto: %s %.1f FPS, %s)", to_string(kOrder[kept]),
+                  to_string(kOrder[current_]), fps,
+                  holds ? "holds 60: chosen" : kept == current_ ? "below 60, the cheapest: chosen" : "below 60: the previous one chosen");
+    current_ = kept;
   }
-  std::snprintf(line, sizeof line, "renderer: %s (auto: %s %.1f FPS, below 60)", to_string(order_[current_ + 1]),
-                to_string(order_[current_]), fps_[current_]);
   report_ = line;
-  ++current_;
-  first_frame_ = true;
-  frames_ = 0;
-  seconds_ = 0;
-  return order_[current_];
+  return next;
 }
 
 }  // namespace viewer

@@ -1,9 +1,11 @@
 #pragma once
 /// @file renderer_choice.hpp
-/// The sandbox's automatic renderer choice (`--renderer auto`, the default): it tries the renderers
-/// from the richest look to the fastest (instanced cubes, marching cubes, ray march; the order of
-/// their measured cost, bench/RESULTS.md) and keeps the first that holds the target frame rate on
-/// the device and scene it finds, else the fastest it measured.
+/// The sandbox's automatic renderer choice (`--renderer auto`, the default). The renderers differ
+/// in cost by orders of magnitude on the same scene (bench/RESULTS.md): the ray march is the
+/// cheapest on every device measured, then marching cubes, then instanced cubes. The choice starts
+/// with the ray march and tries the next costlier renderer while the current one holds the target
+/// frame rate, keeping the costliest that held it (or the ray march when even it did not), so a
+/// slow device never shows more than the cheapest renderer's frames.
 
 #include <optional>
 #include <string>
@@ -26,28 +28,28 @@ class RendererChoice {
   static constexpr int kTrialFrames = 3;
 
   /// The renderer to start with.
-  RendererKind first() const { return order_[0]; }
+  RendererKind first() const { return kOrder[0]; }
 
   /// True while the choice is still measuring.
   bool measuring() const { return !done_; }
 
   /// Adds a frame of `seconds` drawn by the current renderer. Returns the renderer to switch to
-  /// when the measurement of the current one is over and another is to be tried or kept.
+  /// when the current one's measurement is over and another is to be tried or kept.
   std::optional<RendererKind> frame(double seconds);
 
   /// Ends the choice: the user picked a renderer.
   void stop() { done_ = true; }
 
-  /// One line saying what was measured and chosen (after frame() returned a switch or ended).
+  /// One line saying what was measured and chosen, after frame() switched or ended the choice.
   const std::string& report() const { return report_; }
 
  private:
-  static constexpr RendererKind order_[3] = {RendererKind::Cubes, RendererKind::Marching, RendererKind::Raymarch};
-  int current_ = 0;          ///< index into order_
+  /// The renderers from the cheapest to the costliest.
+  static constexpr RendererKind kOrder[3] = {RendererKind::Raymarch, RendererKind::Marching, RendererKind::Cubes};
+  int current_ = 0;          ///< index into kOrder
   bool first_frame_ = true;  ///< the current renderer's first frame (not measured)
   int frames_ = 0;           ///< measured frames of the current renderer
   double seconds_ = 0;       ///< their time
-  double fps_[3] = {};       ///< measured frames per second per renderer (0: not measured)
   bool done_ = false;
   std::string report_;
 };
