@@ -49,7 +49,8 @@ CubeRenderer::CubeRenderer(const VulkanContext& context, const CellBuffer& cells
       rebuild_(context, brick_counts_, sets_, 1),
       build_(context.device(), sets_.layout(), "cube_build.comp"),
       draw_pipeline_(context.device(), sets_.layout(), target_pass, "cube.vert", "cube.frag"),
-      translucent_pipeline_(context.device(), sets_.layout(), target_pass, "cube.vert", "cube.frag", GraphicsOptions::translucent()) {
+      translucent_pipeline_(context.device(), sets_.layout(), target_pass, "cube.vert", "cube.frag", GraphicsOptions::translucent()),
+      compaction_(context, draws_, brick_total_) {
   sets_.write_buffer(0, cells.buffer());
   sets_.write_buffer(2, instances_.buffer());
   sets_.write_buffer(3, draws_.buffer());
@@ -72,19 +73,19 @@ std::uint64_t CubeRenderer::prepare(VkCommandBuffer commands, const FrameView& v
   vkCmdPushConstants(commands, build_.layout(), VK_SHADER_STAGE_ALL, 0, sizeof(constants), &constants);
   vkCmdDispatch(commands, bricks, 1, 1);
   memory_barrier(commands, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
-                 VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT,
-                 VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+                 VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT,
+                 VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+  compaction_.record(commands);
   return bricks;
 }
 
 void CubeRenderer::draw(VkCommandBuffer commands, const FrameView& view) {
-  constexpr std::uint32_t stride = sizeof(VkDrawIndirectCommand);
   draw_pipeline_.bind(commands, VK_PIPELINE_BIND_POINT_GRAPHICS, sets_.set(view.slot));
   vkCmdPushConstants(commands, draw_pipeline_.layout(), VK_SHADER_STAGE_ALL, 0, sizeof(ViewConstants), &view.raster);
-  vkCmdDrawIndirect(commands, draws_.buffer(), 0, brick_total_, stride);
+  compaction_.draw(commands, 0);
   translucent_pipeline_.bind(commands, VK_PIPELINE_BIND_POINT_GRAPHICS, sets_.set(view.slot));
   vkCmdPushConstants(commands, translucent_pipeline_.layout(), VK_SHADER_STAGE_ALL, 0, sizeof(ViewConstants), &view.raster);
-  vkCmdDrawIndirect(commands, draws_.buffer(), VkDeviceSize(brick_total_) * stride, brick_total_, stride);
+  compaction_.draw(commands, 1);
 }
 
 }  // namespace viewer

@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <memory>
 
+#include "draw_compaction.hpp"
 #include "gpu_buffer.hpp"
 #include "granular/geometry.hpp"
 #include "brick_rebuild_list.hpp"
@@ -55,6 +56,7 @@ class CubeRenderer final : public Renderer {
   Pipeline build_;
   Pipeline draw_pipeline_;
   Pipeline translucent_pipeline_;
+  DrawCompaction compaction_;  ///< draws_ compacted to the bricks that draw something
 };
 
 }  // namespace viewer

@@ -169,8 +169,10 @@ void VulkanContext::pick_physical_device(const ContextOptions& options) {
     features.pNext = &features12;
     vkGetPhysicalDeviceFeatures2(device, &features);
     if (!features.features.multiDrawIndirect || !features.features.drawIndirectFirstInstance ||
-        !features12.storageBuffer8BitAccess || !features12.shaderInt8 || !features12.timelineSemaphore) {
-      reject("lacks multiDrawIndirect, drawIndirectFirstInstance, storageBuffer8BitAccess, shaderInt8 or timelineSemaphore");
+        !features12.storageBuffer8BitAccess || !features12.shaderInt8 || !features12.timelineSemaphore ||
+        !features12.drawIndirectCount) {
+      reject("lacks multiDrawIndirect, drawIndirectFirstInstance, storageBuffer8BitAccess, shaderInt8, timelineSemaphore "
+             "or drawIndirectCount");
       continue;
     }
     std::uint32_t family_count = 0;
@@ -220,6 +222,7 @@ void VulkanContext::create_device(const ContextOptions& options) {
   features12.storageBuffer8BitAccess = VK_TRUE;
   features12.shaderInt8 = VK_TRUE;
   features12.timelineSemaphore = VK_TRUE;
+  features12.drawIndirectCount = VK_TRUE;
   VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
   features.pNext = &features12;
   features.features.multiDrawIndirect = VK_TRUE;

@@ -1,0 +1,42 @@
+#pragma once
+/// @file draw_compaction.hpp
+/// The indirect draws of a brick-based renderer (cubes, marching cubes) compacted to the bricks
+/// that draw something (shaders/draw_compact.comp): the draw pass then issues one command per such
+/// brick with vkCmdDrawIndirectCount, not one per brick of the grid, most of which are empty.
+
+#include <vulkan/vulkan.h>
+
+#include <cstdint>
+
+#include "gpu_buffer.hpp"
+#include "pipeline_builder.hpp"
+
+namespace viewer {
+
+class VulkanContext;
+
+/// Compacts `draws` (2 x bricks VkDrawIndirectCommand: the opaque list, then the translucent one)
+/// into lists of the commands that draw something, in brick order.
+class DrawCompaction {
+ public:
+  /// Compaction of `draws` (which must outlive it), written by a build pass for `bricks` bricks.
+  DrawCompaction(const VulkanContext& context, const GpuBuffer& draws, std::uint32_t bricks);
+
+  /// Records the compaction: after the build pass's writes to the draws are made visible to
+  /// compute shaders, and before the draw pass (this adds the barrier to indirect reads).
+  void record(VkCommandBuffer commands) const;
+
+  /// Draws list `list` (0 opaque, 1 translucent) with the bound graphics pipeline.
+  void draw(VkCommandBuffer commands, int list) const;
+
+ private:
+  std::uint32_t bricks_;
+  std::uint32_t groups_;  ///< workgroups a list
+  GpuBuffer compact_;     ///< the compacted lists, each at the place of its full list
+  GpuBuffer group_counts_;
+  GpuBuffer draw_counts_;  ///< the two lists' lengths
+  DescriptorSets sets_;
+  Pipeline pass_;
+};
+
+}  // namespace viewer
