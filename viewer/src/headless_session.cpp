@@ -34,6 +34,7 @@ int run_headless(const SandboxOptions& options) {
   OffscreenRenderer offscreen(context, world,
                               {std::uint32_t(options.width), std::uint32_t(options.height)},
                               *parse_renderer_kind(options.renderer), shared.get());
+  offscreen.world_renderer().set_see_inside(options.inside);
 
   // One fixed update per frame: the manual clock advances exactly one tick length per frame.
   granular::engine::ManualClock clock;
@@ -59,6 +60,7 @@ int run_headless(const SandboxOptions& options) {
   std::printf("shaders        %s\n", shader_dir().string().c_str());
   std::printf("scene          %s (N=%d), backend %s\n", sandbox.scene_name.c_str(), sandbox.n, world.backend_description().c_str());
   std::printf("renderer       %s, %dx%d\n", options.renderer.c_str(), options.width, options.height);
+  std::printf("see inside     section %s, x-ray %s\n", options.inside.section.describe().c_str(), options.inside.xray ? "on" : "off");
   std::printf("cells          %s\n", shared ? (shared->dedicated() ? "shared with CUDA (dedicated allocation)" : "shared with CUDA")
                                              : "uploaded through staging (changed bricks)");
   std::printf("frames         %d, ticks %llu (%.3f ms/tick)\n", frames, static_cast<unsigned long long>(world.tick()), ms_per_tick);

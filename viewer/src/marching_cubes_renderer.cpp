@@ -9,6 +9,7 @@
 #include "granular/activity.hpp"
 #include "marching_cubes_tables.hpp"
 #include "material_palette.hpp"
+#include "surface_draws.hpp"
 #include "vulkan_check.hpp"
 #include "vulkan_context.hpp"
 
@@ -65,7 +66,8 @@ MarchingCubesRenderer::MarchingCubesRenderer(const VulkanContext& context, const
       rebuild_(context, brick_counts_, sets_, 1),
       build_(context.device(), sets_.layout(), "mc_build.comp"),
       draw_pipeline_(context.device(), sets_.layout(), target_pass, "mc.vert", "mc.frag"),
-      translucent_pipeline_(context.device(), sets_.layout(), target_pass, "mc.vert", "mc.frag", GraphicsOptions::translucent()) {
+      translucent_pipeline_(context.device(), sets_.layout(), target_pass, "mc.vert", "mc.frag", GraphicsOptions::translucent()),
+      cap_(context, cells, palette, target_pass, false) {
   const std::vector<std::uint32_t> table = gpu_case_table();
   GpuBuffer staging(context, table.size() * 4, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryKind::HostVisible);
   std::memcpy(staging.mapped(), table.data(), table.size() * 4);
@@ -90,7 +92,6 @@ std::uint64_t MarchingCubesRenderer::prepare(VkCommandBuffer commands, const Fra
                  VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT,
                  VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
   ViewConstants constants = view.raster;
-  constants.grid.w = int(bricks);
   constants.bricks.w = int(triangles_per_brick_);
   build_.bind(commands, VK_PIPELINE_BIND_POINT_COMPUTE, sets_.set(view.slot));
   vkCmdPushConstants(commands, build_.layout(), VK_SHADER_STAGE_ALL, 0, sizeof(constants), &constants);
@@ -102,13 +103,8 @@ std::uint64_t MarchingCubesRenderer::prepare(VkCommandBuffer commands, const Fra
 }
 
 void MarchingCubesRenderer::draw(VkCommandBuffer commands, const FrameView& view) {
-  constexpr std::uint32_t stride = sizeof(VkDrawIndirectCommand);
-  draw_pipeline_.bind(commands, VK_PIPELINE_BIND_POINT_GRAPHICS, sets_.set(view.slot));
-  vkCmdPushConstants(commands, draw_pipeline_.layout(), VK_SHADER_STAGE_ALL, 0, sizeof(ViewConstants), &view.raster);
-  vkCmdDrawIndirect(commands, draws_.buffer(), 0, brick_total_, stride);
-  translucent_pipeline_.bind(commands, VK_PIPELINE_BIND_POINT_GRAPHICS, sets_.set(view.slot));
-  vkCmdPushConstants(commands, translucent_pipeline_.layout(), VK_SHADER_STAGE_ALL, 0, sizeof(ViewConstants), &view.raster);
-  vkCmdDrawIndirect(commands, draws_.buffer(), VkDeviceSize(brick_total_) * stride, brick_total_, stride);
+  record_surface_draws(commands, view,
+                       {draw_pipeline_, translucent_pipeline_, sets_.set(view.slot), draws_.buffer(), brick_total_, cap_});
 }
 
 }  // namespace viewer

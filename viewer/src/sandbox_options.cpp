@@ -33,6 +33,11 @@ void add_sandbox_options(CLI::App& app, SandboxOptions& o) {
                                "frames to run (headless: default " + std::to_string(kDefaultHeadlessFrames) +
                                    "; windowed: default until the window is closed or Esc)");
   app.add_option("--screenshot", o.screenshot, "write the last frame to this PNG (windowed: the frame before it closes)");
+  app.add_option_function<std::string>(
+      "--section", [&o](const std::string& text) { o.inside.section = parse_section(text); },
+      "AXIS:FRACTION: a section plane across axis x, y or z at FRACTION (0..1) of the grid, removing the half "
+      "between the camera and the plane");
+  app.add_flag("--xray", o.inside.xray, "draw static materials translucent");
   app.add_option("--camera", o.camera,
                  "yaw,pitch,distance[,tx,ty,tz]: degrees, distance and target as fractions of the grid "
                  "(default: framing the scene's non-void cells)");
