@@ -1,8 +1,14 @@
 #include <doctest/doctest.h>
 
+#include <filesystem>
+#include <fstream>
+#include <memory>
 #include <stdexcept>
 #include <string>
 
+#include "granular/world.hpp"
+#include "screenshot_path.hpp"
+#include "section_pick.hpp"
 #include "section_plane.hpp"
 #include "see_inside.hpp"
 
@@ -26,7 +32,7 @@ TEST_CASE("section plane: --section takes AXIS:FRACTION and names the option and
   }
 }
 
-TEST_CASE("section plane: cycles off, x, y, z; steps 1/32 within 0..1; says where it is") {
+TEST_CASE("section plane: V cycles off, x, y, z; comma and period step 1/32 within 0..1; the line it prints") {
   SectionPlane plane;
   CHECK(!plane.on());
   CHECK(plane.describe() == "off");
@@ -77,4 +83,39 @@ TEST_CASE("section plane: the push-constant word holds the axis, the kept side, 
   CHECK(word == (3 | 4 | 8 | (32 << 8)));
   CHECK(for_draw(word, DrawPass::Xray) == (word | (2 << 4)));
   CHECK(for_draw(for_draw(word, DrawPass::Xray), DrawPass::Translucent, true) == (word | (1 << 4) | 64));
+}
+
+TEST_CASE("section plane: the cursor picks the first kept cell, entered through the plane at the cut") {
+  granular::WorldDef def;
+  def.backend = granular::BackendKind::Cpu;
+  def.size = {16, 16, 16};
+  granular::World world(def);
+  world.paint(granular::Box{{4, 4, 4}, {12, 12, 12}}, granular::Material::Solid);
+  const glm::vec3 eye{8.5f, 40.0f, 8.5f}, down_y{0.0f, -1.0f, 0.0f};
+  const auto outside = pick_kept_cell(world, std::nullopt, eye, down_y);
+  REQUIRE(outside);
+  CHECK(outside->cell == granular::Int3{8, 11, 8});
+  const auto cut = parse_section("y:0.5").cut(world.size(), eye);
+  const auto at_cut = pick_kept_cell(world, cut, eye, down_y);
+  REQUIRE(at_cut);
+  CHECK(at_cut->cell == granular::Int3{8, 7, 8});
+  CHECK(at_cut->normal == granular::Int3{0, 1, 0});
+  CHECK(at_cut->in_front() == granular::Int3{8, 8, 8});
+  CHECK(at_cut->distance == doctest::Approx(32.0).epsilon(1e-4));
+  CHECK(!pick_kept_cell(world, cut, eye, -down_y));  // looking away from the kept half
+  world.paint(granular::Box{{4, 4, 4}, {12, 8, 12}}, granular::Material::Void);  // the kept half of the box
+  CHECK(!pick_kept_cell(world, cut, eye, down_y));  // the removed half is not picked through the cut
+}
+
+TEST_CASE("screenshot key: granular-screenshot-N.png with the first free N, never an existing file") {
+  const std::filesystem::path folder = std::filesystem::temp_directory_path() / "granular-screenshot-path-test";
+  std::filesystem::remove_all(folder);
+  std::filesystem::create_directories(folder);
+  CHECK(next_screenshot_path(folder) == folder / "granular-screenshot-1.png");
+  std::ofstream(folder / "granular-screenshot-1.png") << "x";
+  std::ofstream(folder / "granular-screenshot-3.png") << "x";
+  CHECK(next_screenshot_path(folder) == folder / "granular-screenshot-2.png");
+  std::ofstream(folder / "granular-screenshot-2.png") << "x";
+  CHECK(next_screenshot_path(folder) == folder / "granular-screenshot-4.png");
+  std::filesystem::remove_all(folder);
 }

@@ -20,6 +20,7 @@ struct SandboxOptions {
   bool headless = false;          ///< render offscreen with no window (no GLFW at all)
   std::optional<int> frames;      ///< --frames: frames to run (unset: headless_frames(), windowed until closed)
   std::string screenshot;         ///< PNG of the last frame
+  std::string screenshot_dir = "."; ///< the folder the screenshot key (P) writes into
   SeeInside inside;               ///< --section and --xray: the section plane and x-ray at start
   std::string camera;             ///< "yaw,pitch,distance[,tx,ty,tz]" (empty: framing the content)
   std::string renderer = "cubes"; ///< cubes, marching or raymarch

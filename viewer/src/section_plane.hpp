@@ -2,7 +2,7 @@
 /// @file section_plane.hpp
 /// The section plane of the sandbox: a plane across one axis of the grid at a fraction of its
 /// extent, which removes the half of the cells between the camera and the plane so that the cut
-/// face shows what lies inside (`--section y:0.5`).
+/// face shows what lies inside (`--section y:0.5`; keys V, comma and period).
 
 #include <optional>
 #include <string>
@@ -25,7 +25,7 @@ struct SectionCut {
 
 /// A section plane across `axis` at `fraction` of the grid's extent, or none (axis < 0).
 struct SectionPlane {
-  /// The step of moved(): 1/32 of the axis.
+  /// The step of `,` and `.`: 1/32 of the axis.
   static constexpr double kStep = 1.0 / 32.0;
 
   int axis = -1;          ///< 0, 1, 2 for x, y, z; -1: no section
@@ -33,7 +33,7 @@ struct SectionPlane {
 
   /// True while the plane cuts.
   bool on() const { return axis >= 0; }
-  /// The next state in the cycle off -> x -> y -> z -> off, at the same fraction.
+  /// The next state of V: off -> x -> y -> z -> off, at the same fraction.
   SectionPlane cycled() const;
   /// The plane moved by `steps` kSteps (negative: towards lower coordinates), within 0..1; unchanged
   /// while off.
