@@ -1,6 +1,7 @@
 // Cell reading shared by the viewer's shaders. The including shader declares
 //   layout(...) buffer Cells { uint8_t cells[]; };
 // before including this file, and includes view.glsl.
+#define CELLS_GLSL
 
 const int kBrickSize = 16;
 const uint kBrickCells = 4096u;

@@ -1,7 +1,8 @@
 #version 460
 // Instanced cubes, build pass: for each brick of the list, writes one instance per non-void cell
 // with a face showing (materials.glsl's face_shows: towards void, a translucent neighbour in front
-// of a denser look, or another translucent material) into the brick's slot (4096 instances):
+// of a denser look, or another translucent material; under x-ray also towards a static material:
+// see_inside.glsl's seen_face_shows) into the brick's slot (4096 instances):
 // opaque instances from the slot's start, translucent ones (liquid, gas) from its end. Then it writes the brick's two indirect draw
 // commands: draws[brick] for the opaque instances, draws[bricks in the grid + brick] for the
 // translucent ones. Instance: bits 0-11 cell in brick, 12-14 material, 16-21 showing faces.
@@ -16,11 +17,12 @@ layout(std430, set = 0, binding = 3) writeonly buffer Draws { uint draws[]; };
 #define MATERIALS_BINDING 4
 #include "cells.glsl"
 #include "materials.glsl"
+#include "see_inside.glsl"
 
 shared uint opaque_count;
 shared uint translucent_count;
 
-bool shows_towards(uint material, ivec3 neighbour) { return face_shows(material, cell_at(neighbour)); }
+bool shows_towards(uint material, ivec3 neighbour) { return seen_face_shows(material, cell_at(neighbour)); }
 
 void main() {
   uint brick = brick_list[gl_WorkGroupID.x];

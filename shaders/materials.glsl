@@ -10,7 +10,7 @@ const uint kLookGas = 3u;     // gases: faint, smooth
 
 struct MaterialEntry {
   vec4 colour;  // rgb: the display colour (0..1 per channel); a: unused
-  uvec4 look;   // x: the look (kLook*); yzw: unused
+  uvec4 look;   // x: the look (kLook*); y: 1 for a static material (x-ray draws it translucent); zw: unused
 };
 
 layout(std140, set = 0, binding = MATERIALS_BINDING) uniform Materials { MaterialEntry materials[8]; };

@@ -1,15 +1,16 @@
 #version 460
 // Marching cubes, build pass (pc.bricks.w: triangles per brick slot): one workgroup per listed
 // brick. The brick's cells and a border are loaded into shared memory (packed 4 cells a word, each
-// byte its material and look). Each look present (opaque, liquid, gas: materials.glsl) is a layer
-// of its own: a marching cube (cube c spans the lattice points c..c+1, lattice point q lies between
-// cells q-1 and q, and its density is the fraction of the 8 cells around it of the layer's look)
-// emits the triangles of its case into the brick's slot, with normals from the density gradient
-// and the material most frequent among the layer's cells around it. The opaque layer's triangles
-// come first, then the translucent layers'; the first and last bricks along an axis also mesh the
-// cubes just outside the grid, so the surfaces close at the grid's faces. Then the brick's two
-// indirect draw commands are written: draws[brick] for the opaque triangles, draws[bricks in the
-// grid + brick] for the translucent ones.
+// byte its material and look). Each look present (opaque, liquid, gas: materials.glsl; under x-ray
+// the static materials' look apart, see_inside.glsl) is a layer of its own: a marching cube (cube c
+// spans the lattice points c..c+1, lattice point q lies between cells q-1 and q, and its density is
+// the fraction of the 8 cells around it of the layer's look) emits the triangles of its case into
+// the brick's slot, with normals from the density gradient and the material most frequent among the
+// layer's cells around it. The opaque layers' triangles (x-ray's static layer included) come first,
+// then the translucent layers'; the first and last bricks along an axis also mesh the cubes just
+// outside the grid, so the surfaces close at the grid's faces. Then the brick's two indirect draw
+// commands are written: draws[brick] for the opaque triangles, draws[bricks in the grid + brick]
+// for the translucent ones.
 #extension GL_EXT_shader_8bit_storage : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int8 : require
 layout(local_size_x = 256) in;
@@ -22,10 +23,11 @@ layout(std430, set = 0, binding = 4) readonly buffer Cases { uint cases[]; };  /
 #define MATERIALS_BINDING 5
 #include "cells.glsl"
 #include "materials.glsl"
+#include "marching_iso.glsl"
+#include "see_inside.glsl"
 
 const int kTile = 21;  // cells -2..18 around the brick
 const uint kTileCells = uint(kTile * kTile * kTile);
-const float kIso = 0.35;
 const float kPositionScale = 50.0;  // fixed point: (local + 1) * 50 fits 10 bits for local in [-1, 17]
 
 shared uint tile[(kTileCells + 3u) / 4u];
@@ -34,7 +36,7 @@ shared uint tile_looks;  // bit l: some cell of the tile has look l
 
 uint tile_index(ivec3 t) { return uint(t.x + kTile * (t.y + kTile * t.z)); }
 
-// A tile byte: bits 0-2 the cell's material, bits 3-4 its look.
+// A tile byte: bits 0-2 the cell's material, bits 3-5 its seen look (see_inside.glsl).
 uint tile_byte(ivec3 local) {
   uint i = tile_index(local + 2);
   return (tile[i >> 2] >> ((i & 3u) * 8u)) & 255u;
@@ -143,7 +145,7 @@ void main() {
       if (i >= kTileCells) break;
       ivec3 t = ivec3(int(i % uint(kTile)), int((i / uint(kTile)) % uint(kTile)), int(i / uint(kTile * kTile)));
       uint material = cell_at(origin + t - 2);
-      uint look = look_of(material);
+      uint look = seen_look(material);
       looks |= 1u << look;
       word |= (material | (look << 3)) << (b * 8u);
     }
@@ -153,6 +155,7 @@ void main() {
   barrier();
   // A layer's surface lies where its look meets another; a tile of one look holds none (most bricks).
   if (layer_has_surface(kLookOpaque)) mesh_layer(brick, origin, kLookOpaque, max_triangles);
+  if (layer_has_surface(kLookXray)) mesh_layer(brick, origin, kLookXray, max_triangles);
   barrier();
   uint opaque_triangles = min(triangle_count, max_triangles);
   barrier();  // every invocation has read the opaque count before the translucent layers add to it

@@ -5,7 +5,11 @@
 // occlusion from the opaque cells around the hit face). Liquids and gases are seen through: where
 // the ray enters one, its surface is shaded and covers part of what lies behind (liquid glints);
 // inside, each cell crossed absorbs in proportion to the path's length in it (Beer-Lambert), a
-// liquid strongly, a gas faintly. No geometry.
+// liquid strongly, a gas faintly. No geometry. The walk covers only the cells the section keeps
+// (see_inside.glsl): a ray enters them through the plane, where the first cell it meets shows as
+// a face towards the removed side, and the removed cells neither hit nor occlude. Under x-ray a
+// static material is a medium too, covering a little where the ray enters it and absorbing
+// faintly.
 #extension GL_EXT_shader_8bit_storage : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int8 : require
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -16,17 +20,18 @@ layout(std430, set = 0, binding = 3) readonly buffer Occupancy { uint occupancy[
 #define MATERIALS_BINDING 4
 #include "cells.glsl"
 #include "materials.glsl"
+#include "see_inside.glsl"
 #include "shading.glsl"
 
 const vec3 kBackground = vec3(0.62, 0.72, 0.84);
 
-float occluder(ivec3 p) { return look_of(cell_at(p)) == kLookOpaque ? 1.0 : 0.0; }
+float occluder(ivec3 p) { return seen_look(visible_cell_at(p)) == kLookOpaque ? 1.0 : 0.0; }
 
-// Fraction of the light a surface of look `look` reflects where the ray enters it.
-float entry_coverage(uint look) { return look == kLookLiquid ? 0.35 : 0.10; }
+// Fraction of the light a surface of seen look `look` reflects where the ray enters it.
+float entry_coverage(uint look) { return look == kLookLiquid ? 0.35 : (look == kLookXray ? kXrayAlpha : 0.10); }
 
-// Absorption per cell of path inside a medium of look `look`.
-float absorption(uint look) { return look == kLookLiquid ? 0.12 : 0.035; }
+// Absorption per cell of path inside a medium of seen look `look`.
+float absorption(uint look) { return look == kLookLiquid ? 0.12 : (look == kLookXray ? 0.04 : 0.035); }
 
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
@@ -37,14 +42,21 @@ void main() {
   vec3 origin = pc.eye.xyz;
   vec3 direction = normalize(far_point.xyz / far_point.w - origin);
   vec3 inv = 1.0 / direction;
-  vec3 t0 = (vec3(0.0) - origin) * inv, t1 = (vec3(pc.grid.xyz) - origin) * inv;
+  // The box of kept cells: the grid, less the side of the plane the section removes.
+  ivec3 box_low = ivec3(0), box_high = pc.grid.xyz;
+  int section = section_axis();
+  if (section >= 0) {
+    if (section_keeps_high()) box_low[section] = section_plane();
+    else box_high[section] = section_plane();
+  }
+  vec3 t0 = (vec3(box_low) - origin) * inv, t1 = (vec3(box_high) - origin) * inv;
   float t_enter = max(max(min(t0.x, t1.x), min(t0.y, t1.y)), max(min(t0.z, t1.z), 0.0));
   float t_exit = min(min(max(t0.x, t1.x), max(t0.y, t1.y)), max(t0.z, t1.z));
   vec3 gathered = vec3(0.0);  // light reaching the eye from what the ray crossed so far
   float transmitted = 1.0;    // fraction of what lies further along that still reaches the eye
-  if (t_enter < t_exit) {
+  if (t_enter < t_exit && all(lessThan(box_low, box_high))) {
     vec3 start = origin + direction * (t_enter + 1e-4);
-    ivec3 cell = clamp(ivec3(floor(start)), ivec3(0), pc.grid.xyz - 1);
+    ivec3 cell = clamp(ivec3(floor(start)), box_low, box_high - 1);
     ivec3 step_dir = ivec3(sign(direction));
     vec3 next_boundary = vec3(cell) + max(vec3(step_dir), vec3(0.0));
     vec3 t_max = (next_boundary - origin) * inv;
@@ -56,11 +68,11 @@ void main() {
     int axis = (tx >= ty && tx >= tz) ? 0 : (ty >= tz ? 1 : 2);
     int max_steps = pc.grid.x + pc.grid.y + pc.grid.z + 3;
     for (int i = 0; i < max_steps; ++i) {
-      if (!inside_grid(cell)) break;
+      if (any(lessThan(cell, box_low)) || any(greaterThanEqual(cell, box_high))) break;
       ivec3 brick = cell / kBrickSize;
       if (occupancy[uint(brick.x) + uint(pc.bricks.x) * (uint(brick.y) + uint(pc.bricks.y) * uint(brick.z))] == 0u) {
         // Jump to where the ray leaves this empty brick and restart the walk there.
-        vec3 low = vec3(brick * kBrickSize), high = min(low + float(kBrickSize), vec3(pc.grid.xyz));
+        vec3 low = vec3(max(brick * kBrickSize, box_low)), high = vec3(min(brick * kBrickSize + kBrickSize, box_high));
         vec3 t_out = (mix(low, high, greaterThan(direction, vec3(0.0))) - origin) * inv;
         t_out = mix(t_out, vec3(1e30), equal(direction, vec3(0.0)));
         float t_leave = min(min(t_out.x, t_out.y), t_out.z);
@@ -75,7 +87,7 @@ void main() {
         continue;
       }
       uint material = material_of(cells[cell_index(cell)]);
-      uint look = look_of(material);
+      uint look = seen_look(material);
       if (look != kLookVoid) {
         ivec3 n = ivec3(0);
         n[axis] = -step_dir[axis];

@@ -5,6 +5,15 @@ import struct
 import zlib
 
 
+def png_size(path):
+    """(width, height) of the PNG at `path`, from its header."""
+    with open(path, "rb") as f:
+        data = f.read(24)
+    if data[:8] != b"\x89PNG\r\n\x1a\n" or data[12:16] != b"IHDR":
+        raise ValueError(f"{path}: not a PNG")
+    return struct.unpack(">II", data[16:24])
+
+
 def read_png(path, max_width=None, max_height=None):
     """(width, height, rows) of the image's top-left max_width x max_height pixels (all by default):
     rows[y] is a bytes object of width * 4 RGBA bytes. (A PNG row's filters look only left and up,

@@ -176,7 +176,7 @@ void check_scene_colours(const std::shared_ptr<const granular::RuleSet>& rules, 
 
 }  // namespace
 
-TEST_CASE("material colours: the palette holds each state's table colour and look") {
+TEST_CASE("material colours: the palette holds each state's table colour, look and whether it is static") {
   const granular::MaterialTable table = granular::preset("inertial-24").materials;
   const auto entries = palette_entries(table);
   for (int s = 0; s < granular::kMaterialCount; ++s) {
@@ -186,6 +186,7 @@ TEST_CASE("material colours: the palette holds each state's table colour and loo
     CHECK(entries[std::size_t(s)].colour.g == doctest::Approx(float((c >> 8) & 0xFF) / 255.0f));
     CHECK(entries[std::size_t(s)].colour.b == doctest::Approx(float(c & 0xFF) / 255.0f));
     CHECK(entries[std::size_t(s)].look.x == std::uint32_t(look_of(table[std::size_t(s)].behaviour)));
+    CHECK(entries[std::size_t(s)].look.y == (table[std::size_t(s)].behaviour == granular::Behaviour::Static ? 1u : 0u));
   }
   CHECK(look_of(granular::Behaviour::Void) == MaterialLook::Void);
   CHECK(look_of(granular::Behaviour::Static) == MaterialLook::Opaque);

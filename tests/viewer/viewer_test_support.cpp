@@ -22,13 +22,15 @@ VulkanContext& context() {
   return instance;
 }
 
-std::unique_ptr<granular::World> bowl_world(int n) {
+std::unique_ptr<granular::World> scene_world(const std::string& scene, int n) {
   granular::WorldDef def;
   def.backend = granular::BackendKind::Cpu;
   def.threads = 2;
-  const granular::SceneInstance scene = granular::instantiate(granular::load_scene(granular::find_scene("bowl")), n);
-  return std::make_unique<granular::World>(def, scene.grid);
+  const granular::SceneInstance instance = granular::instantiate(granular::load_scene(granular::find_scene(scene)), n);
+  return std::make_unique<granular::World>(def, instance.grid);
 }
+
+std::unique_ptr<granular::World> bowl_world(int n) { return scene_world("bowl", n); }
 
 int ticks_for_seconds(const granular::World& world, double seconds) {
   return std::max(1, int(std::lround(seconds / granular::tick_seconds(world.rules()))));

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "camera.hpp"
@@ -19,6 +20,9 @@ inline constexpr std::uint32_t kHeight = 240;
 
 /// The process-wide context, with validation on.
 VulkanContext& context();
+
+/// Scene `scene` (a name from assets/scenes) at N = `n` on the CPU backend.
+std::unique_ptr<granular::World> scene_world(const std::string& scene, int n);
 
 /// The bowl scene at N = 64 on the CPU backend.
 std::unique_ptr<granular::World> bowl_world(int n = 64);

@@ -1,19 +1,21 @@
 #!/usr/bin/env python3
-"""A user's first minute with the windowed sandbox, on a virtual display (run it inside
-with_xvfb.py, as ctest viewer.windowed_session does, or `xvfb-run -a`): starts LAUNCHER (scripts/launch, what ./scripts/run execs after installing and
-building), checks the window is still open after 10 s and that the automatic renderer choice
-(--renderer auto, the default) printed its final choice, taps C (xdotool's default 12 ms key press)
-and sees the renderer switch to the next one, taps Tab through erase to shake (the default rules have a motion
-model), clicks on the sand and sees cells set moving, taps Tab back to dig, clicks on the sand and
-sees it dug, chooses the liquid (key 3) and pours it with a right click, chooses solid (key 1) and
-paints it with a right click, keeps the window open for more than 60 frames while tapping every
-material key 1..7 in turn (each must choose the material the sandbox listed for it at start),
-presses Esc and sees exit status 0 and, in the screenshot of the last frame, the HUD's colour
-swatch of every listed material.
+"""A user's first minute with the windowed sandbox, on a virtual display (run it inside with_xvfb.py,
+as ctest viewer.windowed_session does, or `xvfb-run -a`): starts LAUNCHER (scripts/launch, what
+./scripts/run execs after installing and building), checks the window is still open after 10 s and
+that the automatic renderer choice (--renderer auto, the default) printed its final choice, taps C
+(xdotool's default 12 ms key press) and sees the renderer switch to the next one, taps Tab through
+erase to shake (the default rules have a motion model), clicks on the sand and sees cells set
+moving, taps Tab back to dig, clicks on the sand and sees it dug, chooses the liquid (key 3) and
+pours it with a right click, chooses solid (key 1) and paints it with a right click, taps V (a
+section across x), comma and period (the plane one step down and back), B (x-ray on) and P (a
+screenshot, which must exist as a PNG of the window's size), keeps the window open for more than 60
+frames while tapping every material key 1..7 in turn (each must choose the material the sandbox listed for it at start),
+presses Esc and sees exit status 0 and, in the screenshot of the last frame, the HUD's colour swatch
+of every listed material.
 The sandbox prints one line per user action on stdout ("renderer: marching", "left button: shake
-(...)", "shake: 109 cells set moving", "dig: 137 cells removed", "material: liquid (right button pours
-it)"); this script reads them. Every wait is bounded; exit status 0 on success, 1 with the reason
-otherwise.
+(...)", "shake: 109 cells set moving", "dig: 137 cells removed", "material: liquid (right button
+pours it)", "section: x 0.47", "x-ray: on", "screenshot: FILE"); this script reads them. Every wait
+is bounded; exit status 0 on success, 1 with the reason otherwise.
 
 usage: windowed_session.py LAUNCHER [ARGS...]
 """
@@ -26,7 +28,7 @@ import tempfile
 import threading
 import time
 
-from png_pixels import has_square_of_colour, read_png
+from png_pixels import has_square_of_colour, png_size, read_png
 
 WINDOW_TITLE = "granular sandbox"
 FRAMES_TO_OUTLAST = 61  # more frames than the 60 after which the window once closed itself
@@ -95,7 +97,7 @@ def find_window(timeout):
     return None
 
 
-def run(command, screenshot):
+def run(command, screenshot, screenshot_dir):
     started = time.monotonic()
 
     def step(text):
@@ -220,6 +222,31 @@ def run(command, screenshot):
             xdotool("key", key)
             if not sandbox.wait_for(f"^{reply}$", timeout=20, after=mark):
                 return f"a tap of {key} did not print '{reply}' within 20 s"
+        # See inside (paused and ray marched, so each frame is quick): V cuts across x at the middle,
+        # comma and period move the plane a step down and back, B turns x-ray on; P writes the frame
+        # to the screenshot folder.
+        for key, reply in (("v", "section: x 0.50"), ("comma", "section: x 0.47"), ("period", "section: x 0.50"),
+                           ("b", "x-ray: on")):
+            mark = len(sandbox.lines)
+            xdotool("key", key)
+            if not sandbox.wait_for(f"^{re.escape(reply)}$", timeout=20, after=mark):
+                return f"a tap of {key} did not print '{reply}' within 20 s"
+            step(f"{key}: {reply}")
+        mark = len(sandbox.lines)
+        xdotool("key", "p")
+        shot = sandbox.wait_for(r"^screenshot: (.+)$", timeout=20, after=mark)
+        if not shot:
+            return "a tap of P did not print 'screenshot: FILE' within 20 s"
+        written = os.path.basename(shot.group(1))
+        if os.path.dirname(shot.group(1)) != screenshot_dir or not written.startswith("granular-screenshot-"):
+            return f"P wrote {shot.group(1)}, expected granular-screenshot-N.png in {screenshot_dir}"
+        if not os.path.isfile(shot.group(1)):
+            return f"P printed {shot.group(1)}, but there is no such file"
+        shot_width, shot_height = png_size(shot.group(1))
+        if (shot_width, shot_height) != (int(geometry["WIDTH"]), int(geometry["HEIGHT"])):
+            return f"the screenshot is {shot_width}x{shot_height}, the window {geometry['WIDTH']}x{geometry['HEIGHT']}"
+        step(f"P wrote {shot.group(1)} ({shot_width}x{shot_height})")
+
         step(f"tapping keys 1..7 in turn until {FRAMES_TO_OUTLAST} frames have acknowledged a tap each")
         for frame in range(FRAMES_TO_OUTLAST):
             key = str(frame % 7 + 1)
@@ -269,7 +296,7 @@ def main():
         return 2
     with tempfile.TemporaryDirectory(prefix="windowed-session-") as folder:
         screenshot = os.path.join(folder, "last-frame.png")
-        failure = run(sys.argv[1:] + ["--screenshot", screenshot], screenshot)
+        failure = run(sys.argv[1:] + ["--screenshot", screenshot, "--screenshot-dir", folder], screenshot, folder)
     if failure:
         print("FAILED: " + failure, flush=True)
         return 1

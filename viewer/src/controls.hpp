@@ -13,7 +13,7 @@ struct Control {
 };
 
 /// Every control of the windowed sandbox.
-inline constexpr std::array<Control, 17> kControls{{
+inline constexpr std::array<Control, 21> kControls{{
     {"left button", "dig (removes every mobile material: granular, liquid, gas; static ones stay) / erase (removes everything) / shake (sets the grains and liquids moving at the rules' highest motion level) where the cursor's ray hits"},
     {"right button", "the chosen material: pour it above the hit point (granular, liquid, gas) / paint it as a sphere of structure in front of the hit face (static)"},
     {"wheel", "brush radius"},
@@ -29,6 +29,10 @@ inline constexpr std::array<Control, 17> kControls{{
     {"N", "single step (while paused)"},
     {"[ / ]", "fewer / more ticks per fixed update"},
     {"C", "next renderer (cubes, marching, raymarch)"},
+    {"V", "section plane: off / across x / y / z (removes the cells between the camera and the plane, so the cut shows the inside)"},
+    {", / .", "move the section plane 1/32 of its axis towards lower / higher coordinates"},
+    {"B", "x-ray: draw static materials translucent, to see what a container holds"},
+    {"P", "screenshot: the current frame to granular-screenshot-N.png (N: the first free number)"},
     {"R", "reset the scene"},
     {"Esc", "quit"},
 }};

@@ -6,6 +6,7 @@
 #include "cell_buffer.hpp"
 #include "granular/activity.hpp"
 #include "material_palette.hpp"
+#include "surface_draws.hpp"
 #include "vulkan_check.hpp"
 #include "vulkan_context.hpp"
 
@@ -50,6 +51,7 @@ CubeRenderer::CubeRenderer(const VulkanContext& context, const CellBuffer& cells
       build_(context.device(), sets_.layout(), "cube_build.comp"),
       draw_pipeline_(context.device(), sets_.layout(), target_pass, "cube.vert", "cube.frag"),
       translucent_pipeline_(context.device(), sets_.layout(), target_pass, "cube.vert", "cube.frag", GraphicsOptions::translucent()),
+      cap_(context, cells, palette, target_pass, true),
       compaction_(context, draws_, brick_total_) {
   sets_.write_buffer(0, cells.buffer());
   sets_.write_buffer(2, instances_.buffer());
@@ -67,10 +69,8 @@ std::uint64_t CubeRenderer::prepare(VkCommandBuffer commands, const FrameView& v
   memory_barrier(commands, VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT,
                  VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT,
                  VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
-  ViewConstants constants = view.raster;
-  constants.grid.w = int(bricks);
   build_.bind(commands, VK_PIPELINE_BIND_POINT_COMPUTE, sets_.set(view.slot));
-  vkCmdPushConstants(commands, build_.layout(), VK_SHADER_STAGE_ALL, 0, sizeof(constants), &constants);
+  vkCmdPushConstants(commands, build_.layout(), VK_SHADER_STAGE_ALL, 0, sizeof(ViewConstants), &view.raster);
   vkCmdDispatch(commands, bricks, 1, 1);
   memory_barrier(commands, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                  VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT,
@@ -80,12 +80,8 @@ std::uint64_t CubeRenderer::prepare(VkCommandBuffer commands, const FrameView& v
 }
 
 void CubeRenderer::draw(VkCommandBuffer commands, const FrameView& view) {
-  draw_pipeline_.bind(commands, VK_PIPELINE_BIND_POINT_GRAPHICS, sets_.set(view.slot));
-  vkCmdPushConstants(commands, draw_pipeline_.layout(), VK_SHADER_STAGE_ALL, 0, sizeof(ViewConstants), &view.raster);
-  compaction_.draw(commands, 0);
-  translucent_pipeline_.bind(commands, VK_PIPELINE_BIND_POINT_GRAPHICS, sets_.set(view.slot));
-  vkCmdPushConstants(commands, translucent_pipeline_.layout(), VK_SHADER_STAGE_ALL, 0, sizeof(ViewConstants), &view.raster);
-  compaction_.draw(commands, 1);
+  record_surface_draws(commands, view,
+                       {draw_pipeline_, translucent_pipeline_, sets_.set(view.slot), compaction_, cap_});
 }
 
 }  // namespace viewer

@@ -6,7 +6,9 @@
 /// indirect draw commands; one multi-draw-indirect then draws the opaque instances, a second one
 /// blends the translucent ones over them (depth-tested, not written), 18 vertices per instance.
 /// Colours come from the world's material table (MaterialPalette). Only the bricks that changed
-/// (and their neighbours) are rebuilt; the others keep their instances and commands.
+/// (and their neighbours) are rebuilt; the others keep their instances and commands. A section
+/// plane collapses the instances it removes and its cap (SectionCap) shows the cut; x-ray draws the
+/// static materials' instances again, blended (surface_draws.hpp).
 
 #include <cstdint>
 #include <memory>
@@ -17,6 +19,7 @@
 #include "brick_rebuild_list.hpp"
 #include "pipeline_builder.hpp"
 #include "renderer.hpp"
+#include "section_cap.hpp"
 
 namespace viewer {
 
@@ -56,6 +59,7 @@ class CubeRenderer final : public Renderer {
   Pipeline build_;
   Pipeline draw_pipeline_;
   Pipeline translucent_pipeline_;
+  SectionCap cap_;
   DrawCompaction compaction_;  ///< draws_ compacted to the bricks that draw something
 };
 

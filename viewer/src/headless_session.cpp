@@ -38,6 +38,7 @@ int run_headless(const SandboxOptions& options) {
   RendererKind kind = automatic ? choice.first() : *parse_renderer_kind(options.renderer);
   OffscreenRenderer offscreen(context, world,
                               {std::uint32_t(options.width), std::uint32_t(options.height)}, kind, shared.get());
+  offscreen.world_renderer().set_see_inside(options.inside);
 
   // One fixed update per frame: the manual clock advances exactly one tick length per frame.
   granular::engine::ManualClock clock;
@@ -74,6 +75,7 @@ int run_headless(const SandboxOptions& options) {
   std::printf("shaders        %s\n", shader_dir().string().c_str());
   std::printf("scene          %s (N=%d), backend %s\n", sandbox.scene_name.c_str(), sandbox.n, world.backend_description().c_str());
   std::printf("renderer       %s%s, %dx%d\n", to_string(kind), automatic ? " (auto)" : "", options.width, options.height);
+  std::printf("see inside     section %s, x-ray %s\n", options.inside.section.describe().c_str(), options.inside.xray ? "on" : "off");
   std::printf("cells          %s\n", shared ? (shared->dedicated() ? "shared with CUDA (dedicated allocation)" : "shared with CUDA")
                                              : "uploaded through staging (changed bricks)");
   std::printf("frames         %d, ticks %llu (%.3f ms/tick)\n", frames, static_cast<unsigned long long>(world.tick()), ms_per_tick);

@@ -9,6 +9,7 @@
 #include "granular/activity.hpp"
 #include "marching_cubes_tables.hpp"
 #include "material_palette.hpp"
+#include "surface_draws.hpp"
 #include "vulkan_check.hpp"
 #include "vulkan_context.hpp"
 
@@ -66,6 +67,7 @@ MarchingCubesRenderer::MarchingCubesRenderer(const VulkanContext& context, const
       build_(context.device(), sets_.layout(), "mc_build.comp"),
       draw_pipeline_(context.device(), sets_.layout(), target_pass, "mc.vert", "mc.frag"),
       translucent_pipeline_(context.device(), sets_.layout(), target_pass, "mc.vert", "mc.frag", GraphicsOptions::translucent()),
+      cap_(context, cells, palette, target_pass, false),
       compaction_(context, draws_, brick_total_) {
   const std::vector<std::uint32_t> table = gpu_case_table();
   GpuBuffer staging(context, table.size() * 4, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryKind::HostVisible);
@@ -91,7 +93,6 @@ std::uint64_t MarchingCubesRenderer::prepare(VkCommandBuffer commands, const Fra
                  VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT,
                  VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
   ViewConstants constants = view.raster;
-  constants.grid.w = int(bricks);
   constants.bricks.w = int(triangles_per_brick_);
   build_.bind(commands, VK_PIPELINE_BIND_POINT_COMPUTE, sets_.set(view.slot));
   vkCmdPushConstants(commands, build_.layout(), VK_SHADER_STAGE_ALL, 0, sizeof(constants), &constants);
@@ -104,12 +105,8 @@ std::uint64_t MarchingCubesRenderer::prepare(VkCommandBuffer commands, const Fra
 }
 
 void MarchingCubesRenderer::draw(VkCommandBuffer commands, const FrameView& view) {
-  draw_pipeline_.bind(commands, VK_PIPELINE_BIND_POINT_GRAPHICS, sets_.set(view.slot));
-  vkCmdPushConstants(commands, draw_pipeline_.layout(), VK_SHADER_STAGE_ALL, 0, sizeof(ViewConstants), &view.raster);
-  compaction_.draw(commands, 0);
-  translucent_pipeline_.bind(commands, VK_PIPELINE_BIND_POINT_GRAPHICS, sets_.set(view.slot));
-  vkCmdPushConstants(commands, translucent_pipeline_.layout(), VK_SHADER_STAGE_ALL, 0, sizeof(ViewConstants), &view.raster);
-  compaction_.draw(commands, 1);
+  record_surface_draws(commands, view,
+                       {draw_pipeline_, translucent_pipeline_, sets_.set(view.slot), compaction_, cap_});
 }
 
 }  // namespace viewer

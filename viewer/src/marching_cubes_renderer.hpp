@@ -7,7 +7,8 @@
 /// commands; one multi-draw-indirect draws the opaque surfaces of every brick, a second one blends
 /// the translucent ones over them (depth-tested, not written). Colours come from the world's
 /// material table (MaterialPalette). Only the bricks that changed (and their neighbours) are
-/// re-meshed.
+/// re-meshed. A section plane clips the surfaces and its cap (SectionCap) closes the cut; x-ray
+/// meshes the static materials apart and draws them blended (surface_draws.hpp).
 
 #include <cstdint>
 
@@ -17,6 +18,7 @@
 #include "brick_rebuild_list.hpp"
 #include "pipeline_builder.hpp"
 #include "renderer.hpp"
+#include "section_cap.hpp"
 
 namespace viewer {
 
@@ -56,6 +58,7 @@ class MarchingCubesRenderer final : public Renderer {
   Pipeline build_;
   Pipeline draw_pipeline_;
   Pipeline translucent_pipeline_;
+  SectionCap cap_;
   DrawCompaction compaction_;  ///< draws_ compacted to the bricks that draw something
 };
 

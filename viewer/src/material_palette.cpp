@@ -24,6 +24,7 @@ std::array<PaletteEntry, granular::kMaterialCount> palette_entries(const granula
   for (std::size_t s = 0; s < entries.size(); ++s) {
     entries[s].colour = glm::vec4(colour_of(table[s].colour), 1.0f);
     entries[s].look.x = std::uint32_t(look_of(table[s].behaviour));
+    entries[s].look.y = table[s].behaviour == granular::Behaviour::Static ? 1u : 0u;
   }
   return entries;
 }

@@ -35,7 +35,7 @@ glm::vec3 colour_of(std::uint32_t rgb);
 /// One state's entry of the buffer, in the shaders' std140 layout.
 struct PaletteEntry {
   glm::vec4 colour{0.0f};  ///< rgb: colour_of(MaterialDef::colour); a: unused
-  glm::uvec4 look{0u};     ///< x: the MaterialLook; yzw: unused
+  glm::uvec4 look{0u};     ///< x: the MaterialLook; y: 1 for a static material (x-ray draws it translucent); zw: unused
 };
 static_assert(sizeof(PaletteEntry) == 32);
 

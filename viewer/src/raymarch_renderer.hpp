@@ -4,7 +4,8 @@
 /// writes the colour into a storage image, which is blitted into the frame's colour image; no
 /// instance build, no rasterised geometry (for GPUs where rasterisation is the limit, and 1024^3).
 /// Rays stop at the first opaque cell and see through liquids and gases, which absorb along the
-/// path; colours come from the world's material table (MaterialPalette).
+/// path; colours come from the world's material table (MaterialPalette). Rays walk only the cells a
+/// section plane keeps, entering through the plane; under x-ray static cells absorb like a medium.
 /// Its only per-brick state is one occupancy flag per brick (rebuilt for changed bricks), which
 /// lets rays cross empty bricks in one step.
 

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "render_target.hpp"
+#include "see_inside.hpp"
 #include "view_constants.hpp"
 
 namespace viewer {
@@ -29,6 +30,7 @@ struct FrameView {
   int slot = 0;                  ///< frame-in-flight slot (selects per-frame buffers)
   ViewConstants raster;          ///< constants for raster shaders (matrix = view-projection)
   ViewConstants inverse;         ///< the same with matrix = inverse view-projection (ray march)
+  SeeInside inside;              ///< the section and x-ray (already in raster.grid.w and inverse.grid.w)
   VkImage target_image = VK_NULL_HANDLE;  ///< the colour image the frame ends in
   VkImageLayout target_layout_before = VK_IMAGE_LAYOUT_UNDEFINED;  ///< its layout before the frame
   VkExtent2D extent{};           ///< its size

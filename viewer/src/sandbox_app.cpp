@@ -21,7 +21,6 @@
 #include "granular/engine/engine_loop.hpp"
 #include "granular/engine/granular_subsystem.hpp"
 #include "glfw_window.hpp"
-#include "granular/raycast.hpp"
 #include "granular/scene.hpp"
 #include "granular/time_scale.hpp"
 #include "hud.hpp"
@@ -32,6 +31,8 @@
 #include "renderer_choice.hpp"
 #include "renderer_factory.hpp"
 #include "sandbox_tools.hpp"
+#include "screenshot_path.hpp"
+#include "section_pick.hpp"
 #include "shared_cells.hpp"
 #include "granular/external_memory.hpp"
 #include "swapchain.hpp"
@@ -100,6 +101,7 @@ class SandboxApp final : public granular::engine::Subsystem {
         input_(window_.handle()),
         hud_(context_, window_, swapchain_.target().compatible_pass(), swapchain_.min_image_count(), swapchain_.image_count()),
         kind_(options.renderer == "auto" ? choice_of_renderer_.first() : *parse_renderer_kind(options.renderer)),
+        inside_(options.inside),
         requested_extent_(window_.framebuffer_extent()) {
     load(options.world);
     camera_ = initial_camera(options.camera, world(), aspect());
@@ -118,6 +120,10 @@ class SandboxApp final : public granular::engine::Subsystem {
       glfwPollEvents();
       loop_->run_frame();
       ++frames;
+      if (screenshot_requested_) {
+        screenshot_requested_ = false;
+        take_screenshot();
+      }
       if (options_.frames && frames >= std::uint64_t(*options_.frames)) break;
       if (pending_load_) {
         pending_load_ = false;
@@ -130,9 +136,7 @@ class SandboxApp final : public granular::engine::Subsystem {
     const double seconds = clock_.now_seconds() - start;
     vkDeviceWaitIdle(context_.device());
     if (!options_.screenshot.empty()) {
-      const RenderTarget& target = swapchain_.target();
-      write_png(options_.screenshot, target.extent().width, target.extent().height,
-                target.read_pixels(context_, swapchain_.last_presented(), VK_IMAGE_LAYOUT_PRESENT_SRC_KHR));
+      write_last_frame(options_.screenshot);
       std::printf("screenshot     %s\n", options_.screenshot.c_str());
     }
     std::printf("frames         %llu in %.1f s (%.1f FPS)\n", static_cast<unsigned long long>(frames), seconds,
@@ -203,6 +207,32 @@ class SandboxApp final : public granular::engine::Subsystem {
 
   granular::World& world() { return *session_->sandbox.world; }
 
+  /// Writes the frame presented last to `path` as a PNG (waits for the device first).
+  void write_last_frame(const std::string& path) {
+    vkDeviceWaitIdle(context_.device());
+    const RenderTarget& target = swapchain_.target();
+    write_png(path, target.extent().width, target.extent().height,
+              target.read_pixels(context_, swapchain_.last_presented(), VK_IMAGE_LAYOUT_PRESENT_SRC_KHR));
+  }
+
+  /// The screenshot key: the frame just presented to the next free granular-screenshot-N.png.
+  void take_screenshot() {
+    const std::string path = next_screenshot_path(options_.screenshot_dir).string();
+    try {
+      write_last_frame(path);
+      report("screenshot: %s", path.c_str());
+    } catch (const std::runtime_error& e) {
+      report("screenshot: failed (%s)", e.what());
+    }
+  }
+
+  /// Makes `section` the section plane of the frames from now on and prints it.
+  void set_section(const SectionPlane& section) {
+    inside_.section = section;
+    renderer_->set_see_inside(inside_);
+    report("section: %s", inside_.section.describe().c_str());
+  }
+
   void load(const WorldChoice& choice) {
     vkDeviceWaitIdle(context_.device());
     loop_.reset();
@@ -233,6 +263,7 @@ class SandboxApp final : public granular::engine::Subsystem {
     choice_.size = session_->sandbox.n;
     renderer_ = std::make_unique<WorldRenderer>(context_, world(), swapchain_.target().compatible_pass(), kind_,
                                                 session_->shared.get());
+    renderer_->set_see_inside(inside_);
     // Fixed updates at the rules' real-time rate for 5 mm cells (31 Hz with the motion model, 250 Hz
     // for one step per tick), so sand falls at the speed of real sand.
     granular::engine::FixedTimestepConfig timestep;
@@ -313,6 +344,13 @@ class SandboxApp final : public granular::engine::Subsystem {
       case GLFW_KEY_C:
         set_renderer(RendererKind((int(kind_) + 1) % 3));
         break;
+      case GLFW_KEY_V: set_section(inside_.section.cycled()); break;
+      case GLFW_KEY_B:
+        inside_.xray = !inside_.xray;
+        renderer_->set_see_inside(inside_);
+        report("x-ray: %s", inside_.xray ? "on" : "off");
+        break;
+      case GLFW_KEY_P: screenshot_requested_ = true; break;
       case GLFW_KEY_R: pending_load_ = true; break;
       case GLFW_KEY_ESCAPE: glfwSetWindowShouldClose(window_.handle(), GLFW_TRUE); break;
       default:
@@ -335,6 +373,8 @@ class SandboxApp final : public granular::engine::Subsystem {
   void on_character(int character) {
     if (character == '[') change_ticks(-1);
     if (character == ']') change_ticks(+1);
+    if (character == ',') set_section(inside_.section.moved(-1));
+    if (character == '.') set_section(inside_.section.moved(+1));
   }
 
   void on_button_press(int button, int mods) {
@@ -411,8 +451,7 @@ class SandboxApp final : public granular::engine::Subsystem {
     if (hud_.wants_mouse()) return;
     const VkExtent2D extent = swapchain_.target().extent();
     const Ray ray = ray_through_pixel(camera_, float(input_.x()), float(input_.y()), float(extent.width), float(extent.height));
-    const auto hit = granular::raycast(world(), {ray.origin.x, ray.origin.y, ray.origin.z},
-                                       {ray.direction.x, ray.direction.y, ray.direction.z});
+    const auto hit = pick_kept_cell(world(), inside_.section.cut(world().size(), camera_.eye()), ray.origin, ray.direction);
     if (!hit) return;
     tool.target = hit->point;
     const granular::Int3 front = hit->in_front();
@@ -447,6 +486,7 @@ class SandboxApp final : public granular::engine::Subsystem {
       ImGui::Text("no shake tool: rules '%s' have no motion model", world().rules().name.c_str());
     ImGui::Text("right button: %s %s, brush radius %.0f", to_string(chosen.use), chosen.name.c_str(), tool.radius);
     ImGui::Text("active tool: %s", tool.held ? to_string(tool.tool) : "none");
+    ImGui::Text("section %s (V, comma, period), x-ray %s (B)", inside_.section.describe().c_str(), inside_.xray ? "on" : "off");
     if (const auto clicked = draw_material_panel(choices_, tool.material, counts_))
       choose(session_->tools->state(), choice_of(choices_, *clicked));
     int kind = int(kind_);
@@ -486,6 +526,7 @@ class SandboxApp final : public granular::engine::Subsystem {
   Hud hud_;
   RendererChoice choice_of_renderer_;  ///< measures the renderers while --renderer is auto
   RendererKind kind_;
+  SeeInside inside_;  ///< the section plane (V, comma, period) and x-ray (B) of every frame
   VkExtent2D requested_extent_;
   granular::engine::SteadyClock clock_;
   std::unique_ptr<Session> session_;
@@ -494,6 +535,7 @@ class SandboxApp final : public granular::engine::Subsystem {
   OrbitCamera camera_;
   WorldChoice choice_;
   bool pending_load_ = false;
+  bool screenshot_requested_ = false;  ///< P was pressed: write the frame once it is presented
   std::optional<Stroke> stroke_;
   Tool left_tool_ = Tool::Dig;  ///< the left button's tool, one of left_button_tools(world().rules())
   std::vector<MaterialChoice> choices_;  ///< the materials of the world's table, on keys 1..7

@@ -1,6 +1,7 @@
 #include "sandbox_options.hpp"
 
 #include <CLI/CLI.hpp>
+#include <filesystem>
 #include <stdexcept>
 #include <string>
 
@@ -33,6 +34,13 @@ void add_sandbox_options(CLI::App& app, SandboxOptions& o) {
                                "frames to run (headless: default " + std::to_string(kDefaultHeadlessFrames) +
                                    "; windowed: default until the window is closed or Esc)");
   app.add_option("--screenshot", o.screenshot, "write the last frame to this PNG (windowed: the frame before it closes)");
+  app.add_option("--screenshot-dir", o.screenshot_dir,
+                 "folder the P key writes granular-screenshot-N.png into (default: the current folder)");
+  app.add_option_function<std::string>(
+      "--section", [&o](const std::string& text) { o.inside.section = parse_section(text); },
+      "AXIS:FRACTION: a section plane across axis x, y or z at FRACTION (0..1) of the grid, removing the half "
+      "between the camera and the plane (keys V, comma, period)");
+  app.add_flag("--xray", o.inside.xray, "draw static materials translucent (key B)");
   app.add_option("--camera", o.camera,
                  "yaw,pitch,distance[,tx,ty,tz]: degrees, distance and target as fractions of the grid "
                  "(default: framing the scene's non-void cells)");
@@ -53,6 +61,9 @@ void validate(const SandboxOptions& o) {
     throw std::invalid_argument("--width/--height must be in 16..16384, got " + std::to_string(o.width) + "x" + std::to_string(o.height));
   if (o.renderer != "auto" && !parse_renderer_kind(o.renderer))
     throw std::invalid_argument("--renderer '" + o.renderer + "': expected auto, cubes, marching or raymarch");
+  std::error_code error;
+  if (!std::filesystem::is_directory(o.screenshot_dir, error))
+    throw std::invalid_argument("--screenshot-dir '" + o.screenshot_dir + "': not a folder");
 }
 
 }  // namespace viewer

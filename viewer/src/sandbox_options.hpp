@@ -6,6 +6,7 @@
 #include <string>
 
 #include "scene_loader.hpp"
+#include "see_inside.hpp"
 
 namespace CLI {
 class App;
@@ -19,6 +20,8 @@ struct SandboxOptions {
   bool headless = false;          ///< render offscreen with no window (no GLFW at all)
   std::optional<int> frames;      ///< --frames: frames to run (unset: headless_frames(), windowed until closed)
   std::string screenshot;         ///< PNG of the last frame
+  std::string screenshot_dir = "."; ///< the folder the screenshot key (P) writes into
+  SeeInside inside;               ///< --section and --xray: the section plane and x-ray at start
   std::string camera;             ///< "yaw,pitch,distance[,tx,ty,tz]" (empty: framing the content)
   std::string renderer = "auto";  ///< auto (renderer_choice.hpp), cubes, marching or raymarch
   int ticks_per_frame = 1;        ///< world ticks per engine fixed update (one fixed update per frame headless)

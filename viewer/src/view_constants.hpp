@@ -10,7 +10,7 @@ namespace viewer {
 struct ViewConstants {
   glm::mat4 matrix{1.0f};  ///< raster: view-projection; ray march: its inverse
   glm::vec4 eye{0.0f};     ///< camera position in cells; w: brush radius (0: no brush highlight)
-  glm::ivec4 grid{0};      ///< grid extent; w: bricks in the build list of a dispatch
+  glm::ivec4 grid{0};      ///< grid extent; w: the section and x-ray (see_inside_word, see_inside.hpp)
   glm::ivec4 bricks{0};    ///< bricks per axis; w: image width
   glm::vec4 brush{0.0f};   ///< brush centre in cells; w: image height
 };

@@ -169,10 +169,10 @@ void VulkanContext::pick_physical_device(const ContextOptions& options) {
     features.pNext = &features12;
     vkGetPhysicalDeviceFeatures2(device, &features);
     if (!features.features.multiDrawIndirect || !features.features.drawIndirectFirstInstance ||
-        !features12.storageBuffer8BitAccess || !features12.shaderInt8 || !features12.timelineSemaphore ||
-        !features12.drawIndirectCount) {
-      reject("lacks multiDrawIndirect, drawIndirectFirstInstance, storageBuffer8BitAccess, shaderInt8, timelineSemaphore "
-             "or drawIndirectCount");
+        !features.features.shaderClipDistance || !features12.storageBuffer8BitAccess || !features12.shaderInt8 ||
+        !features12.timelineSemaphore || !features12.drawIndirectCount) {
+      reject("lacks multiDrawIndirect, drawIndirectFirstInstance, shaderClipDistance, storageBuffer8BitAccess, shaderInt8, "
+             "timelineSemaphore or drawIndirectCount");
       continue;
     }
     std::uint32_t family_count = 0;
@@ -227,6 +227,7 @@ void VulkanContext::create_device(const ContextOptions& options) {
   features.pNext = &features12;
   features.features.multiDrawIndirect = VK_TRUE;
   features.features.drawIndirectFirstInstance = VK_TRUE;
+  features.features.shaderClipDistance = VK_TRUE;  // the marching cubes' section plane (mc.vert)
 
   const std::vector<const char*> extensions = device_extensions(options);
   VkDeviceCreateInfo info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};

@@ -42,6 +42,11 @@ Renderer& WorldRenderer::renderer_of(RendererKind kind) {
   return *renderer;
 }
 
+void WorldRenderer::set_see_inside(const SeeInside& inside) {
+  if (inside.xray != inside_.xray) active_->invalidate();
+  inside_ = inside;
+}
+
 void WorldRenderer::set_kind(RendererKind kind) {
   Renderer& next = renderer_of(kind);
   if (&next != active_) next.invalidate();
@@ -83,7 +88,8 @@ FrameWork WorldRenderer::record(VkCommandBuffer commands, int slot, const Render
   const granular::Int3 size = world_.size();
   view.raster.matrix = view_projection;
   view.raster.eye = glm::vec4(camera.eye(), brush.visible ? brush.radius : 0.0f);
-  view.raster.grid = {size.x, size.y, size.z, 0};
+  view.inside = inside_;
+  view.raster.grid = {size.x, size.y, size.z, see_inside_word(inside_, size, camera.eye())};
   view.raster.bricks = {counts.x, counts.y, counts.z, int(extent.width)};
   view.raster.brush = glm::vec4(brush.center, float(extent.height));
   view.inverse = view.raster;

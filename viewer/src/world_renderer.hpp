@@ -68,6 +68,12 @@ class WorldRenderer {
   RendererKind kind() const { return active_->kind(); }
   /// The cell buffer.
   const CellBuffer& cells() const { return *cells_; }
+  /// Draws the frames recorded from now on with `inside`'s section plane and x-ray. The section
+  /// rebuilds nothing (the renderers apply it when drawing); a change of x-ray rebuilds the active
+  /// renderer's bricks once (the builds list the faces a static material hides only under x-ray).
+  void set_see_inside(const SeeInside& inside);
+  /// The section plane and x-ray of the frames recorded now.
+  const SeeInside& see_inside() const { return inside_; }
 
   /// Records the frame of slot `slot` into `commands` for image `image_index` of `target`.
   /// `overlay` (may be empty) records more draws inside the render pass (the HUD).
@@ -88,6 +94,7 @@ class WorldRenderer {
   MaterialPalette palette_;
   std::array<std::unique_ptr<Renderer>, 3> renderers_;
   Renderer* active_ = nullptr;
+  SeeInside inside_;
   bool uploaded_once_ = false;
   std::uint64_t uploaded_version_ = 0;
   VkQueryPool queries_ = VK_NULL_HANDLE;
