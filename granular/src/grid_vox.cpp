@@ -15,6 +15,7 @@
 #include "granular/grid_io.hpp"
 #include "granular/memory_budget.hpp"
 #include "granular/vox_io.hpp"
+#include "little_endian.hpp"
 
 namespace granular {
 
@@ -60,11 +61,6 @@ std::string excerpt(std::string_view text) {
   std::string s = printable(std::span<const std::uint8_t>(b, std::min(text.size(), kMax)));
   if (text.size() > kMax) s += "... (" + std::to_string(text.size()) + " bytes)";
   return s;
-}
-
-std::uint32_t get_u32(std::span<const std::uint8_t> b, std::size_t at) {
-  return std::uint32_t(b[at]) | (std::uint32_t(b[at + 1]) << 8) | (std::uint32_t(b[at + 2]) << 16) |
-         (std::uint32_t(b[at + 3]) << 24);
 }
 
 bool id_is(std::span<const std::uint8_t> b, std::size_t at, const char (&id)[5]) {
