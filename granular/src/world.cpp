@@ -11,6 +11,7 @@
 #include "granular/backend_factory.hpp"
 #include "granular/backend_registry.hpp"
 #include "granular/errors.hpp"
+#include "granular/hex.hpp"
 #include "granular/lut.hpp"
 #include "granular/motion.hpp"
 #include "granular/rule_presets.hpp"
@@ -175,6 +176,17 @@ void check_cell_bytes(std::span<const std::uint8_t> cells, const RuleSet& rules,
                         problems[*first]);
 }
 
+/// Throws InvalidArgument naming both names and fingerprints unless `rules`, whose fingerprint is
+/// `fingerprint`, is the rule set the snapshot was taken under; `what` starts the message.
+void check_snapshot_rules(const WorldSnapshot& snapshot, const RuleSet& rules, std::uint64_t fingerprint,
+                          const std::string& what) {
+  if (fingerprint == snapshot.rule_fingerprint) return;
+  throw InvalidArgument(what + ": the snapshot was taken under rules '" + snapshot.rules + "' (fingerprint " +
+                        hex64(snapshot.rule_fingerprint) + ") but the world's rules are '" + rules.name +
+                        "' (fingerprint " + hex64(fingerprint) + ")" +
+                        (snapshot.rules == rules.name ? "; the rule set of that name has changed since" : ""));
+}
+
 /// Every brick of a grid of `size`, ascending.
 std::vector<std::uint32_t> all_bricks(Int3 size) {
   const Int3 n = granular::brick_counts(size);
@@ -244,7 +256,7 @@ World::World(const WorldDef& def, const WorldSnapshot& snapshot) : def_(def) {
     throw InvalidArgument("World: WorldSnapshot::cells holds " + std::to_string(snapshot.cells.size()) +
                           " bytes; its " + to_string(snapshot.size) + " grid has " + std::to_string(cells) + " cells");
   const std::shared_ptr<const RuleSet> rules = def_.rule_set ? def_.rule_set : make_rule_set(def_.rules);
-  check_snapshot_rules(snapshot, *rules, "World");
+  check_snapshot_rules(snapshot, *rules, rule_fingerprint(*rules), "World");
   check_cell_bytes(snapshot.cells, *rules, "World: snapshot", [&](std::size_t i) { return cell_text(i, snapshot.size); });
   // The initial grid and the backend's copy of it.
   check_grid_size(snapshot.size, "World: the snapshot's grid", 2.0, kWorldExtraBytes);
@@ -493,7 +505,7 @@ void World::restore(const WorldSnapshot& snapshot) {
     throw InvalidArgument("World::restore: the snapshot's seed is " + std::to_string(snapshot.seed) +
                           " but this world's (WorldDef::seed) is " + std::to_string(def_.seed) +
                           "; a snapshot continues only under its own seed");
-  check_snapshot_rules(snapshot, *rules_, "World::restore");
+  check_snapshot_rules(snapshot, *rules_, rule_fingerprint_, "World::restore");
   check_cell_bytes(snapshot.cells, *rules_, "World::restore: snapshot", [&](std::size_t i) { return cell_text(i, size_); });
   write_grid(snapshot.cells, all_bricks(size_));
   tick_ = snapshot.tick;

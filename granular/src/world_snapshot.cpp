@@ -1,9 +1,6 @@
 #include "granular/world_snapshot.hpp"
 
-#include <zstd.h>
-
 #include <algorithm>
-#include <array>
 #include <cstring>
 #include <new>
 
@@ -12,7 +9,6 @@
 #include "granular/grid.hpp"
 #include "granular/grid_io.hpp"
 #include "granular/hex.hpp"
-#include "granular/rule_set.hpp"
 #include "little_endian.hpp"
 #include "zstd_bytes.hpp"
 
@@ -194,15 +190,6 @@ void check_snapshot_save_path(const std::filesystem::path& path) {
                           "; a snapshot file's extension is " + kSnapshotExtension);
   }
   check_save_target(path);
-}
-
-void check_snapshot_rules(const WorldSnapshot& snapshot, const RuleSet& rules, const std::string& what) {
-  const std::uint64_t fingerprint = rule_fingerprint(rules);
-  if (fingerprint == snapshot.rule_fingerprint) return;
-  throw InvalidArgument(what + ": the snapshot was taken under rules '" + snapshot.rules + "' (fingerprint " +
-                        hex64(snapshot.rule_fingerprint) + ") but the world's rules are '" + rules.name +
-                        "' (fingerprint " + hex64(fingerprint) + ")" +
-                        (snapshot.rules == rules.name ? "; the rule set of that name has changed since" : ""));
 }
 
 }  // namespace granular

@@ -17,8 +17,6 @@
 
 namespace granular {
 
-struct RuleSet;
-
 /// A world's whole state.
 struct WorldSnapshot {
   Int3 size{};                      ///< grid extent
@@ -77,9 +75,5 @@ bool is_snapshot_file(const std::filesystem::path& path);
 /// InvalidArgument for an extension other than .gsnap, FileError when the path (after symbolic
 /// links) is a directory or its directory is missing or not writable.
 void check_snapshot_save_path(const std::filesystem::path& path);
-
-/// Throws InvalidArgument naming both names and fingerprints unless `rules` is the rule set the
-/// snapshot was taken under (the same rule_fingerprint); `what` starts the message.
-void check_snapshot_rules(const WorldSnapshot& snapshot, const RuleSet& rules, const std::string& what);
 
 }  // namespace granular
