@@ -10,6 +10,7 @@
 #include "granular/engine/clock.hpp"
 #include "granular/engine/engine_loop.hpp"
 #include "granular/engine/granular_subsystem.hpp"
+#include "granular/world_snapshot.hpp"
 #include "offscreen_renderer.hpp"
 #include "png_writer.hpp"
 #include "render_subsystem.hpp"
@@ -18,12 +19,16 @@
 #include "shader_loader.hpp"
 #include "shared_cells.hpp"
 #include "vulkan_context.hpp"
+#include "world_files.hpp"
 
 namespace viewer {
 
 int run_headless(const SandboxOptions& options) {
-  SandboxWorld sandbox = load_world(options.world);
+  const WorldChoice choice = start_choice(options);
+  SandboxWorld sandbox = load_world(choice);
   granular::World& world = *sandbox.world;
+  const std::uint64_t first_tick = world.tick();  // a snapshot's
+  if (granular::is_snapshot_file(choice.scene)) std::printf("%s\n", loaded_line(world, choice.scene).c_str());
   ContextOptions context_options;
   context_options.validation = options.validation;
   const std::optional<ContextOptions> interop = options.no_interop ? std::nullopt : interop_context(world, context_options);
@@ -49,19 +54,21 @@ int run_headless(const SandboxOptions& options) {
     loop.run_frame();
     clock.advance(loop.timestep().tick_seconds());
   }
+  if (!options.save.empty()) std::printf("%s\n", save_world(world, options.save).c_str());
   const GpuTimings gpu = offscreen.last_timings();
   if (!options.screenshot.empty()) {
     write_png(options.screenshot, offscreen.extent().width, offscreen.extent().height, offscreen.pixels());
   }
   offscreen.wait_idle();
-  const double ms_per_tick = world.tick() ? simulation.total_step_seconds() * 1e3 / double(world.tick()) : 0.0;
+  const std::uint64_t ticks = world.tick() - first_tick;
+  const double ms_per_tick = ticks ? simulation.total_step_seconds() * 1e3 / double(ticks) : 0.0;
   std::printf("device         %s\n", context.device_name().c_str());
   std::printf("shaders        %s\n", shader_dir().string().c_str());
   std::printf("scene          %s (N=%d), backend %s\n", sandbox.scene_name.c_str(), sandbox.n, world.backend_description().c_str());
   std::printf("renderer       %s, %dx%d\n", options.renderer.c_str(), options.width, options.height);
   std::printf("cells          %s\n", shared ? (shared->dedicated() ? "shared with CUDA (dedicated allocation)" : "shared with CUDA")
                                              : "uploaded through staging (changed bricks)");
-  std::printf("frames         %d, ticks %llu (%.3f ms/tick)\n", frames, static_cast<unsigned long long>(world.tick()), ms_per_tick);
+  std::printf("frames         %d, ticks %llu (%.3f ms/tick)\n", frames, static_cast<unsigned long long>(ticks), ms_per_tick);
   std::printf("last frame gpu upload %.3f ms, build %.3f ms, draw %.3f ms\n", gpu.upload_ms, gpu.build_ms, gpu.draw_ms);
   if (!options.screenshot.empty()) std::printf("screenshot     %s\n", options.screenshot.c_str());
   std::printf("validation     %s, %llu messages\n", options.validation ? "on" : "off",
