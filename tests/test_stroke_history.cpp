@@ -15,10 +15,11 @@
 #include "tool_session.hpp"
 
 using namespace granular;
-using granular::test::apply_tools;
 using granular::test::check_has;
 using granular::test::error_of;
 using granular::test::fluid_scene;
+using granular::test::play;
+using granular::test::play_alike;
 using granular::test::test_def;
 
 namespace {
@@ -31,14 +32,6 @@ struct State {
   bool operator==(const State&) const = default;
 };
 State state_of(const World& w) { return {w.hash(), w.tick(), w.tool_calls()}; }
-
-/// `ticks` ticks of the tool session, each with its tools before it.
-void play(World& w, int ticks) {
-  for (int i = 0; i < ticks; ++i) {
-    apply_tools(w, w.tick());
-    w.step(1);
-  }
-}
 
 /// One stroke: a dig held for `ticks` ticks (the world steps meanwhile), then released.
 void stroke(World& w, StrokeHistory& history, int ticks, double x) {
@@ -87,13 +80,7 @@ TEST_CASE("history: undo restores the world at the stroke's start exactly, and i
 
     // From the undo on, the world steps as it did from the stroke's start.
     World reference(def, at_start);
-    for (int i = 0; i < 20; ++i) {
-      apply_tools(world, world.tick());
-      apply_tools(reference, reference.tick());
-      world.step(1);
-      reference.step(1);
-      REQUIRE(world.hash() == reference.hash());
-    }
+    play_alike(world, reference, 20);
     // Which forgot the redo list; undo goes back to the stroke's start again.
     CHECK(history.redo_count() == 0);
     CHECK_FALSE(history.redo());

@@ -25,10 +25,11 @@
 #include "tool_session.hpp"
 
 using namespace granular;
-using granular::test::apply_tools;
 using granular::test::check_has;
 using granular::test::error_of;
 using granular::test::fluid_scene;
+using granular::test::play;
+using granular::test::play_alike;
 using granular::test::test_def;
 
 namespace {
@@ -49,26 +50,10 @@ std::filesystem::path temp_file(const std::string& name) {
   return dir / name;
 }
 
-/// Steps `a` and `b` `ticks` ticks with the same tools before each, requiring the same tick and
-/// hash after every one.
-void step_together(World& a, World& b, int ticks) {
-  for (int i = 0; i < ticks; ++i) {
-    apply_tools(a, a.tick());
-    apply_tools(b, b.tick());
-    a.step(1);
-    b.step(1);
-    REQUIRE(a.tick() == b.tick());
-    REQUIRE(a.hash() == b.hash());
-  }
-}
-
 /// The world after `ticks` ticks of the tool session.
 World session_world(const WorldDef& def, int ticks) {
   World w(def, fluid_scene(kSize));
-  for (int i = 0; i < ticks; ++i) {
-    apply_tools(w, w.tick());
-    w.step(1);
-  }
+  play(w, ticks);
   return w;
 }
 
@@ -118,7 +103,7 @@ TEST_CASE("snapshot: a world saved, loaded into a fresh World and stepped on kee
     CHECK(continued.tool_calls() == original.tool_calls());
     CHECK(continued.hash() == original.hash());
     CHECK(continued.def().seed == 7);
-    step_together(original, continued, 45);
+    play_alike(original, continued, 45);
   }
 }
 
@@ -134,7 +119,7 @@ TEST_CASE("snapshot: restore() puts a captured state back into a world, which co
   CHECK(other.tool_calls() == original.tool_calls());
   CHECK(other.hash() == original.hash());
   CHECK(other.bricks_changed_since(version).size() == std::size_t(brick_counts(kSize).x * brick_counts(kSize).y * brick_counts(kSize).z));
-  step_together(original, other, 30);
+  play_alike(original, other, 30);
 }
 
 TEST_CASE("snapshot: the encoded layout is the documented header, the rule set name, then one zstd frame") {

@@ -3,6 +3,8 @@
 /// A small world in motion with every kind of cell, and a player's tools between ticks: what the
 /// snapshot and undo tests continue, stop, save and rewind.
 
+#include <doctest/doctest.h>
+
 #include <cstdint>
 
 #include "granular/grid.hpp"
@@ -31,6 +33,24 @@ inline void apply_tools(World& world, std::uint64_t t) {
   if (t % 4 == 1) world.pour({double(s.x) - x, y, s.z - 8.0}, 3.0, Material::Liquid, 15);
   if (t % 5 == 2) world.dig(Sphere{{x, double(s.y) - y, s.z / 2.0}, 4.0});
   if (t % 7 == 3 && world.rules().motion.enabled()) world.shake(Sphere{{x, y, s.z / 3.0}, 5.0}, 3);
+}
+
+/// `ticks` ticks of the session: the tools of each tick, then the tick.
+inline void play(World& world, int ticks) {
+  for (int i = 0; i < ticks; ++i) {
+    apply_tools(world, world.tick());
+    world.step(1);
+  }
+}
+
+/// Plays `a` and `b` alike for `ticks` ticks, requiring the same tick and hash after every one.
+inline void play_alike(World& a, World& b, int ticks) {
+  for (int i = 0; i < ticks; ++i) {
+    play(a, 1);
+    play(b, 1);
+    REQUIRE(a.tick() == b.tick());
+    REQUIRE(a.hash() == b.hash());
+  }
 }
 
 }  // namespace granular::test

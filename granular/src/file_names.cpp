@@ -20,11 +20,11 @@ std::string quoted(const std::filesystem::path& p) {
   return q;
 }
 
-std::string printable_bytes(std::span<const std::uint8_t> b) {
+std::string escaped_bytes(std::span<const std::uint8_t> b, char quote) {
   static const char* kHex = "0123456789ABCDEF";
-  std::string s = "\"";
+  std::string s;
   for (std::uint8_t c : b) {
-    if (c >= 0x20 && c < 0x7F && c != '"' && c != '\\') {
+    if (c >= 0x20 && c < 0x7F && c != std::uint8_t(quote) && c != '\\') {
       s += char(c);
     } else {
       s += "\\x";
@@ -32,8 +32,10 @@ std::string printable_bytes(std::span<const std::uint8_t> b) {
       s += kHex[c & 15];
     }
   }
-  return s + "\"";
+  return s;
 }
+
+std::string printable_bytes(std::span<const std::uint8_t> b) { return '"' + escaped_bytes(b, '"') + '"'; }
 
 std::string lower_extension(const std::filesystem::path& path) {
   std::string ext = path.extension().string();

@@ -13,7 +13,11 @@ namespace granular {
 /// `path` in single quotes, for messages.
 std::string quoted(const std::filesystem::path& path);
 
-/// Bytes from a file in double quotes, printable ASCII as is and every other byte as \xHH.
+/// Bytes from a file for a message quoted with `quote`: printable ASCII as is, and `quote`, the
+/// backslash and every other byte as \xHH.
+std::string escaped_bytes(std::span<const std::uint8_t> bytes, char quote);
+
+/// Bytes from a file in double quotes (escaped_bytes).
 std::string printable_bytes(std::span<const std::uint8_t> bytes);
 
 /// The extension of `path` in lower case (".raw"), "" when it has none.

@@ -15,8 +15,8 @@
 #include "granular/world.hpp"
 
 using namespace granular;
-using granular::test::apply_tools;
 using granular::test::fluid_scene;
+using granular::test::play_alike;
 
 namespace {
 
@@ -31,15 +31,8 @@ WorldDef history_def(BackendKind backend, bool sparse) {
   return def;
 }
 
-/// Tools, then one tick, on both worlds; requires the same tick and hash.
-void step_both(World& cpu, World& gpu) {
-  apply_tools(cpu, cpu.tick());
-  apply_tools(gpu, gpu.tick());
-  cpu.step(1);
-  gpu.step(1);
-  REQUIRE(cpu.tick() == gpu.tick());
-  REQUIRE(cpu.hash() == gpu.hash());
-}
+/// One tick of the tool session on both worlds, requiring the same tick and hash.
+void step_both(World& cpu, World& gpu) { play_alike(cpu, gpu, 1); }
 
 }  // namespace
 
