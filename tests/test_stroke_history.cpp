@@ -180,3 +180,20 @@ TEST_CASE("history: the memory bound drops the oldest strokes first") {
   CHECK_FALSE(history.undo());
   check_has(error_of<InvalidArgument>([&] { StrokeHistory none(world, 0); }), {"max_bytes = 0"});
 }
+
+TEST_CASE("history: a stroke that changed no cell still rewinds its ticks and tool calls") {
+  World world(test_def({24, 24, 24}, "inertial-24", 2, 5));
+  world.paint(Box{{0, 0, 0}, {24, 24, 2}}, Material::Solid);
+  StrokeHistory history(world);
+  world.step(3);
+  const State start = state_of(world);
+  history.begin_stroke();
+  world.dig(Sphere{{12.0, 12.0, 12.0}, 3.0});  // air only: a tool call, no cell
+  world.step(5);
+  history.end_stroke();
+  const State end = state_of(world);
+  REQUIRE(history.undo());
+  CHECK(state_of(world) == start);
+  REQUIRE(history.redo());
+  CHECK(state_of(world) == end);
+}
