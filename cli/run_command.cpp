@@ -10,6 +10,7 @@
 #include "granular/rule_set.hpp"
 #include "granular/scene.hpp"
 #include "granular/time_scale.hpp"
+#include "granular/world_snapshot.hpp"
 #include "scene_runner.hpp"
 
 namespace granular::cli {
@@ -19,6 +20,7 @@ namespace {
 struct RunOptions {
   WorldOptions world;
   std::uint64_t ticks = 1000;
+  std::string save;  ///< snapshot written after the last tick ("" for none)
   bool json = false;
   bool no_progress = false;
 };
@@ -31,7 +33,9 @@ nlohmann::json counts_json(const MaterialCounts& c) {
 }
 
 void run(const RunOptions& o) {
-  PreparedWorld p = prepare_world(o.world, kRunBytesPerCell);
+  // Everything about the snapshot to write that can be wrong is found before any tick is run.
+  if (!o.save.empty()) check_snapshot_save_path(o.save);
+  PreparedWorld p = prepare_world(o.world, o.save.empty() ? kRunBytesPerCell : kSaveBytesPerCell);
   World& w = *p.world;
   const MaterialCounts before = w.count();
   const double seconds = run_ticks(p, o.ticks, !o.no_progress);
@@ -63,6 +67,12 @@ void run(const RunOptions& o) {
   s["hash"] = hex64(w.hash());
   const ActivityStats a = w.activity();
   const double mean_cells = o.ticks ? double(p.cell_ticks) / double(o.ticks) : 0.0;
+  if (p.snapshot_tick) s["from_tick"] = *p.snapshot_tick;
+  s["tick"] = w.tick();
+  if (!o.save.empty()) {
+    save_snapshot(w.capture(), o.save);
+    s["saved"] = o.save;
+  }
   s["activity"] = {{"sparse", w.def().sparse},
                    {"total_bricks", a.total_bricks},
                    {"brick_size", kBrickSize},
@@ -74,7 +84,9 @@ void run(const RunOptions& o) {
     std::cout << s.dump(2) << "\n";
     return;
   }
-  const std::string n_text = p.n ? "N=" + std::to_string(*p.n) : std::string("grid file");
+  const std::string n_text = p.n              ? "N=" + std::to_string(*p.n)
+                             : p.snapshot_tick ? "snapshot at tick " + std::to_string(*p.snapshot_tick)
+                                               : std::string("grid file");
   std::printf("scene          %s (%s, %dx%dx%d = %.0f cells)\n", p.scene_name.c_str(), n_text.c_str(), w.size().x,
               w.size().y, w.size().z, cells);
   std::printf("rules          %s (seed %llu)\n", w.rules().name.c_str(), static_cast<unsigned long long>(w.def().seed));
@@ -98,6 +110,9 @@ void run(const RunOptions& o) {
     }
   std::printf("mass conserved %s\n", after == expected ? (poured ? "yes (after = before + poured)" : "yes") : "NO");
   std::printf("checksum       %s\n", hex64(w.hash()).c_str());
+  if (!o.save.empty())
+    std::printf("saved          %s (tick %llu, hash %s)\n", o.save.c_str(), static_cast<unsigned long long>(w.tick()),
+                hex64(w.hash()).c_str());
 }
 
 }  // namespace
@@ -107,6 +122,8 @@ void add_run_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("run", "run a scene headless and print a summary");
   add_world_options(*cmd, options->world);
   add_ticks_option(*cmd, options->ticks, "ticks to run");
+  cmd->add_option("--save", options->save,
+                  "write a snapshot (.gsnap) of the world after the last tick, which `run --scene FILE` continues");
   cmd->add_flag("--json", options->json, "print the summary as JSON");
   cmd->add_flag("--no-progress", options->no_progress, "do not draw the progress bar");
   cmd->callback([options] { run(*options); });

@@ -8,25 +8,33 @@
 #include "choices_text.hpp"
 #include "granular/errors.hpp"
 #include "granular/grid_io.hpp"
+#include "granular/world_snapshot.hpp"
 #include "number_option.hpp"
 #include "progress_bar.hpp"
 
 namespace granular::cli {
 
 void add_world_options(CLI::App& command, WorldOptions& o) {
-  command.add_option("-s,--scene", o.scene, "scene name (see assets/scenes), scene .json, or a .raw/.vox grid file")
+  command
+      .add_option("-s,--scene", o.scene,
+                  "scene name (see assets/scenes), scene .json, a .raw/.vox grid file, or a .gsnap snapshot (continues "
+                  "from its tick under its rules and seed)")
       ->capture_default_str();
   add_number_option(command, "-n,--size", o.size,
                     {1, std::uint64_t(kMaxGridExtent), "omit --size for the scene's default N"},
                     "scene size N (omit it for the scene's default_n)")
       ->default_str("the scene's default");
-  command.add_option("--rules", o.rules, "rule set: " + rule_preset_choices())->capture_default_str();
+  command.add_option("--rules", o.rules, "rule set: " + rule_preset_choices())
+      ->capture_default_str()
+      ->each([&o](const std::string&) { o.rules_given = true; });
   command.add_option("--backend", o.backend, "compute backend")
       ->check(CLI::IsMember({"auto", "cpu", "cuda"}))
       ->capture_default_str();
   add_number_option(command, "-j,--threads", o.threads, threads_range(),
                     "CPU threads (0 = all hardware threads)");
-  add_number_option(command, "--seed", o.seed, {}, "seed of every random choice");
+  add_number_option(command, "--seed", o.seed, {}, "seed of every random choice")->each([&o](const std::string&) {
+    o.seed_given = true;
+  });
   command.add_flag("--no-lut-cache", o.no_lut_cache, "build the transition table even when it is cached");
   command.add_flag("--dense", o.dense, "step every block every tick (no sleeping bricks; same result, for comparison)");
   command
@@ -52,7 +60,22 @@ PreparedWorld prepare_world(const WorldOptions& o, double bytes_per_cell) {
   def.backend = o.backend == "cpu" ? BackendKind::Cpu : o.backend == "cuda" ? BackendKind::Cuda : BackendKind::Auto;
   PreparedWorld p;
   const std::filesystem::path as_path(o.scene);
-  if (is_grid_file(as_path)) {
+  if (is_snapshot_file(as_path)) {
+    if (o.size != 0) throw InvalidArgument("--size applies to scenes, not to the snapshot " + o.scene);
+    p.scene_name = o.scene;
+    const WorldSnapshot snapshot = load_snapshot(as_path);
+    if (o.rules_given && o.rules != snapshot.rules)
+      throw InvalidArgument("--rules " + o.rules + ": the snapshot " + o.scene + " continues under its own rules, '" +
+                            snapshot.rules + "' (omit --rules)");
+    if (o.seed_given && o.seed != snapshot.seed)
+      throw InvalidArgument("--seed " + std::to_string(o.seed) + ": the snapshot " + o.scene +
+                            " continues under its own seed, " + std::to_string(snapshot.seed) + " (omit --seed)");
+    def.rules = snapshot.rules;
+    // The snapshot's cells are allocated already; the world's grid and its backend's copy are not.
+    check_grid_size(snapshot.size, o.scene, bytes_per_cell, kWorldOverheadBytes);
+    p.snapshot_tick = snapshot.tick;
+    p.world = std::make_unique<World>(def, snapshot);
+  } else if (is_grid_file(as_path)) {
     if (o.size != 0) throw InvalidArgument("--size applies to scenes, not to the grid file " + o.scene);
     p.scene_name = o.scene;
     std::vector<std::string> notices;

@@ -25,13 +25,17 @@ inline constexpr double kRunBytesPerCell = 2.0;
 /// Bytes per cell an `export` holds: a run's, plus the snapshot it writes.
 inline constexpr double kExportBytesPerCell = 3.0;
 
+/// Bytes per cell a `run --save` holds at its peak: the world's cells, their copy for the snapshot
+/// and the compressed snapshot (at most about one byte per cell).
+inline constexpr double kSaveBytesPerCell = 3.0;
+
 /// Memory a world needs besides its cells: the transition tables (about 130 MiB) and the worker
 /// threads' stacks and allocation arenas.
 inline constexpr double kWorldOverheadBytes = 256.0 * 1024 * 1024;
 
 /// Options that define the world.
 struct WorldOptions {
-  std::string scene = "bowl";  ///< scene name, scene .json path, or a .raw/.vox grid file
+  std::string scene = "bowl";  ///< scene name, scene .json path, a .raw/.vox grid file or a .gsnap snapshot
   int size = 0;                ///< scene size parameter N (0: not given, the scene's default_n)
   std::string rules = WorldDef{}.rules; ///< rule-set preset
   std::string backend = "auto";///< auto, cpu or cuda
@@ -40,6 +44,8 @@ struct WorldOptions {
   bool no_lut_cache = false;   ///< build the transition table even when cached
   bool dense = false;          ///< step every block every tick (no activity tracking)
   std::optional<double> dense_fraction;  ///< both WorldDef::cuda fractions when given
+  bool rules_given = false;    ///< --rules was on the command line (a snapshot has rules of its own)
+  bool seed_given = false;     ///< --seed was on the command line (a snapshot has a seed of its own)
 };
 
 /// Registers the world options on a subcommand.
@@ -50,8 +56,9 @@ void add_ticks_option(CLI::App& command, std::uint64_t& ticks, const std::string
 
 /// A world made from the options, with the scene's emitters.
 struct PreparedWorld {
-  std::string scene_name;                ///< scene name or grid file
-  std::optional<int> n;                  ///< the size parameter used; none for a grid file
+  std::string scene_name;                ///< scene name, grid file or snapshot
+  std::optional<int> n;                  ///< the size parameter used; none for a grid file or snapshot
+  std::optional<std::uint64_t> snapshot_tick;  ///< the tick a snapshot continues from; none for the rest
   std::vector<Emitter> emitters;         ///< the scene's emitters, in cells
   std::unique_ptr<World> world;          ///< the world
   std::uint64_t brick_ticks = 0;         ///< bricks stepped, summed over every tick run_ticks ran
@@ -62,7 +69,8 @@ struct PreparedWorld {
 /// Builds the world (throws granular::Error on bad input) and prints its notices to stderr.
 /// Before any grid is allocated, the grid's size is checked against the memory this process may
 /// allocate at `bytes_per_cell` (kRunBytesPerCell, kExportBytesPerCell) plus kWorldOverheadBytes,
-/// and a failed allocation is an OutOfMemory naming the size.
+/// and a failed allocation is an OutOfMemory naming the size. A snapshot continues under its own
+/// rules and seed: --rules or --seed naming others is an InvalidArgument, as is --size.
 PreparedWorld prepare_world(const WorldOptions& options, double bytes_per_cell);
 
 /// The ticks of the next World::step call when `done` of `total` ticks are done: 1 when

@@ -183,8 +183,28 @@ class CudaBackend final : public Backend {
   /// Waits for the device once per chunk of the box (box_transfer.cuh): once for a tool's box.
   void read(const Box& box, std::span<std::uint8_t> out) const override {
     check_box(box, out.size(), "read");
-    copy_out(box, out.data());
+    copy_out(cells_, box, out.data());
   }
+
+  /// A device-to-device copy of the cells into a buffer kept until drop_checkpoint(), enqueued on
+  /// the stream (so after every earlier write and before every later step).
+  void take_checkpoint() override {
+    activate();
+    if (checkpoint_.size() == 0) checkpoint_ = cuda::DeviceBuffer<std::uint8_t>(cell_count_, "a checkpoint of the cells");
+    cuda::check(cudaMemcpyAsync(checkpoint_.data(), cells_, cell_count_, cudaMemcpyDeviceToDevice, stream_.get()),
+                "cudaMemcpyAsync (checkpoint)");
+  }
+
+  /// As read(), from the checkpoint.
+  void read_checkpoint(const Box& box, std::span<std::uint8_t> out) const override {
+    if (checkpoint_.size() == 0) throw StateError("cuda backend: read_checkpoint: no checkpoint was taken");
+    check_box(box, out.size(), "read_checkpoint");
+    copy_out(checkpoint_.data(), box, out.data());
+  }
+
+  void drop_checkpoint() override { checkpoint_.reset(); }
+
+  std::uint64_t checkpoint_bytes() const override { return checkpoint_.bytes(); }
 
   /// Enqueues the write and returns without waiting for the device (box_transfer.cuh). The bricks
   /// wait on the host to be woken all at once before the next step (enqueue_pending_wake).
@@ -475,14 +495,14 @@ class CudaBackend final : public Backend {
     return std::int64_t(box.min.x) + std::int64_t(size_.x) * (std::int64_t(box.min.y) + std::int64_t(size_.y) * box.min.z);
   }
 
-  /// Copies the cells of `box` out to `host` (x fastest, no padding): a large run in one copy, else
-  /// chunk by chunk, a kernel gathering the chunk into the staging (box_transfer.cuh) and the host
-  /// taking it from there once the device has finished.
-  void copy_out(const Box& box, std::uint8_t* host) const {
+  /// Copies the cells of `box` of `grid` (the cells or the checkpoint) out to `host` (x fastest, no
+  /// padding): a large run in one copy, else chunk by chunk, a kernel gathering the chunk into the
+  /// staging (box_transfer.cuh) and the host taking it from there once the device has finished.
+  void copy_out(std::uint8_t* grid, const Box& box, std::uint8_t* host) const {
     activate();
     cudaStream_t s = stream_.get();
     if (const std::int64_t first = large_run(box); first >= 0) {
-      cuda::check(cudaMemcpyAsync(host, cells_ + first, std::size_t(box.volume()), cudaMemcpyDeviceToHost, s),
+      cuda::check(cudaMemcpyAsync(host, grid + first, std::size_t(box.volume()), cudaMemcpyDeviceToHost, s),
                   "cudaMemcpyAsync (cells to the host)");
       stream_.synchronize("read");
       return;
@@ -490,7 +510,7 @@ class CudaBackend final : public Backend {
     cuda::for_each_chunk(box, cuda::kTransferChunkBytes, [&](const cuda::BoxChunk& chunk) {
       const std::uint64_t bytes = chunk.cells();
       staging_.reserve(bytes, s);
-      const cuda::ChunkCopy copy = cuda::chunk_copy(cells_, size_, chunk, staging_.device());
+      const cuda::ChunkCopy copy = cuda::chunk_copy(grid, size_, chunk, staging_.device());
       cuda::gather_chunk_kernel<<<cuda::chunk_blocks(copy.count), cuda::kChunkThreads, 0, s>>>(copy);
       cuda::check_launch("gather kernel launch (reading cells)");
       stream_.synchronize("read");
@@ -552,6 +572,7 @@ class CudaBackend final : public Backend {
   cuda::Stream stream_;
   cuda::DeviceBuffer<std::uint8_t> owned_cells_;  ///< the cells, until share_cells() moves them
   std::uint8_t* cells_;                           ///< the cells: owned_cells_ or imported_
+  cuda::DeviceBuffer<std::uint8_t> checkpoint_;   ///< the cells at take_checkpoint(); empty when there is none
   std::optional<cuda::ImportedMemory> imported_;   ///< the renderer's buffer, after share_cells()
   std::optional<cuda::ImportedTimeline> ready_;    ///< signalled after each write (attach_timelines)
   std::optional<cuda::ImportedTimeline> released_;  ///< waited on before each write

@@ -4,6 +4,7 @@
 #include <cstring>
 #include <map>
 #include <mutex>
+#include <new>
 #include <tuple>
 
 #include "cpu_sparse_step.hpp"
@@ -169,12 +170,33 @@ void CpuBackend::step_pass(const StepContext& c) {
   });
 }
 
-void CpuBackend::read(const Box& box, std::span<std::uint8_t> out) const {
+void CpuBackend::read(const Box& box, std::span<std::uint8_t> out) const { copy_box(grid_.cells().data(), box, out); }
+
+void CpuBackend::copy_box(const std::uint8_t* cells, const Box& box, std::span<std::uint8_t> out) const {
   const int w = box.max.x - box.min.x;
   std::size_t o = 0;
   for (int z = box.min.z; z < box.max.z; ++z)
     for (int y = box.min.y; y < box.max.y; ++y, o += std::size_t(w))
-      std::memcpy(out.data() + o, grid_.cells().data() + grid_.index({box.min.x, y, z}), std::size_t(w));
+      std::memcpy(out.data() + o, cells + grid_.index({box.min.x, y, z}), std::size_t(w));
+}
+
+void CpuBackend::take_checkpoint() {
+  try {
+    checkpoint_.assign(grid_.cells().begin(), grid_.cells().end());
+  } catch (const std::bad_alloc&) {
+    throw OutOfMemory("cpu backend: could not allocate the " + std::to_string(grid_.cell_count()) +
+                      " bytes of a checkpoint of the " + to_string(grid_.size()) + " grid");
+  }
+}
+
+void CpuBackend::read_checkpoint(const Box& box, std::span<std::uint8_t> out) const {
+  if (checkpoint_.empty()) throw StateError("cpu backend: read_checkpoint: no checkpoint was taken");
+  copy_box(checkpoint_.data(), box, out);
+}
+
+void CpuBackend::drop_checkpoint() {
+  checkpoint_.clear();
+  checkpoint_.shrink_to_fit();
 }
 
 void CpuBackend::write(const Box& box, std::span<const std::uint8_t> in, std::span<const std::uint32_t> wake_bricks) {

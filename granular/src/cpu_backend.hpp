@@ -33,13 +33,21 @@ class CpuBackend final : public Backend {
   std::uint64_t hash() const override;
   void take_changed_bricks(std::span<std::uint8_t> flags) override;
   ActivityStats last_activity() const override { return last_; }
+  /// A host copy of the cells.
+  void take_checkpoint() override;
+  void read_checkpoint(const Box& box, std::span<std::uint8_t> out) const override;
+  void drop_checkpoint() override;
+  std::uint64_t checkpoint_bytes() const override { return checkpoint_.size(); }
 
  private:
+  // Copies the cells of `box` from `cells` (this grid's layout) into `out`, x fastest.
+  void copy_box(const std::uint8_t* cells, const Box& box, std::span<std::uint8_t> out) const;
   StepContext context(std::uint64_t tick, int substep);
   void step_pass(const StepContext& c);
   void step_pass_sparse(const StepContext& c);
 
   Grid grid_;
+  std::vector<std::uint8_t> checkpoint_;  ///< the cells at take_checkpoint(); empty when there is none
   std::shared_ptr<const Lut> lut_;
   std::shared_ptr<const std::vector<BlockKey>> result_;  ///< per key, the key after its transition (one-step rule sets)
   bool sparse_;

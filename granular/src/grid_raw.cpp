@@ -16,7 +16,9 @@
 #include "granular/errors.hpp"
 #include "granular/grid_io.hpp"
 #include "granular/memory_budget.hpp"
+#include "file_names.hpp"
 #include "granular/vox_io.hpp"
+#include "little_endian.hpp"
 
 namespace granular {
 
@@ -26,13 +28,6 @@ struct FileCloser {
   void operator()(std::FILE* f) const { std::fclose(f); }
 };
 using FilePtr = std::unique_ptr<std::FILE, FileCloser>;
-
-std::string quoted(const std::filesystem::path& p) {
-  std::string q(1, '\'');  // built by appending: GCC 12 warns falsely on "'" + string (-Wrestrict)
-  q.append(p.string());
-  q.push_back('\'');
-  return q;
-}
 
 std::string system_reason(int err) { return std::strerror(err); }
 
@@ -92,30 +87,6 @@ void read_exactly(std::FILE* f, std::uint8_t* dst, std::size_t n, const std::fil
     throw FileError("cannot read " + quoted(path) + " at byte " + std::to_string(at + got) + ": " + system_reason(err));
   throw FileError("cannot read " + quoted(path) + ": the file ended at byte " + std::to_string(at + got) + " while " +
                   std::to_string(at + n) + " bytes were expected (was it modified while being read?)");
-}
-
-std::uint32_t get_u32(std::span<const std::uint8_t> b, std::size_t at) {
-  return std::uint32_t(b[at]) | (std::uint32_t(b[at + 1]) << 8) | (std::uint32_t(b[at + 2]) << 16) |
-         (std::uint32_t(b[at + 3]) << 24);
-}
-
-void put_u32(std::uint8_t* dst, std::uint32_t v) {
-  for (int i = 0; i < 4; ++i) dst[i] = std::uint8_t(v >> (8 * i));
-}
-
-std::string printable_bytes(std::span<const std::uint8_t> b) {
-  static const char* kHex = "0123456789ABCDEF";
-  std::string s = "\"";
-  for (std::uint8_t c : b) {
-    if (c >= 0x20 && c < 0x7F && c != '"' && c != '\\') {
-      s += char(c);
-    } else {
-      s += "\\x";
-      s += kHex[c >> 4];
-      s += kHex[c & 15];
-    }
-  }
-  return s + "\"";
 }
 
 constexpr const char* kHeaderFields[5] = {"magic", "version", "nx", "ny", "nz"};
@@ -207,13 +178,6 @@ std::array<std::uint8_t, kRawHeaderSize> raw_header(const Grid& grid, const char
 }
 
 enum class GridFormat { Raw, Vox };
-
-/// The extension of `path` in lower case (".raw"), "" when it has none.
-std::string lower_extension(const std::filesystem::path& path) {
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  return ext;
-}
 
 GridFormat format_of(const std::filesystem::path& path, const char* action) {
   const std::string ext = lower_extension(path);
@@ -312,23 +276,7 @@ std::filesystem::path resolve_symlinks(const std::filesystem::path& path) {
 
 void check_grid_save_path(const std::filesystem::path& path) {
   format_of(path, "save");
-  const std::filesystem::path target = resolve_symlinks(path);
-  struct stat info {};
-  if (::stat(target.c_str(), &info) == 0 && S_ISDIR(info.st_mode))
-    throw FileError("cannot write " + quoted(path) + ": it is a directory");
-  const std::filesystem::path dir = target.parent_path().empty() ? std::filesystem::path(".") : target.parent_path();
-  struct stat dir_info {};
-  if (::stat(dir.c_str(), &dir_info) != 0) {
-    const int err = errno;
-    throw FileError("cannot write " + quoted(path) + ": its directory " + quoted(dir) + ": " + system_reason(err));
-  }
-  if (!S_ISDIR(dir_info.st_mode))
-    throw FileError("cannot write " + quoted(path) + ": " + quoted(dir) + " is not a directory");
-  if (::access(dir.c_str(), W_OK | X_OK) != 0) {
-    const int err = errno;
-    throw FileError("cannot write " + quoted(path) + ": its directory " + quoted(dir) + " is not writable: " +
-                    system_reason(err));
-  }
+  check_save_target(path);
 }
 
 void remove_pending_temporaries() noexcept {

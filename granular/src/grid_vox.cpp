@@ -11,10 +11,12 @@
 #include <utility>
 
 #include "granular/rule_presets.hpp"
+#include "file_names.hpp"
 #include "granular/errors.hpp"
 #include "granular/grid_io.hpp"
 #include "granular/memory_budget.hpp"
 #include "granular/vox_io.hpp"
+#include "little_endian.hpp"
 
 namespace granular {
 
@@ -38,33 +40,13 @@ std::array<std::uint8_t, 4> material_colour(int m) {
 /// Colour of the palette entries no material uses.
 constexpr std::array<std::uint8_t, 4> kUnusedColour = {0x40, 0x40, 0x40, 255};
 
-std::string printable(std::span<const std::uint8_t> b) {
-  static const char* kHex = "0123456789ABCDEF";
-  std::string s;
-  for (std::uint8_t c : b) {
-    if (c >= 0x20 && c < 0x7F && c != '\'' && c != '\\') {
-      s += char(c);
-    } else {
-      s += "\\x";
-      s += kHex[c >> 4];
-      s += kHex[c & 15];
-    }
-  }
-  return s;
-}
-
 /// A string from the file for messages: at most 40 characters, non-printable bytes escaped.
 std::string excerpt(std::string_view text) {
   constexpr std::size_t kMax = 40;
   const auto* b = reinterpret_cast<const std::uint8_t*>(text.data());
-  std::string s = printable(std::span<const std::uint8_t>(b, std::min(text.size(), kMax)));
+  std::string s = escaped_bytes(std::span<const std::uint8_t>(b, std::min(text.size(), kMax)), '\'');
   if (text.size() > kMax) s += "... (" + std::to_string(text.size()) + " bytes)";
   return s;
-}
-
-std::uint32_t get_u32(std::span<const std::uint8_t> b, std::size_t at) {
-  return std::uint32_t(b[at]) | (std::uint32_t(b[at + 1]) << 8) | (std::uint32_t(b[at + 2]) << 16) |
-         (std::uint32_t(b[at + 3]) << 24);
 }
 
 bool id_is(std::span<const std::uint8_t> b, std::size_t at, const char (&id)[5]) {
@@ -448,7 +430,7 @@ void read_chunks(std::span<const std::uint8_t> bytes, std::size_t begin, std::si
                        std::to_string(end - at) + " bytes are left before the end of the MAIN chunk at offset " +
                        std::to_string(end) + ", a chunk header needs " + std::to_string(kChunkHeaderSize));
     std::string name(1, '\'');  // appended: GCC 12 warns falsely on "'" + string (-Wrestrict)
-    name.append(printable(bytes.subspan(at, 4)));
+    name.append(escaped_bytes(bytes.subspan(at, 4), '\''));
     name.push_back('\'');
     const std::uint64_t content = get_u32(bytes, at + 4);
     const std::uint64_t children = get_u32(bytes, at + 8);
@@ -573,7 +555,7 @@ Grid decode_vox(std::span<const std::uint8_t> bytes, const std::string& source_n
   const std::string& src = source_name;
   const std::size_t magic_have = std::min<std::size_t>(bytes.size(), 4);
   if (bytes.empty() || std::memcmp(bytes.data(), "VOX ", magic_have) != 0)
-    throw ParseError(src + ": not a MagicaVoxel file: bad magic '" + printable(bytes.first(magic_have)) +
+    throw ParseError(src + ": not a MagicaVoxel file: bad magic '" + escaped_bytes(bytes.first(magic_have), '\'') +
                      "' at byte 0 (expected 'VOX ')");
   if (bytes.size() < kFileHeaderSize)
     throw ParseError(src + ": truncated header: the file has " + std::to_string(bytes.size()) +
@@ -587,7 +569,7 @@ Grid decode_vox(std::span<const std::uint8_t> bytes, const std::string& source_n
                      std::to_string(bytes.size() - kFileHeaderSize) + " left");
   if (!id_is(bytes, kFileHeaderSize, "MAIN"))
     throw ParseError(src + ": expected chunk 'MAIN' at offset 8, found '" +
-                     printable(bytes.subspan(kFileHeaderSize, 4)) + "'");
+                     escaped_bytes(bytes.subspan(kFileHeaderSize, 4), '\'') + "'");
   const std::uint64_t main_content = get_u32(bytes, 12);
   const std::uint64_t main_children = get_u32(bytes, 16);
   const std::uint64_t room = bytes.size() - kFileHeaderSize - kChunkHeaderSize;

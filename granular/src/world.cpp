@@ -5,17 +5,20 @@
 #include <cmath>
 #include <map>
 #include <mutex>
+#include <new>
 
 #include "granular/backend.hpp"
 #include "granular/backend_factory.hpp"
 #include "granular/backend_registry.hpp"
 #include "granular/errors.hpp"
+#include "granular/hex.hpp"
 #include "granular/lut.hpp"
 #include "granular/motion.hpp"
 #include "granular/rule_presets.hpp"
 #include "granular/rule_set.hpp"
 #include "granular/task_system.hpp"
 #include "granular/threads.hpp"
+#include "granular/world_snapshot.hpp"
 #include "step/step_materials.hpp"
 #include "tool_region.hpp"
 
@@ -124,15 +127,103 @@ void check_inside(const Box& box, Int3 size, const char* what) {
                           to_string(size) + " grid");
 }
 
+/// "cell (x, y, z)" of cell `i` (x fastest) of a grid of `size`.
+std::string cell_text(std::size_t i, Int3 size) {
+  const std::size_t x = i % std::size_t(size.x), y = (i / std::size_t(size.x)) % std::size_t(size.y),
+                    z = i / (std::size_t(size.x) * std::size_t(size.y));
+  return "cell (" + std::to_string(x) + ", " + std::to_string(y) + ", " + std::to_string(z) + ")";
+}
+
 void check_cells(std::span<const std::uint8_t> cells, Int3 size, const char* what) {
   for (std::size_t i = 0; i < cells.size(); ++i)
-    if (!is_valid_material_value(cells[i])) {
-      const std::size_t x = i % std::size_t(size.x), y = (i / std::size_t(size.x)) % std::size_t(size.y),
-                        z = i / (std::size_t(size.x) * std::size_t(size.y));
-      throw InvalidArgument(std::string(what) + ": cell (" + std::to_string(x) + ", " + std::to_string(y) + ", " +
-                            std::to_string(z) + ") holds " + std::to_string(unsigned(cells[i])) +
+    if (!is_valid_material_value(cells[i]))
+      throw InvalidArgument(std::string(what) + ": " + cell_text(i, size) + " holds " + std::to_string(unsigned(cells[i])) +
                             ", not a valid state (0..7)");
-    }
+}
+
+/// For each of the 256 cell bytes, what keeps a world under `rules` from holding it ("" when
+/// nothing): the motion state (bits 3..7) belongs to granular and liquid cells under a motion model,
+/// at a level up to MotionParams::max_level().
+std::array<std::string, 256> cell_byte_problems(const RuleSet& rules) {
+  const StepMaterials mats = step_materials(rules.materials);
+  std::array<std::string, 256> problems;
+  for (unsigned b = 0; b < 256; ++b) {
+    const std::uint8_t m = cell_material(std::uint8_t(b));
+    if ((b >> kMotionShift) == 0) continue;
+    if (!rules.motion.enabled())
+      problems[b] = "a motion state, but rules '" + rules.name + "' have no motion model";
+    else if (!mats.is_faller(m))
+      problems[b] = "a motion state on " + rules.materials[m].name + ", which is neither granular nor liquid";
+    else if (cell_motion(std::uint8_t(b)) > rules.motion.max_level())
+      problems[b] = "motion level " + std::to_string(cell_motion(std::uint8_t(b))) + ", above the rules' highest, " +
+                    std::to_string(rules.motion.max_level());
+  }
+  return problems;
+}
+
+/// Throws InvalidArgument starting with `what` when one of `cells` is a byte a world under `rules`
+/// cannot hold (cell_byte_problems), naming the byte and, through where(i), cell i.
+template <class Where>
+void check_cell_bytes(std::span<const std::uint8_t> cells, const RuleSet& rules, const std::string& what,
+                      Where&& where) {
+  const std::array<std::string, 256> problems = cell_byte_problems(rules);
+  std::array<bool, 256> bad{};
+  for (unsigned b = 0; b < 256; ++b) bad[b] = !problems[b].empty();
+  const auto first = std::find_if(cells.begin(), cells.end(), [&](std::uint8_t c) { return bad[c]; });
+  if (first == cells.end()) return;
+  const auto i = std::size_t(first - cells.begin());
+  throw InvalidArgument(what + ": " + where(i) + " holds the byte " + std::to_string(unsigned(*first)) + ": " +
+                        problems[*first]);
+}
+
+/// Throws InvalidArgument naming both names and fingerprints unless `rules`, whose fingerprint is
+/// `fingerprint`, is the rule set the snapshot was taken under; `what` starts the message.
+void check_snapshot_rules(const WorldSnapshot& snapshot, const RuleSet& rules, std::uint64_t fingerprint,
+                          const std::string& what) {
+  if (fingerprint == snapshot.rule_fingerprint) return;
+  throw InvalidArgument(what + ": the snapshot was taken under rules '" + snapshot.rules + "' (fingerprint " +
+                        hex64(snapshot.rule_fingerprint) + ") but the world's rules are '" + rules.name +
+                        "' (fingerprint " + hex64(fingerprint) + ")" +
+                        (snapshot.rules == rules.name ? "; the rule set of that name has changed since" : ""));
+}
+
+/// Every brick of a grid of `size`, ascending.
+std::vector<std::uint32_t> all_bricks(Int3 size) {
+  const Int3 n = granular::brick_counts(size);
+  std::vector<std::uint32_t> bricks(std::size_t(n.x) * std::size_t(n.y) * std::size_t(n.z));
+  for (std::size_t i = 0; i < bricks.size(); ++i) bricks[i] = std::uint32_t(i);
+  return bricks;
+}
+
+/// Calls copy(box, offset) for each of `bricks` of a grid of `size`: its cells, and where they start
+/// in the bricks' packed bytes (brick after brick, each x fastest).
+template <class Copy>
+void for_each_brick(Int3 size, std::span<const std::uint32_t> bricks, Copy&& copy) {
+  std::size_t offset = 0;
+  for (const std::uint32_t b : bricks) {
+    const Box box = brick_box(size, b);
+    copy(box, offset);
+    offset += std::size_t(box.volume());
+  }
+}
+
+/// Calls fn(grid index, packed offset, width) for every row of the cells of `bricks` of a grid of
+/// `size`: where the row starts in the grid (x fastest) and in the bricks' packed bytes.
+template <class Fn>
+void for_each_brick_row(Int3 size, std::span<const std::uint32_t> bricks, Fn&& fn) {
+  for_each_brick(size, bricks, [&](const Box& box, std::size_t offset) {
+    const std::size_t w = std::size_t(box.max.x - box.min.x);
+    for (int z = box.min.z; z < box.max.z; ++z)
+      for (int y = box.min.y; y < box.max.y; ++y, offset += w)
+        fn(std::size_t(box.min.x) + std::size_t(size.x) * (std::size_t(y) + std::size_t(size.y) * std::size_t(z)),
+           offset, w);
+  });
+}
+
+/// True when bricks holding `cells` cells move faster as one copy of a whole grid of `size` than
+/// brick by brick (one backend call each): when they hold more than an eighth of it.
+bool whole_grid_is_faster(Int3 size, std::uint64_t cells) {
+  return cells * 8 > std::uint64_t(size.x) * std::uint64_t(size.y) * std::uint64_t(size.z);
 }
 
 }  // namespace
@@ -158,11 +249,30 @@ World::World(const WorldDef& def, const Grid& initial) : def_(def) {
   init(initial);
 }
 
+World::World(const WorldDef& def, const WorldSnapshot& snapshot) : def_(def) {
+  check_grid_extents(snapshot.size, "World: WorldSnapshot::size");
+  const std::uint64_t cells = std::uint64_t(snapshot.size.x) * std::uint64_t(snapshot.size.y) * std::uint64_t(snapshot.size.z);
+  if (snapshot.cells.size() != cells)
+    throw InvalidArgument("World: WorldSnapshot::cells holds " + std::to_string(snapshot.cells.size()) +
+                          " bytes; its " + to_string(snapshot.size) + " grid has " + std::to_string(cells) + " cells");
+  const std::shared_ptr<const RuleSet> rules = def_.rule_set ? def_.rule_set : make_rule_set(def_.rules);
+  check_snapshot_rules(snapshot, *rules, rule_fingerprint(*rules), "World");
+  check_cell_bytes(snapshot.cells, *rules, "World: snapshot", [&](std::size_t i) { return cell_text(i, snapshot.size); });
+  // The initial grid and the backend's copy of it.
+  check_grid_size(snapshot.size, "World: the snapshot's grid", 2.0, kWorldExtraBytes);
+  def_.seed = snapshot.seed;
+  Grid initial(snapshot.size);
+  std::copy(snapshot.cells.begin(), snapshot.cells.end(), initial.cells().begin());
+  init(initial, rules);
+  tick_ = snapshot.tick;
+  tool_calls_ = snapshot.tool_calls;
+}
+
 World::~World() = default;
 World::World(World&&) noexcept = default;
 World& World::operator=(World&&) noexcept = default;
 
-void World::init(const Grid& initial) {
+void World::init(const Grid& initial, std::shared_ptr<const RuleSet> rules) {
   int threads = resolve_threads(def_.threads, "WorldDef::threads");
   if (def_.task_system) {
     threads = def_.task_system->thread_count();
@@ -184,8 +294,9 @@ void World::init(const Grid& initial) {
   brick_version_.assign(std::size_t(bricks.x) * std::size_t(bricks.y) * std::size_t(bricks.z), 0);
   changed_flags_.assign(brick_version_.size(), 0);
   activity_.total_bricks = brick_version_.size();
-  rules_ = def_.rule_set ? def_.rule_set : make_rule_set(def_.rules);
+  rules_ = rules ? std::move(rules) : def_.rule_set ? def_.rule_set : make_rule_set(def_.rules);
   validate_rule_set(*rules_);
+  rule_fingerprint_ = rule_fingerprint(*rules_);
   const BackendFactory factory = choose_backend(def_.backend);
   // The table (64 MiB), the backend's cells and its scratch: an allocation that fails is an
   // OutOfMemory naming the grid, not a bare std::bad_alloc.
@@ -355,9 +466,140 @@ void World::load(const Grid& grid) {
 }
 
 std::vector<std::uint8_t> World::read_cells(const Box& region) const {
-  std::vector<std::uint8_t> cells(std::size_t(region.volume()));
+  std::vector<std::uint8_t> cells = cell_buffer(region);
   live().read(region, cells);
   return cells;
+}
+
+std::vector<std::uint8_t> World::cell_buffer(const Box& region) const {
+  try {
+    return std::vector<std::uint8_t>(std::size_t(region.volume()));
+  } catch (const std::bad_alloc&) {
+    throw OutOfMemory("World: could not allocate " + std::to_string(region.volume()) + " bytes for the cells of " +
+                      box_string(region) + " of the " + to_string(size_) + " grid");
+  }
+}
+
+WorldSnapshot World::capture() const {
+  WorldSnapshot s;
+  s.size = size_;
+  s.cells = read_cells(Box{{0, 0, 0}, size_});
+  s.tick = tick_;
+  s.seed = def_.seed;
+  s.tool_calls = tool_calls_;
+  s.rules = rules().name;
+  s.rule_fingerprint = rule_fingerprint_;
+  return s;
+}
+
+void World::restore(const WorldSnapshot& snapshot) {
+  live();
+  if (!(snapshot.size == size_))
+    throw InvalidArgument("World::restore: the snapshot's grid is " + to_string(snapshot.size) + " but the world's is " +
+                          to_string(size_));
+  if (snapshot.cells.size() != std::size_t(Box{{0, 0, 0}, size_}.volume()))
+    throw InvalidArgument("World::restore: WorldSnapshot::cells holds " + std::to_string(snapshot.cells.size()) +
+                          " bytes; the " + to_string(size_) + " grid has " +
+                          std::to_string(Box{{0, 0, 0}, size_}.volume()) + " cells");
+  if (snapshot.seed != def_.seed)
+    throw InvalidArgument("World::restore: the snapshot's seed is " + std::to_string(snapshot.seed) +
+                          " but this world's (WorldDef::seed) is " + std::to_string(def_.seed) +
+                          "; a snapshot continues only under its own seed");
+  check_snapshot_rules(snapshot, *rules_, rule_fingerprint_, "World::restore");
+  check_cell_bytes(snapshot.cells, *rules_, "World::restore: snapshot", [&](std::size_t i) { return cell_text(i, size_); });
+  write_grid(snapshot.cells, all_bricks(size_));
+  tick_ = snapshot.tick;
+  tool_calls_ = snapshot.tool_calls;
+}
+
+void World::write_grid(std::span<const std::uint8_t> cells, std::span<const std::uint32_t> changed) {
+  mark_bricks(changed);
+  live().write(Box{{0, 0, 0}, size_}, cells, all_bricks(size_));
+}
+
+void World::read_bricks(std::span<const std::uint32_t> bricks, std::span<std::uint8_t> out) const {
+  gather_bricks(bricks, out, "World::read_bricks", [this](const Box& box, std::span<std::uint8_t> cells) {
+    live().read(box, cells);
+  });
+}
+
+void World::read_checkpoint_bricks(std::span<const std::uint32_t> bricks, std::span<std::uint8_t> out) const {
+  if (live().checkpoint_bytes() == 0)
+    throw StateError("World::read_checkpoint_bricks: there is no checkpoint (take_checkpoint)");
+  gather_bricks(bricks, out, "World::read_checkpoint_bricks", [this](const Box& box, std::span<std::uint8_t> cells) {
+    live().read_checkpoint(box, cells);
+  });
+}
+
+void World::take_checkpoint() { live().take_checkpoint(); }
+void World::drop_checkpoint() { live().drop_checkpoint(); }
+std::uint64_t World::checkpoint_bytes() const { return live().checkpoint_bytes(); }
+
+void World::check_bricks(std::span<const std::uint32_t> bricks, std::size_t bytes, const char* what) const {
+  const std::size_t total = brick_version_.size();
+  for (const std::uint32_t b : bricks)
+    if (b >= total)
+      throw InvalidArgument(std::string(what) + ": brick " + std::to_string(b) + " is not one of the " +
+                            std::to_string(total) + " bricks of the " + to_string(size_) + " grid");
+  const std::uint64_t cells = brick_cells(size_, bricks);
+  if (bytes != cells)
+    throw InvalidArgument(std::string(what) + ": the buffer holds " + std::to_string(bytes) + " bytes; the " +
+                          std::to_string(bricks.size()) + " bricks hold " + std::to_string(cells) + " cells");
+}
+
+template <class Read>
+void World::gather_bricks(std::span<const std::uint32_t> bricks, std::span<std::uint8_t> out, const char* what,
+                          Read&& read) const {
+  check_bricks(bricks, out.size(), what);
+  if (!whole_grid_is_faster(size_, out.size())) {
+    for_each_brick(size_, bricks, [&](const Box& box, std::size_t offset) {
+      read(box, out.subspan(offset, std::size_t(box.volume())));
+    });
+    return;
+  }
+  std::vector<std::uint8_t> whole = cell_buffer(Box{{0, 0, 0}, size_});
+  read(Box{{0, 0, 0}, size_}, whole);
+  for_each_brick_row(size_, bricks, [&](std::size_t cell, std::size_t offset, std::size_t w) {
+    std::copy_n(whole.data() + cell, w, out.data() + offset);
+  });
+}
+
+void World::restore_bricks(std::span<const std::uint32_t> bricks, std::span<const std::uint8_t> bytes,
+                           std::uint64_t tick, std::uint64_t tool_calls) {
+  check_bricks(bricks, bytes.size(), "World::restore_bricks");
+  check_cell_bytes(bytes, *rules_, "World::restore_bricks", [&](std::size_t i) {
+    std::size_t brick = 0;
+    for (std::size_t cells = 0; brick < bricks.size(); ++brick) {
+      const auto volume = std::size_t(brick_box(size_, bricks[brick]).volume());
+      if (i < cells + volume) return "byte " + std::to_string(i) + " (brick " + std::to_string(bricks[brick]) + ")";
+      cells += volume;
+    }
+    return "byte " + std::to_string(i);
+  });
+  // A rewound tick moves the 8-tick activity cycle against the cells: every brick wakes, as after
+  // load(), so that sparse stepping stays exact whatever it held.
+  if (whole_grid_is_faster(size_, bytes.size())) {
+    std::vector<std::uint8_t> whole = read_cells(Box{{0, 0, 0}, size_});
+    for_each_brick_row(size_, bricks, [&](std::size_t cell, std::size_t offset, std::size_t w) {
+      std::copy_n(bytes.data() + offset, w, whole.data() + cell);
+    });
+    write_grid(whole, bricks);
+  } else if (bricks.empty()) {
+    // Nothing to write: brick 0 gets its own bytes back, a write that wakes every brick.
+    const std::vector<std::uint8_t> own = read_cells(brick_box(size_, 0));
+    live().write(brick_box(size_, 0), own, all_bricks(size_));
+  } else {
+    mark_bricks(bricks);
+    const std::vector<std::uint32_t> every = all_bricks(size_);
+    bool woken = false;
+    for_each_brick(size_, bricks, [&](const Box& box, std::size_t offset) {
+      live().write(box, bytes.subspan(offset, std::size_t(box.volume())),
+                   woken ? std::span<const std::uint32_t>() : std::span<const std::uint32_t>(every));
+      woken = true;
+    });
+  }
+  tick_ = tick;
+  tool_calls_ = tool_calls;
 }
 
 ChangeReport World::write_materials(const Box& region, std::vector<std::uint8_t>& cells,

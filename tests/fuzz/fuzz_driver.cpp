@@ -2,7 +2,8 @@
 /// `granular_fuzz`: a deterministic, time-boxed mutation fuzzer for the readers (fuzz_readers.hpp)
 /// that needs no libFuzzer, so it builds with GCC in every build. From a seed corpus it applies
 /// seeded mutations (bit flips, byte sets, inserts, deletes, duplications, splices with other
-/// inputs, interesting integers written over header and chunk-size fields, JSON and .vox tokens)
+/// inputs, interesting integers written over header and chunk-size fields, JSON, .vox and snapshot
+/// tokens)
 /// and keeps mutants whose outcome (which readers accepted them, which check refused them) it has
 /// not seen before. Memory is capped ($GRANULAR_MEMORY_LIMIT for the library's checks, RLIMIT_AS
 /// without AddressSanitizer, max_allocation_size_mb with it) and every input has a time limit.
@@ -206,16 +207,18 @@ constexpr const char* kTokens[] = {
     "\"sphere\"", "\"cylinder\"", "\"cone\"", "\"bowl\"", "\"material\"", "\"only\"", "\"void\"", "\"radius\"",
     "\"thickness_cells\"", "\"rate_per_n2\"", "\"stop_per_n\"", "\"center\"", "[0.5,0.5,0.5]", "1000",
     "SIZE",   "XYZI",     "nTRN",     "nGRP",     "nSHP",       "MAIN",     "RGBA",       "LAYR",      "VOX ",
-    "GRAW",   "_t",       "_r",       "2000 2000 2000", "-2147483648 0 0", "4", "\xC3\xA9", "\xFF\xFE"};
+    "GRAW",   "_t",       "_r",       "2000 2000 2000", "-2147483648 0 0", "4", "\xC3\xA9", "\xFF\xFE",
+    "GSNP",   "\x28\xB5\x2F\xFD", "inertial-24"};
 
 void put_u32(Bytes& b, std::size_t at, std::uint32_t v) {
   for (std::size_t i = 0; i < 4 && at + i < b.size(); ++i) b[at + i] = std::uint8_t(v >> (8 * i));
 }
 
-/// Offsets of 32-bit fields worth hitting: the raw header, and the sizes and first fields after
-/// every 4-letter chunk id found in the input.
+/// Offsets of 32-bit fields worth hitting: the raw and snapshot headers (a snapshot's name length
+/// and both halves of its compressed size), and the sizes and first fields after every 4-letter
+/// chunk id found in the input.
 std::vector<std::size_t> field_offsets(const Bytes& b) {
-  std::vector<std::size_t> at = {4, 8, 12, 16};
+  std::vector<std::size_t> at = {4, 8, 12, 16, 20, 64, 68};
   for (std::size_t i = 0; i + 12 <= b.size() && at.size() < 64; ++i) {
     const bool id = std::isalpha(b[i]) && std::isalpha(b[i + 1]) && std::isalpha(b[i + 2]) &&
                     (std::isalpha(b[i + 3]) || b[i + 3] == ' ');

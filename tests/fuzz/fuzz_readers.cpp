@@ -11,6 +11,7 @@
 #include "granular/grid_io.hpp"
 #include "granular/scene.hpp"
 #include "granular/vox_io.hpp"
+#include "granular/world_snapshot.hpp"
 
 namespace {
 
@@ -100,11 +101,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     granular::vox_import_notice(report, "fuzz.vox");
   });
   read_with("parse_scene", [&] { instantiate_small(granular::parse_scene(text, "fuzz.json")); });
+  read_with("decode_snapshot", [&] { granular::decode_snapshot(bytes, "fuzz.gsnap"); });
   const MemoryFile file(data, size);
   if (file.ok()) {
     read_with("load_raw", [&] { granular::load_raw(file.path()); });
     read_with("load_vox", [&] { granular::load_vox(file.path()); });
     read_with("load_scene", [&] { granular::load_scene(file.path()); });
+    read_with("load_snapshot", [&] { granular::load_snapshot(file.path()); });
   }
   return 0;
 }

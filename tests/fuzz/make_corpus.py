@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Writes the seed corpus of granular_fuzz into tests/fuzz/corpus: the shipped scenes, a scene
-using every shape and emitter field, and small valid .raw and .vox files (one model, a scene
-graph of translated models, extra chunks, version 200). Deterministic; rerun after a format
+using every shape and emitter field, small valid .raw and .vox files (one model, a scene graph of
+translated models, extra chunks, version 200) and snapshots (.gsnap) whose zstd frames are built
+here from raw and RLE blocks (the format allows both; no zstd module needed). Deterministic; rerun after a format
 change: python3 tests/fuzz/make_corpus.py"""
 
 import random
@@ -16,6 +17,49 @@ SCENES = HERE.parent.parent / "assets" / "scenes"
 
 def raw(nx, ny, nz, cells):
     return b"GRAW" + struct.pack("<IIII", 1, nx, ny, nz) + bytes(cells)
+
+
+MASK64 = (1 << 64) - 1
+
+
+def mix64(z):
+    """splitmix64's finaliser (granular::mix64)."""
+    z = ((z ^ (z >> 30)) * 0xBF58476D1CE4E5B9) & MASK64
+    z = ((z ^ (z >> 27)) * 0x94D049BB133111EB) & MASK64
+    return z ^ (z >> 31)
+
+
+def hash_cells(nx, ny, nz, cells):
+    """granular::hash_cells: the grid hash a snapshot's header holds."""
+    padded = bytes(cells) + bytes(-len(cells) % 8)
+    total = 0
+    for i in range(len(padded) // 8):
+        word = struct.unpack_from("<Q", padded, 8 * i)[0]
+        total = (total + mix64((word + (i + 1) * 0x9E3779B97F4A7C15) & MASK64)) & MASK64
+    dims = nx | ny << 21 | nz << 42
+    return mix64((mix64(dims ^ 0x6772616E756C6172) + total) & MASK64)
+
+
+def zstd_frame(blocks, size):
+    """A zstd frame of `blocks` ((type, payload): 0 raw bytes, 1 RLE (byte, count)) stating its
+    content size in 8 bytes (single segment, no checksum)."""
+    out = struct.pack("<I", 0xFD2FB528) + bytes([0xE0]) + struct.pack("<Q", size)
+    for k, (kind, payload) in enumerate(blocks):
+        last = 1 if k == len(blocks) - 1 else 0
+        if kind == 0:
+            out += (last | 0 << 1 | len(payload) << 3).to_bytes(3, "little") + payload
+        else:
+            byte, count = payload
+            out += (last | 1 << 1 | count << 3).to_bytes(3, "little") + bytes([byte])
+    return out
+
+
+def snapshot(nx, ny, nz, cells, blocks, tick=100, seed=0, tool_calls=3, rules=b"inertial-24", fingerprint=0):
+    """A snapshot file (docs/FORMATS.md) holding `cells`, compressed as `blocks`."""
+    frame = zstd_frame(blocks, len(cells))
+    header = b"GSNP" + struct.pack("<IIIII", 1, nx, ny, nz, len(rules)) + struct.pack(
+        "<QQQQQQ", tick, seed, tool_calls, fingerprint, hash_cells(nx, ny, nz, cells), len(frame))
+    return header + rules + frame
 
 
 def chunk(cid, content=b"", children=b""):
@@ -102,6 +146,15 @@ def main():
     tiles += ntrn(0, 1, []) + ngrp(1, [2, 4]) + ntrn(2, 3, [("_t", "-22 0 1")]) + nshp(3, 0) + \
         ntrn(4, 5, [("_t", "128 0 1")]) + nshp(5, 1)
     (OUT / "vox-two-tiles.vox").write_bytes(vox(tiles))
+
+    cells = bytes([0x12, 2, 3, 0x93, 1, 0, 4, 5] * 3)  # sand and water with motion states
+    (OUT / "snapshot-raw-block.gsnap").write_bytes(snapshot(4, 3, 2, cells, [(0, cells)]))
+    floor = [1] * 64 + [0] * 192
+    (OUT / "snapshot-rle-blocks.gsnap").write_bytes(
+        snapshot(8, 8, 4, bytes(floor), [(1, (1, 64)), (1, (0, 192))], tick=7, seed=42, rules=b"paper"))
+    mixed = bytes(rng.choice([0, 0, 1, 2, 0x1A]) for _ in range(100)) + bytes(156)
+    (OUT / "snapshot-mixed-blocks.gsnap").write_bytes(
+        snapshot(16, 4, 4, mixed, [(0, mixed[:100]), (1, (0, 156))], tool_calls=0))
 
 
 if __name__ == "__main__":

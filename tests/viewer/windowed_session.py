@@ -5,17 +5,21 @@ as ctest viewer.windowed_session does, or `xvfb-run -a`): starts LAUNCHER (scrip
 that the automatic renderer choice (--renderer auto, the default) printed its final choice, taps C
 (xdotool's default 12 ms key press) and sees the renderer switch to the next one, taps Tab through
 erase to shake (the default rules have a motion model), clicks on the sand and sees cells set
-moving, taps Tab back to dig, clicks on the sand and sees it dug, chooses the liquid (key 3) and
-pours it with a right click, chooses solid (key 1) and paints it with a right click, taps V (a
-section across x), comma and period (the plane one step down and back), B (x-ray on) and P (a
-screenshot, which must exist as a PNG of the window's size), keeps the window open for more than 60
-frames while tapping every material key 1..7 in turn (each must choose the material the sandbox listed for it at start),
-presses Esc and sees exit status 0 and, in the screenshot of the last frame, the HUD's colour swatch
-of every listed material.
+moving, taps Tab back to dig, clicks on the sand and sees it dug, undoes the dig with Ctrl+Z (the
+world of the stroke's start: its tick and hash) and redoes it with Ctrl+Shift+Z (the stroke's end),
+saves a snapshot with Ctrl+S, resumes and loads it back with Ctrl+O (the saved tick and hash),
+chooses the liquid (key 3) and pours it with a right click, chooses solid (key 1) and paints it with
+a right click, taps V (a section across x), comma and period (the plane one step down and back), B
+(x-ray on) and P (a screenshot, which must exist as a PNG of the window's size), keeps the window
+open for more than 60 frames while tapping every material key 1..7 in turn (each must choose the
+material the sandbox listed for it at start), presses Esc and sees exit status 0, the snapshot
+--save names written on exit and, in the screenshot of the last frame, the HUD's colour swatch of
+every listed material.
 The sandbox prints one line per user action on stdout ("renderer: marching", "left button: shake
-(...)", "shake: 109 cells set moving", "dig: 137 cells removed", "material: liquid (right button
-pours it)", "section: x 0.47", "x-ray: on", "screenshot: FILE"); this script reads them. Every wait
-is bounded; exit status 0 on success, 1 with the reason otherwise.
+(...)", "shake: 109 cells set moving (from tick T, hash H, to tick T, hash H)", "dig: 137 cells
+removed (...)", "undo: tick T, hash H (...)", "saved: FILE (N cells, tick T, hash H)", "material:
+liquid (right button pours it)", "section: x 0.47", "x-ray: on", "screenshot: FILE"); this script
+reads them. Every wait is bounded; exit status 0 on success, 1 with the reason otherwise.
 
 usage: windowed_session.py LAUNCHER [ARGS...]
 """
@@ -33,6 +37,8 @@ from png_pixels import has_square_of_colour, png_size, read_png
 WINDOW_TITLE = "granular sandbox"
 FRAMES_TO_OUTLAST = 61  # more frames than the 60 after which the window once closed itself
 SESSION_SECONDS = 200  # every wait ends by then: the whole test ends within 205 s (ctest allows 240)
+STROKE = r" \(from tick (\d+), hash ([0-9a-f]{16}), to tick (\d+), hash ([0-9a-f]{16})\)$"  # a stroke line's end
+STATE = r" \((\d+) cells, tick (\d+), hash ([0-9a-f]{16})\)$"  # a save or load line's end
 HUD_CORNER = 480  # the HUD window lies within the window's top-left 480 x 480 pixels
 SWATCH_SQUARE = 10  # a swatch (14 pixels) holds a square of this side of its exact colour
 
@@ -97,7 +103,7 @@ def find_window(timeout):
     return None
 
 
-def run(command, screenshot, screenshot_dir):
+def run(command, screenshot, screenshot_dir, snapshot):
     started = time.monotonic()
 
     def step(text):
@@ -158,11 +164,17 @@ def run(command, screenshot, screenshot_dir):
                 return f"a Tab tap did not switch the left button to {tool} within 20 s"
         step("Tab switched the left button to erase, then to shake")
 
-        def click_centre(button, line, unanswered, nothing):
-            """A click of `button` at the window's centre must print `line` with a count above 0:
-            returns the match, or the failure's text."""
+        def click_centre(button, line, unanswered, nothing, hold=0.0):
+            """A click of `button` at the window's centre (held for `hold` seconds) must print `line`
+            with a count above 0: returns the match, or the failure's text."""
             mark = len(sandbox.lines)
-            xdotool("mousemove", "--window", window, str(centre_x), str(centre_y), "click", button)
+            xdotool("mousemove", "--window", window, str(centre_x), str(centre_y))
+            if hold > 0:
+                xdotool("mousedown", button)
+                time.sleep(hold)
+                xdotool("mouseup", button)
+            else:
+                xdotool("click", button)
             printed = sandbox.wait_for(line, timeout=20, after=mark)
             if not printed:
                 return unanswered
@@ -170,17 +182,18 @@ def run(command, screenshot, screenshot_dir):
                 return nothing
             return printed
 
-        def click_sand(tool, line, did):
-            """A left click at the centre, on the sand, with `tool`; None when it printed `line`."""
+        def click_sand(tool, line, did, hold=0.0):
+            """A left click at the centre, on the sand, with `tool` (held for `hold` seconds); None
+            when it printed `line`."""
             step(f"clicking at the window's centre ({centre_x}, {centre_y}), on the sand, with {tool}")
             printed = click_centre("1", line, f"a click with {tool} chosen printed nothing within 20 s",
-                                   f"a click on the sand with {tool} chosen {did} no cell")
+                                   f"a click on the sand with {tool} chosen {did} no cell", hold)
             if isinstance(printed, str):
                 return printed
             step(f"the click with {tool}: {printed.group(0)}")
             return None
 
-        failure = click_sand("shake", r"^shake: (\d+) cells set moving$", "set moving")
+        failure = click_sand("shake", r"^shake: (\d+) cells set moving" + STROKE, "set moving")
         if failure:
             return failure
         mark = len(sandbox.lines)
@@ -188,9 +201,48 @@ def run(command, screenshot, screenshot_dir):
         if not sandbox.wait_for(r"^left button: dig \(", timeout=20, after=mark):
             return "a Tab tap after shake did not switch the left button back to dig within 20 s"
         step("Tab switched the left button back to dig")
-        failure = click_sand("dig", r"^dig: (\d+) cells removed$", "removed")
+        mark = len(sandbox.lines)
+        # Held for 2 s, so that the world steps during the stroke (and on after it, until Ctrl+Z).
+        failure = click_sand("dig", r"^dig: (\d+) cells removed" + STROKE, "removed", hold=2.0)
         if failure:
             return failure
+        dig = sandbox.wait_for(r"^dig: (\d+) cells removed" + STROKE, timeout=1, after=mark)
+        start, end = (dig.group(2), dig.group(3)), (dig.group(4), dig.group(5))
+
+        # Ctrl+Z gives back the world the dig started from, Ctrl+Shift+Z the one it ended with.
+        for keys, name, expected in (("ctrl+z", "undo", start), ("ctrl+shift+z", "redo", end)):
+            mark = len(sandbox.lines)
+            xdotool("key", keys)
+            moved = sandbox.wait_for(rf"^{name}: tick (\d+), hash ([0-9a-f]{{16}}) \(", timeout=20, after=mark)
+            if not moved:
+                return f"{keys} printed no '{name}: tick T, hash H' line within 20 s"
+            if moved.groups() != expected:
+                return (f"{keys} gave tick {moved.group(1)}, hash {moved.group(2)}; the dig's "
+                        f"{'start' if name == 'undo' else 'end'} was tick {expected[0]}, hash {expected[1]}")
+            step(f"{keys}: {moved.group(0)}")
+
+        # Ctrl+S saves the (paused) world; after it runs on, Ctrl+O loads the saved world back.
+        mark = len(sandbox.lines)
+        xdotool("key", "ctrl+s")
+        saved = sandbox.wait_for(r"^saved: (.+)" + STATE, timeout=20, after=mark)
+        if not saved:
+            return "Ctrl+S printed no 'saved: FILE (N cells, tick T, hash H)' line within 20 s"
+        if saved.group(1) != snapshot or not os.path.isfile(snapshot):
+            return f"Ctrl+S saved {saved.group(1)}, expected the --save file {snapshot}"
+        step(saved.group(0))
+        mark = len(sandbox.lines)
+        xdotool("key", "space")
+        if not sandbox.wait_for(r"^running$", timeout=20, after=mark):
+            return "a tap of space after the undo did not print 'running' within 20 s"
+        time.sleep(2)
+        mark = len(sandbox.lines)
+        xdotool("key", "ctrl+o")
+        loaded = sandbox.wait_for(r"^loaded: (.+)" + STATE, timeout=30, after=mark)
+        if not loaded:
+            return "Ctrl+O printed no 'loaded: FILE (N cells, tick T, hash H)' line within 30 s"
+        if loaded.groups() != saved.groups():
+            return f"Ctrl+O loaded '{loaded.group(0)}', but Ctrl+S had '{saved.group(0)}'"
+        step(loaded.group(0))
 
         # Key 3 chooses the presets' liquid (poured), key 1 solid (painted as structure); a right
         # click applies each at the window's centre.
@@ -203,8 +255,8 @@ def run(command, screenshot, screenshot_dir):
             name, use = chosen.group(1), chosen.group(2)
             if name != materials[key]:
                 return f"key {key} chose {name}, but the sandbox listed {materials[key]} for it"
-            pattern = (rf"^pour: (\d+) {re.escape(name)} cells added$" if use == "pours"
-                       else rf"^place: (\d+) {re.escape(name)} cells placed$")
+            pattern = (rf"^pour: (\d+) {re.escape(name)} cells added" if use == "pours"
+                       else rf"^place: (\d+) {re.escape(name)} cells placed") + STROKE
             applied = click_centre("3", pattern, f"a right click with {name} chosen did not {use[:-1]} it within 20 s",
                                    f"a right click with {name} chosen changed no cell")
             if isinstance(applied, str):
@@ -263,6 +315,7 @@ def run(command, screenshot, screenshot_dir):
         step(f"still open after {FRAMES_TO_OUTLAST} frames")
 
         step("pressing Esc")
+        mark = len(sandbox.lines)
         xdotool("key", "Escape")
         try:
             status = sandbox.process.wait(timeout=30)
@@ -276,6 +329,9 @@ def run(command, screenshot, screenshot_dir):
         if int(summary.group(1)) <= FRAMES_TO_OUTLAST:
             return f"the summary counts {summary.group(1)} frames, expected more than {FRAMES_TO_OUTLAST}"
         step("closed with exit status 0")
+        if not sandbox.wait_for(rf"^saved: {re.escape(snapshot)}" + STATE, timeout=5, after=mark):
+            return f"the sandbox did not write the --save file {snapshot} on exit"
+        step("the --save file was written on exit")
 
         png = read_png(screenshot, HUD_CORNER, HUD_CORNER)
         missing = [f"{key} {materials[key]}" for key in sorted(colours)
@@ -296,7 +352,9 @@ def main():
         return 2
     with tempfile.TemporaryDirectory(prefix="windowed-session-") as folder:
         screenshot = os.path.join(folder, "last-frame.png")
-        failure = run(sys.argv[1:] + ["--screenshot", screenshot, "--screenshot-dir", folder], screenshot, folder)
+        snapshot = os.path.join(folder, "session.gsnap")
+        failure = run(sys.argv[1:] + ["--screenshot", screenshot, "--screenshot-dir", folder, "--save", snapshot],
+                      screenshot, folder, snapshot)
     if failure:
         print("FAILED: " + failure, flush=True)
         return 1

@@ -13,7 +13,7 @@ struct Control {
 };
 
 /// Every control of the windowed sandbox.
-inline constexpr std::array<Control, 21> kControls{{
+inline constexpr std::array<Control, 26> kControls{{
     {"left button", "dig (removes every mobile material: granular, liquid, gas; static ones stay) / erase (removes everything) / shake (sets the grains and liquids moving at the rules' highest motion level) where the cursor's ray hits"},
     {"right button", "the chosen material: pour it above the hit point (granular, liquid, gas) / paint it as a sphere of structure in front of the hit face (static)"},
     {"wheel", "brush radius"},
@@ -34,6 +34,11 @@ inline constexpr std::array<Control, 21> kControls{{
     {"B", "x-ray: draw static materials translucent, to see what a container holds"},
     {"P", "screenshot: the current frame to granular-screenshot-N.png (N: the first free number)"},
     {"R", "reset the scene"},
+    {"Ctrl+Z", "undo the last stroke (a tool from press to release): the world as it was when the stroke began, ticks since included; then pauses"},
+    {"Ctrl+Shift+Z, or Ctrl+Y", "redo: the world as it was when the stroke ended (while nothing changed since the undo)"},
+    {"Ctrl+S", "save a snapshot of the world to the snapshot file (--save, default granular-sandbox.gsnap)"},
+    {"Ctrl+O", "load the snapshot file"},
+    {"drop a file", "load a .gsnap snapshot, or a .raw or .vox grid, dropped on the window"},
     {"Esc", "quit"},
 }};
 

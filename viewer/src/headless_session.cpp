@@ -11,6 +11,7 @@
 #include "granular/engine/clock.hpp"
 #include "granular/engine/engine_loop.hpp"
 #include "granular/engine/granular_subsystem.hpp"
+#include "granular/world_snapshot.hpp"
 #include "offscreen_renderer.hpp"
 #include "png_writer.hpp"
 #include "render_subsystem.hpp"
@@ -20,12 +21,16 @@
 #include "shader_loader.hpp"
 #include "shared_cells.hpp"
 #include "vulkan_context.hpp"
+#include "world_files.hpp"
 
 namespace viewer {
 
 int run_headless(const SandboxOptions& options) {
-  SandboxWorld sandbox = load_world(options.world);
+  const WorldChoice choice = start_choice(options);
+  SandboxWorld sandbox = load_world(choice);
   granular::World& world = *sandbox.world;
+  const std::uint64_t first_tick = world.tick();  // a snapshot's
+  if (granular::is_snapshot_file(choice.scene)) std::printf("%s\n", loaded_line(world, choice.scene).c_str());
   ContextOptions context_options;
   context_options.validation = options.validation;
   const std::optional<ContextOptions> interop = options.no_interop ? std::nullopt : interop_context(world, context_options);
@@ -34,8 +39,8 @@ int run_headless(const SandboxOptions& options) {
   if (interop) shared = std::make_unique<SharedCells>(context, world);
   const OrbitCamera camera = initial_camera(options.camera, world, float(options.width) / float(options.height));
   const bool automatic = options.renderer == "auto";
-  RendererChoice choice;
-  RendererKind kind = automatic ? choice.first() : *parse_renderer_kind(options.renderer);
+  RendererChoice renderer_choice;
+  RendererKind kind = automatic ? renderer_choice.first() : *parse_renderer_kind(options.renderer);
   OffscreenRenderer offscreen(context, world,
                               {std::uint32_t(options.width), std::uint32_t(options.height)}, kind, shared.get());
   offscreen.world_renderer().set_see_inside(options.inside);
@@ -54,23 +59,25 @@ int run_headless(const SandboxOptions& options) {
     const auto start = std::chrono::steady_clock::now();
     loop.run_frame();
     clock.advance(loop.timestep().tick_seconds());
-    if (automatic && choice.measuring()) {
+    if (automatic && renderer_choice.measuring()) {
       // The choice measures the frames as drawn here, back to back (two in flight).
       const std::optional<RendererKind> next =
-          choice.frame(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+          renderer_choice.frame(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
       if (next) {
         kind = *next;
         offscreen.set_kind(kind);
       }
-      if (next || !choice.measuring()) std::printf("%s\n", choice.report().c_str());
+      if (next || !renderer_choice.measuring()) std::printf("%s\n", renderer_choice.report().c_str());
     }
   }
+  if (!options.save.empty()) std::printf("%s\n", save_world(world, options.save).c_str());
   const GpuTimings gpu = offscreen.last_timings();
   if (!options.screenshot.empty()) {
     write_png(options.screenshot, offscreen.extent().width, offscreen.extent().height, offscreen.pixels());
   }
   offscreen.wait_idle();
-  const double ms_per_tick = world.tick() ? simulation.total_step_seconds() * 1e3 / double(world.tick()) : 0.0;
+  const std::uint64_t ticks = world.tick() - first_tick;
+  const double ms_per_tick = ticks ? simulation.total_step_seconds() * 1e3 / double(ticks) : 0.0;
   std::printf("device         %s\n", context.device_name().c_str());
   std::printf("shaders        %s\n", shader_dir().string().c_str());
   std::printf("scene          %s (N=%d), backend %s\n", sandbox.scene_name.c_str(), sandbox.n, world.backend_description().c_str());
@@ -78,7 +85,7 @@ int run_headless(const SandboxOptions& options) {
   std::printf("see inside     section %s, x-ray %s\n", options.inside.section.describe().c_str(), options.inside.xray ? "on" : "off");
   std::printf("cells          %s\n", shared ? (shared->dedicated() ? "shared with CUDA (dedicated allocation)" : "shared with CUDA")
                                              : "uploaded through staging (changed bricks)");
-  std::printf("frames         %d, ticks %llu (%.3f ms/tick)\n", frames, static_cast<unsigned long long>(world.tick()), ms_per_tick);
+  std::printf("frames         %d, ticks %llu (%.3f ms/tick)\n", frames, static_cast<unsigned long long>(ticks), ms_per_tick);
   std::printf("last frame gpu upload %.3f ms, build %.3f ms, draw %.3f ms\n", gpu.upload_ms, gpu.build_ms, gpu.draw_ms);
   if (!options.screenshot.empty()) std::printf("screenshot     %s\n", options.screenshot.c_str());
   std::printf("validation     %s, %llu messages\n", options.validation ? "on" : "off",

@@ -11,6 +11,7 @@ InputTracker::InputTracker(GLFWwindow* window) : window_(window) {
   glfwSetCharCallback(window, &InputTracker::on_char);
   glfwSetMouseButtonCallback(window, &InputTracker::on_mouse_button);
   glfwSetScrollCallback(window, &InputTracker::on_scroll);
+  glfwSetDropCallback(window, &InputTracker::on_drop);
   sample();
   previous_x_ = x_;
   previous_y_ = y_;
@@ -21,6 +22,7 @@ InputTracker::~InputTracker() {
   glfwSetCharCallback(window_, nullptr);
   glfwSetMouseButtonCallback(window_, nullptr);
   glfwSetScrollCallback(window_, nullptr);
+  glfwSetDropCallback(window_, nullptr);
   glfwSetWindowUserPointer(window_, nullptr);
 }
 
@@ -32,14 +34,14 @@ void InputTracker::on_key(GLFWwindow* window, int key, int, int action, int mods
   if (action == GLFW_PRESS) {
     self.keys_down_[key] = true;
     self.keys_pressed_[key] = true;
-    self.pending_events_.push_back({InputEvent::Kind::KeyPress, key, mods});
+    self.pending_events_.push_back({InputEvent::Kind::KeyPress, key, mods, {}});
   } else if (action == GLFW_RELEASE) {
     self.keys_down_[key] = false;
   }
 }
 
 void InputTracker::on_char(GLFWwindow* window, unsigned int codepoint) {
-  of(window).pending_events_.push_back({InputEvent::Kind::Character, int(codepoint), 0});
+  of(window).pending_events_.push_back({InputEvent::Kind::Character, int(codepoint), 0, {}});
 }
 
 void InputTracker::on_mouse_button(GLFWwindow* window, int button, int action, int mods) {
@@ -47,10 +49,15 @@ void InputTracker::on_mouse_button(GLFWwindow* window, int button, int action, i
   if (button < 0 || button >= int(self.buttons_down_.size())) return;
   const bool down = action == GLFW_PRESS;
   self.buttons_down_[button] = down;
-  self.pending_events_.push_back({down ? InputEvent::Kind::ButtonPress : InputEvent::Kind::ButtonRelease, button, mods});
+  self.pending_events_.push_back(
+      {down ? InputEvent::Kind::ButtonPress : InputEvent::Kind::ButtonRelease, button, mods, {}});
 }
 
 void InputTracker::on_scroll(GLFWwindow* window, double, double y) { of(window).pending_scroll_ += y; }
+
+void InputTracker::on_drop(GLFWwindow* window, int count, const char** paths) {
+  for (int i = 0; i < count; ++i) of(window).pending_events_.push_back({InputEvent::Kind::Drop, 0, 0, paths[i]});
+}
 
 void InputTracker::sample() {
   previous_x_ = x_;

@@ -1,18 +1,19 @@
 #pragma once
 /// @file input_tracker.hpp
-/// Mouse and keyboard input of the window, from GLFW's callbacks: every key press, typed character
-/// and button press or release between two frames is queued, so a tap shorter than a frame (a press
-/// and its release handled by the same glfwPollEvents) still counts. The cursor position is sampled
-/// once a frame.
+/// Mouse and keyboard input of the window, from GLFW's callbacks: every key press, typed character,
+/// button press or release and file dropped on the window between two frames is queued, so a tap
+/// shorter than a frame (a press and its release handled by the same glfwPollEvents) still counts.
+/// The cursor position is sampled once a frame.
 
 #include <array>
+#include <string>
 #include <vector>
 
 struct GLFWwindow;
 
 namespace viewer {
 
-/// A key press or a mouse button press or release, in the order they happened.
+/// A key press, a mouse button press or release, or a file dropped, in the order they happened.
 struct InputEvent {
   /// What happened.
   enum class Kind {
@@ -20,14 +21,16 @@ struct InputEvent {
     Character,      ///< character `code` (a Unicode code point) was typed
     ButtonPress,    ///< mouse button `code` (GLFW_MOUSE_BUTTON_*) went down
     ButtonRelease,  ///< mouse button `code` went up
+    Drop,           ///< the file `path` was dropped on the window (one event per file)
   };
-  Kind kind;  ///< what happened
-  int code;   ///< the key, character or button
-  int mods;   ///< GLFW_MOD_* bits held at the time (0 for characters)
+  Kind kind;         ///< what happened
+  int code;          ///< the key, character or button (0 for a drop)
+  int mods;          ///< GLFW_MOD_* bits held at the time (0 for characters and drops)
+  std::string path;  ///< the dropped file (empty for the other kinds)
 };
 
-/// One frame of input. Installs key, character, mouse button and scroll callbacks on the window:
-/// create it before Dear ImGui installs its own, which then chain to these.
+/// One frame of input. Installs key, character, mouse button, scroll and drop callbacks on the
+/// window: create it before Dear ImGui installs its own, which then chain to these.
 class InputTracker {
  public:
   /// Tracks `window` (its user pointer is set to this tracker).
@@ -64,6 +67,7 @@ class InputTracker {
   static void on_char(GLFWwindow* window, unsigned int codepoint);
   static void on_mouse_button(GLFWwindow* window, int button, int action, int mods);
   static void on_scroll(GLFWwindow* window, double x, double y);
+  static void on_drop(GLFWwindow* window, int count, const char** paths);
 
   GLFWwindow* window_;
   double x_ = 0, y_ = 0, previous_x_ = 0, previous_y_ = 0;

@@ -8,6 +8,7 @@
 #include <optional>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #define GLFW_INCLUDE_NONE
@@ -21,8 +22,14 @@
 #include "granular/engine/engine_loop.hpp"
 #include "granular/engine/granular_subsystem.hpp"
 #include "glfw_window.hpp"
+#include "granular/errors.hpp"
+#include "granular/hex.hpp"
+#include "granular/raycast.hpp"
 #include "granular/scene.hpp"
+#include "granular/stroke_history.hpp"
 #include "granular/time_scale.hpp"
+#include "granular/world_snapshot.hpp"
+#include "history_lines.hpp"
 #include "hud.hpp"
 #include "input_tracker.hpp"
 #include "material_choices.hpp"
@@ -37,17 +44,19 @@
 #include "granular/external_memory.hpp"
 #include "swapchain.hpp"
 #include "vulkan_context.hpp"
+#include "world_files.hpp"
 #include "world_renderer.hpp"
 
 namespace viewer {
 namespace {
 
-/// What a scene reset rebuilds: the world and the subsystems that borrow it.
+/// What a scene reset rebuilds: the world and what borrows it.
 struct Session {
   std::unique_ptr<SharedCells> shared;  ///< CUDA interop; declared first so the world goes first
   SandboxWorld sandbox;
   std::unique_ptr<ToolSubsystem> tools;
   std::unique_ptr<granular::engine::GranularSubsystem> simulation;
+  std::unique_ptr<granular::StrokeHistory> history;  ///< undo and redo of the tools' strokes
 };
 
 /// Prints one line on stdout for a user action and flushes it, so that whoever started the sandbox
@@ -86,6 +95,8 @@ struct Stroke {
   int button;                       ///< GLFW_MOUSE_BUTTON_* that started it
   std::int64_t cells_at_start;      ///< ToolSubsystem::cells_changed() at the press
   std::int64_t applications_at_start;  ///< ToolSubsystem::applications() at the press
+  std::uint64_t tick_at_start;      ///< World::tick() at the press
+  std::uint64_t hash_at_start;      ///< World::hash() at the press: what an undo of the stroke gives back
 };
 
 /// The windowed sandbox: an engine subsystem (input and camera in update(), drawing in render())
@@ -102,8 +113,9 @@ class SandboxApp final : public granular::engine::Subsystem {
         hud_(context_, window_, swapchain_.target().compatible_pass(), swapchain_.min_image_count(), swapchain_.image_count()),
         kind_(options.renderer == "auto" ? choice_of_renderer_.first() : *parse_renderer_kind(options.renderer)),
         inside_(options.inside),
-        requested_extent_(window_.framebuffer_extent()) {
-    load(options.world);
+        requested_extent_(window_.framebuffer_extent()),
+        snapshot_file_(snapshot_file(options)) {
+    load(start_choice(options));
     camera_ = initial_camera(options.camera, world(), aspect());
   }
 
@@ -114,6 +126,8 @@ class SandboxApp final : public granular::engine::Subsystem {
     report("materials      %s (number keys; the right button pours or paints the chosen one)", describe(choices_).c_str());
     report("window         %ux%u, renderer %s; Esc or closing the window quits", swapchain_.target().extent().width,
            swapchain_.target().extent().height, to_string(kind_));
+    report("snapshots      %s (Ctrl+S saves, Ctrl+O loads)", snapshot_file_.c_str());
+    if (granular::is_snapshot_file(choice_.scene)) report("%s", loaded_line(world(), choice_.scene).c_str());
     std::uint64_t frames = 0;
     const double start = clock_.now_seconds();
     while (!window_.should_close()) {
@@ -132,9 +146,11 @@ class SandboxApp final : public granular::engine::Subsystem {
         report("%s %s (N=%d)", same_scene ? "reset:" : "scene:", session_->sandbox.scene_name.c_str(), session_->sandbox.n);
         if (!same_scene) camera_ = frame_content(world(), aspect());
       }
+      if (!pending_file_.empty()) open_file(std::exchange(pending_file_, std::string()));
     }
     const double seconds = clock_.now_seconds() - start;
     vkDeviceWaitIdle(context_.device());
+    if (!options_.save.empty()) save();
     if (!options_.screenshot.empty()) {
       write_last_frame(options_.screenshot);
       std::printf("screenshot     %s\n", options_.screenshot.c_str());
@@ -233,7 +249,10 @@ class SandboxApp final : public granular::engine::Subsystem {
     report("section: %s", inside_.section.describe().c_str());
   }
 
+  /// Replaces the world with the one `choice` names; throws granular::Error (the world stays) when it
+  /// cannot be made.
   void load(const WorldChoice& choice) {
+    SandboxWorld fresh = load_world(choice);
     vkDeviceWaitIdle(context_.device());
     loop_.reset();
     renderer_.reset();
@@ -242,7 +261,7 @@ class SandboxApp final : public granular::engine::Subsystem {
     const ToolState tool_state = session_ ? session_->tools->state() : ToolState{};
     session_.reset();
     auto session = std::make_unique<Session>();
-    session->sandbox = load_world(choice);
+    session->sandbox = std::move(fresh);
     if (context_.external_memory() && session->sandbox.world->backend() == granular::BackendKind::Cuda)
       session->shared = std::make_unique<SharedCells>(context_, *session->sandbox.world);
     session->tools = std::make_unique<ToolSubsystem>(*session->sandbox.world, session->sandbox.emitters);
@@ -251,6 +270,9 @@ class SandboxApp final : public granular::engine::Subsystem {
     stroke_.reset();
     session->simulation = std::make_unique<granular::engine::GranularSubsystem>(*session->sandbox.world, ticks);
     session->simulation->set_paused(paused);
+    session->tools->set_running([simulation = session->simulation.get()] { return !simulation->paused(); });
+    session->history = std::make_unique<granular::StrokeHistory>(*session->sandbox.world,
+                                                                 std::uint64_t(options_.undo_mib) << 20);
     session_ = std::move(session);
     const std::vector<Tool> offered = left_button_tools(world().rules());
     if (std::find(offered.begin(), offered.end(), left_tool_) == offered.end()) left_tool_ = Tool::Dig;
@@ -278,6 +300,46 @@ class SandboxApp final : public granular::engine::Subsystem {
     counts_age_ = 1e9;
   }
 
+  /// Loads the world file `path` (a snapshot, or a .raw/.vox grid) and reports it; a file that
+  /// cannot be loaded is reported and the world stays.
+  void open_file(const std::string& path) {
+    WorldChoice choice = choice_;
+    choice.scene = path;
+    choice.size = 0;
+    const granular::Int3 before = world().size();
+    try {
+      load(choice);
+    } catch (const granular::Error& e) {
+      report("load failed: %s", e.what());
+      return;
+    }
+    report("%s", loaded_line(world(), path).c_str());
+    if (!(world().size() == before)) camera_ = frame_content(world(), aspect());
+  }
+
+  /// Writes the snapshot file and reports it; a failure is reported and changes nothing.
+  void save() {
+    try {
+      report("%s", save_world(world(), snapshot_file_).c_str());
+    } catch (const granular::Error& e) {
+      report("save failed: %s", e.what());
+    }
+  }
+
+  /// Undoes the last stroke (ending a held one first) and pauses, so that a redo finds the world
+  /// as the undo left it.
+  void undo() {
+    if (stroke_) end_stroke();
+    const auto move = session_->history->undo();
+    if (move) session_->simulation->set_paused(true);
+    report("%s", undo_line(move, world()).c_str());
+  }
+
+  void redo() {
+    if (stroke_) return;  // a stroke in progress is what redo would overwrite
+    report("%s", redo_line(session_->history->redo(), world()).c_str());
+  }
+
   void recreate_swapchain(VkExtent2D extent) {
     if (extent.width == 0 || extent.height == 0) return;
     requested_extent_ = extent;
@@ -299,13 +361,15 @@ class SandboxApp final : public granular::engine::Subsystem {
     return extent.height ? float(extent.width) / float(extent.height) : 1.0f;
   }
 
-  /// This frame's key presses, typed characters and button presses and releases, in order: each
-  /// one acts once, however short.
+  /// This frame's key presses, typed characters, button presses and releases and dropped files, in
+  /// order: each one acts once, however short.
   void handle_events() {
     for (const InputEvent& event : input_.events()) {
       switch (event.kind) {
         case InputEvent::Kind::KeyPress:
-          if (!hud_.wants_keyboard()) on_key(event.code);
+          if (hud_.wants_keyboard()) break;
+          if (event.mods & GLFW_MOD_CONTROL) on_control_key(event.code, event.mods);
+          else on_key(event.code);
           break;
         case InputEvent::Kind::Character:
           if (!hud_.wants_keyboard()) on_character(event.code);
@@ -316,7 +380,25 @@ class SandboxApp final : public granular::engine::Subsystem {
         case InputEvent::Kind::ButtonRelease:
           if (stroke_ && stroke_->button == event.code) end_stroke();
           break;
+        case InputEvent::Kind::Drop:
+          if (is_world_file(event.path)) pending_file_ = event.path;  // the last file dropped wins
+          else report("drop: %s is not a world file (.gsnap, .raw or .vox)", event.path.c_str());
+          break;
       }
+    }
+  }
+
+  /// Ctrl + key: save, load, undo and redo.
+  void on_control_key(int key, int mods) {
+    switch (key) {
+      case GLFW_KEY_S: save(); break;
+      case GLFW_KEY_O: pending_file_ = snapshot_file_; break;
+      case GLFW_KEY_Z:
+        if (mods & GLFW_MOD_SHIFT) redo();
+        else undo();
+        break;
+      case GLFW_KEY_Y: redo(); break;
+      default: break;
     }
   }
 
@@ -388,7 +470,9 @@ class SandboxApp final : public granular::engine::Subsystem {
       return;
     }
     tool.held = true;
-    stroke_ = Stroke{button, session_->tools->cells_changed(), session_->tools->applications()};
+    session_->history->begin_stroke();
+    stroke_ = Stroke{button, session_->tools->cells_changed(), session_->tools->applications(), world().tick(),
+                     world().hash()};
   }
 
   /// Releases the tool; a click that ended before any fixed update applied it applies it once.
@@ -396,14 +480,20 @@ class SandboxApp final : public granular::engine::Subsystem {
     ToolSubsystem& tools = *session_->tools;
     tools.state().held = false;
     if (tools.applications() == stroke_->applications_at_start) tools.apply_once();
+    session_->history->end_stroke();
     const long long cells = static_cast<long long>(tools.cells_changed() - stroke_->cells_at_start);
+    // Where the stroke started and ended: an undo returns to the first, a redo to the second.
+    const std::string span = "from tick " + std::to_string(stroke_->tick_at_start) + ", hash " +
+                             granular::hex64(stroke_->hash_at_start) + ", to tick " + std::to_string(world().tick()) +
+                             ", hash " + granular::hex64(world().hash());
     stroke_.reset();
+    const char* material = name_of(tools.state().material);
     switch (tools.state().tool) {
-      case Tool::Dig: report("dig: %lld cells removed", cells); break;
-      case Tool::Pour: report("pour: %lld %s cells added", cells, name_of(tools.state().material)); break;
-      case Tool::Place: report("place: %lld %s cells placed", cells, name_of(tools.state().material)); break;
-      case Tool::Erase: report("erase: %lld cells erased", cells); break;
-      case Tool::Shake: report("shake: %lld cells set moving", cells); break;
+      case Tool::Dig: report("dig: %lld cells removed (%s)", cells, span.c_str()); break;
+      case Tool::Pour: report("pour: %lld %s cells added (%s)", cells, material, span.c_str()); break;
+      case Tool::Place: report("place: %lld %s cells placed (%s)", cells, material, span.c_str()); break;
+      case Tool::Erase: report("erase: %lld cells erased (%s)", cells, span.c_str()); break;
+      case Tool::Shake: report("shake: %lld cells set moving (%s)", cells, span.c_str()); break;
     }
   }
 
@@ -415,7 +505,8 @@ class SandboxApp final : public granular::engine::Subsystem {
 
   /// What acts for as long as it is held: flying, zooming, orbiting, panning, and the wheel.
   void handle_held_input(double seconds) {
-    if (!hud_.wants_keyboard()) {
+    const bool ctrl = input_.held(GLFW_KEY_LEFT_CONTROL) || input_.held(GLFW_KEY_RIGHT_CONTROL);
+    if (!hud_.wants_keyboard() && !ctrl) {  // Ctrl + S, Z, ... are commands, not flying or zooming
       const float speed = camera_.distance * float(seconds);
       const float forward = float(input_.held(GLFW_KEY_W) - input_.held(GLFW_KEY_S));
       const float right = float(input_.held(GLFW_KEY_D) - input_.held(GLFW_KEY_A));
@@ -427,7 +518,6 @@ class SandboxApp final : public granular::engine::Subsystem {
     if (hud_.wants_mouse()) return;
     const bool alt = input_.held(GLFW_KEY_LEFT_ALT) || input_.held(GLFW_KEY_RIGHT_ALT);
     const bool shift = input_.held(GLFW_KEY_LEFT_SHIFT) || input_.held(GLFW_KEY_RIGHT_SHIFT);
-    const bool ctrl = input_.held(GLFW_KEY_LEFT_CONTROL) || input_.held(GLFW_KEY_RIGHT_CONTROL);
     const float dx = float(input_.dx()), dy = float(input_.dy());
     const bool middle = input_.button(GLFW_MOUSE_BUTTON_MIDDLE);
     const bool left_orbit = input_.button(GLFW_MOUSE_BUTTON_LEFT) && alt && !stroke_;
@@ -487,6 +577,8 @@ class SandboxApp final : public granular::engine::Subsystem {
     ImGui::Text("right button: %s %s, brush radius %.0f", to_string(chosen.use), chosen.name.c_str(), tool.radius);
     ImGui::Text("active tool: %s", tool.held ? to_string(tool.tool) : "none");
     ImGui::Text("section %s (V, comma, period), x-ray %s (B)", inside_.section.describe().c_str(), inside_.xray ? "on" : "off");
+    ImGui::Text("%s (Ctrl+Z / Ctrl+Shift+Z)", history_line(*session_->history).c_str());
+    ImGui::Text("snapshot file: %s (Ctrl+S / Ctrl+O)", snapshot_file_.c_str());
     if (const auto clicked = draw_material_panel(choices_, tool.material, counts_))
       choose(session_->tools->state(), choice_of(choices_, *clicked));
     int kind = int(kind_);
@@ -536,6 +628,8 @@ class SandboxApp final : public granular::engine::Subsystem {
   WorldChoice choice_;
   bool pending_load_ = false;
   bool screenshot_requested_ = false;  ///< P was pressed: write the frame once it is presented
+  std::string snapshot_file_;  ///< the file of Ctrl+S and Ctrl+O (--save, else kDefaultSnapshotFile)
+  std::string pending_file_;   ///< a world file to load after this frame (Ctrl+O, a drop); "" for none
   std::optional<Stroke> stroke_;
   Tool left_tool_ = Tool::Dig;  ///< the left button's tool, one of left_button_tools(world().rules())
   std::vector<MaterialChoice> choices_;  ///< the materials of the world's table, on keys 1..7

@@ -6,7 +6,9 @@
 #include <string>
 
 #include "granular/rule_presets.hpp"
+#include "granular/world_snapshot.hpp"
 #include "renderer_factory.hpp"
+#include "world_files.hpp"
 
 namespace viewer {
 
@@ -14,7 +16,9 @@ void add_sandbox_options(CLI::App& app, SandboxOptions& o) {
 #ifndef NDEBUG
   o.validation = true;
 #endif
-  app.add_option("--scene", o.world.scene, "scene name from assets/scenes, a scene .json, or a .raw/.vox grid");
+  app.add_option("--scene", o.world.scene,
+                 "scene name from assets/scenes, a scene .json, a .raw/.vox grid, or a .gsnap snapshot")
+      ->each([&o](const std::string&) { o.scene_given = true; });
   app.add_option_function<int>(
       "--size",
       [&o](const int& n) {
@@ -27,7 +31,8 @@ void add_sandbox_options(CLI::App& app, SandboxOptions& o) {
   app.add_option("--backend", o.world.backend, "auto, cpu or cuda");
   std::string presets;
   for (const auto& name : granular::rule_preset_names()) presets += (presets.empty() ? "" : ", ") + name;
-  app.add_option("--rules", o.world.rules, "rule-set preset (" + presets + ")");
+  app.add_option("--rules", o.world.rules, "rule-set preset (" + presets + "); a snapshot keeps its own")
+      ->each([&o](const std::string&) { o.world.rules_given = true; });
   app.add_option("--threads", o.world.threads, "CPU backend threads (0: all)");
   app.add_flag("--headless", o.headless, "render offscreen, no window, no display needed");
   app.add_option_function<int>("--frames", [&o](const int& n) { o.frames = n; },
@@ -52,6 +57,11 @@ void add_sandbox_options(CLI::App& app, SandboxOptions& o) {
   app.add_option("--height", o.height, "image height in pixels");
   app.add_flag("--validation,!--no-validation", o.validation, "Vulkan validation layers (default on in debug builds)");
   app.add_flag("--no-interop", o.no_interop, "with --backend cuda: copy the cells through the host instead of sharing them");
+  app.add_option("--save", o.save,
+                 std::string("snapshot (.gsnap) written after the last frame, and the file of Ctrl+S and Ctrl+O (default ") +
+                     kDefaultSnapshotFile + ", written only by Ctrl+S)");
+  app.add_option("--load", o.load, "start from this snapshot (.gsnap), as saved by --save or Ctrl+S");
+  app.add_option("--undo-mib", o.undo_mib, "memory for the undo history of strokes, in MiB (oldest strokes dropped first)");
 }
 
 void validate(const SandboxOptions& o) {
@@ -64,6 +74,21 @@ void validate(const SandboxOptions& o) {
   std::error_code error;
   if (!std::filesystem::is_directory(o.screenshot_dir, error))
     throw std::invalid_argument("--screenshot-dir '" + o.screenshot_dir + "': not a folder");
+  if (o.undo_mib < 1 || o.undo_mib > 1 << 20)
+    throw std::invalid_argument("--undo-mib must be in 1..1048576, got " + std::to_string(o.undo_mib));
+  if (!o.load.empty() && o.scene_given)
+    throw std::invalid_argument("--load " + o.load + " and --scene " + o.world.scene + " both name the world to start from; give one");
+  if (!o.load.empty() && !granular::is_snapshot_file(o.load))
+    throw std::invalid_argument("--load " + o.load + ": expected a snapshot file (.gsnap); --scene takes scenes and .raw/.vox grids");
+  if (!o.save.empty()) granular::check_snapshot_save_path(o.save);
 }
+
+WorldChoice start_choice(const SandboxOptions& o) {
+  WorldChoice choice = o.world;
+  if (!o.load.empty()) choice.scene = o.load;
+  return choice;
+}
+
+std::string snapshot_file(const SandboxOptions& o) { return o.save.empty() ? kDefaultSnapshotFile : o.save; }
 
 }  // namespace viewer

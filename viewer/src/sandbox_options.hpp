@@ -29,6 +29,10 @@ struct SandboxOptions {
   int height = 720;               ///< image height
   bool validation = false;        ///< Vulkan validation layers and a count of their messages
   bool no_interop = false;        ///< CUDA backend: upload through staging instead of sharing the cells
+  std::string save;               ///< --save: snapshot written after the last frame, and Ctrl+S/Ctrl+O's file
+  std::string load;               ///< --load: the snapshot to start from ("" for none)
+  bool scene_given = false;       ///< --scene was on the command line
+  int undo_mib = 256;             ///< the undo history's bound in MiB
 };
 
 /// Frames a headless run renders when --frames is not given.
@@ -40,7 +44,15 @@ inline int headless_frames(const SandboxOptions& options) { return options.frame
 /// Registers the options on `app`; validation defaults on in debug builds.
 void add_sandbox_options(CLI::App& app, SandboxOptions& options);
 
-/// Throws std::invalid_argument naming the option when a value is out of range.
+/// Throws std::invalid_argument naming the option when a value is out of range or two options
+/// conflict, and granular::Error when --save names a path a snapshot cannot be saved at (before
+/// any frame).
 void validate(const SandboxOptions& options);
+
+/// The world the sandbox starts from: --load's snapshot when given, else --scene and --size.
+WorldChoice start_choice(const SandboxOptions& options);
+
+/// The snapshot file of Ctrl+S and Ctrl+O: --save, else kDefaultSnapshotFile.
+std::string snapshot_file(const SandboxOptions& options);
 
 }  // namespace viewer

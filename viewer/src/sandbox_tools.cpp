@@ -69,7 +69,7 @@ void ToolSubsystem::fixed_update(double) {
     cells_changed_ += apply_tool(world_, state_);
     ++applications_;
   }
-  if (!emitters_.empty()) granular::run_emitters(world_, emitters_);
+  if (!emitters_.empty() && (!running_ || running_())) granular::run_emitters(world_, emitters_);
 }
 
 void ToolSubsystem::apply_once() {

@@ -5,6 +5,7 @@
 /// emitters. Every tool is one granular::World call.
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <vector>
 
@@ -58,8 +59,11 @@ class ToolSubsystem final : public granular::engine::Subsystem {
  public:
   /// Acts on `world` with the scene's `emitters`.
   ToolSubsystem(granular::World& world, std::vector<granular::Emitter> emitters);
-  /// Applies the held tool, then the emitters.
+  /// Applies the held tool, then the emitters (while running()).
   void fixed_update(double dt) override;
+  /// Makes the emitters pour only in fixed updates where `running` says the world steps (the
+  /// simulation is not paused), so that a paused world stays as it is; by default they always pour.
+  void set_running(std::function<bool()> running) { running_ = std::move(running); }
   /// Applies the tool once now at the target, held or not (a click shorter than a fixed update).
   void apply_once();
   /// The brush (the input code writes it every frame).
@@ -72,6 +76,7 @@ class ToolSubsystem final : public granular::engine::Subsystem {
  private:
   granular::World& world_;
   std::vector<granular::Emitter> emitters_;
+  std::function<bool()> running_;  ///< empty: always running
   ToolState state_;
   std::int64_t cells_changed_ = 0;
   std::int64_t applications_ = 0;

@@ -5,6 +5,7 @@
 #include "granular/errors.hpp"
 #include "granular/grid_io.hpp"
 #include "granular/vox_io.hpp"
+#include "granular/world_snapshot.hpp"
 
 namespace viewer {
 
@@ -22,8 +23,17 @@ SandboxWorld load_world(const WorldChoice& choice) {
   def.threads = choice.threads;
   SandboxWorld result;
   const std::filesystem::path as_path(choice.scene);
-  const std::string extension = as_path.extension().string();
-  if (extension == ".raw" || extension == ".vox") {
+  if (granular::is_snapshot_file(as_path)) {
+    const granular::WorldSnapshot snapshot = granular::load_snapshot(as_path);
+    if (choice.rules_given && choice.rules != snapshot.rules)
+      throw granular::InvalidArgument("--rules " + choice.rules + ": the snapshot " + choice.scene +
+                                      " continues under its own rules, '" + snapshot.rules + "' (omit --rules)");
+    def.rules = snapshot.rules;
+    result.scene_name = choice.scene;
+    result.world = std::make_unique<granular::World>(def, snapshot);
+    return result;
+  }
+  if (granular::is_grid_file(as_path)) {
     result.scene_name = choice.scene;
     result.world = std::make_unique<granular::World>(def, granular::load_grid(as_path));
     return result;
@@ -35,6 +45,10 @@ SandboxWorld load_world(const WorldChoice& choice) {
   result.emitters = std::move(instance.emitters);
   result.world = std::make_unique<granular::World>(def, instance.grid);
   return result;
+}
+
+bool is_world_file(const std::string& path) {
+  return granular::is_grid_file(path) || granular::is_snapshot_file(path);
 }
 
 }  // namespace viewer

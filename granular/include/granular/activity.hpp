@@ -4,6 +4,7 @@
 /// regions changed (for renderers and other consumers) and which regions it steps.
 
 #include <cstdint>
+#include <span>
 
 #include "granular/geometry.hpp"
 
@@ -29,6 +30,13 @@ constexpr Box brick_box(Int3 size, std::uint32_t index) {
   const Box whole{{bx * kBrickSize, by * kBrickSize, bz * kBrickSize},
                   {(bx + 1) * kBrickSize, (by + 1) * kBrickSize, (bz + 1) * kBrickSize}};
   return intersect(whole, Box{{0, 0, 0}, size});
+}
+
+/// Cells in the bricks `bricks` (indices as brick_box takes them) of a grid of `size`.
+constexpr std::uint64_t brick_cells(Int3 size, std::span<const std::uint32_t> bricks) {
+  std::uint64_t cells = 0;
+  for (const std::uint32_t b : bricks) cells += std::uint64_t(brick_box(size, b).volume());
+  return cells;
 }
 
 /// How much of the grid the last step() call stepped. With sparse stepping a brick is stepped only

@@ -58,7 +58,24 @@ class Backend {
   /// Hands the current cells to a renderer for one read (see World::hand_off_cells).
   virtual CellsHandoff hand_off_cells() { throw_not_shareable("hand_off_cells"); }
 
+  /// Keeps a copy of every cell as it is now, the checkpoint, where the backend keeps its cells (the
+  /// CPU backend in host memory, the CUDA backend in device memory), replacing an earlier one; the
+  /// state an undo returns to (StrokeHistory). Throws OutOfMemory when it does not fit. The default
+  /// throws BackendError: a backend that keeps no checkpoint offers no undo.
+  virtual void take_checkpoint() { throw_no_checkpoint(); }
+  /// Copies the cells of an in-grid box (x fastest) as they were at the last take_checkpoint().
+  /// Throws StateError when there is no checkpoint.
+  virtual void read_checkpoint(const Box&, std::span<std::uint8_t>) const { throw_no_checkpoint(); }
+  /// Frees the checkpoint, if any.
+  virtual void drop_checkpoint() {}
+  /// Bytes the checkpoint holds; 0 when there is none.
+  virtual std::uint64_t checkpoint_bytes() const { return 0; }
+
  private:
+  [[noreturn]] void throw_no_checkpoint() const {
+    throw BackendError("the " + description() +
+                       " backend keeps no checkpoint of its cells (Backend::take_checkpoint), which undo needs");
+  }
   [[noreturn]] void throw_not_shareable(const char* what) const {
     throw BackendError(std::string("World::") + what + ": the " + description() +
                        " backend keeps its cells in host memory; sharing them with a graphics API needs the "

@@ -16,6 +16,7 @@
 #include "granular/material.hpp"
 #include "granular/tools.hpp"
 #include "granular/world_def.hpp"
+#include "granular/world_snapshot.hpp"
 
 namespace granular {
 
@@ -32,6 +33,12 @@ class World {
   explicit World(const WorldDef& def = {});
   /// Creates a world whose size and cells are those of `initial` (def.size is ignored).
   World(const WorldDef& def, const Grid& initial);
+  /// Creates the world of `snapshot`: its size, every cell byte, its tick, tool calls and seed
+  /// (def.size and def.seed are ignored), so that it continues as the world it was captured from.
+  /// def's rule set (def.rule_set, else the preset def.rules) must be the snapshot's: pass
+  /// def.rules = snapshot.rules for a preset. Throws InvalidArgument naming both rule sets when the
+  /// fingerprints differ, and for cells that rule set cannot hold (see restore()).
+  World(const WorldDef& def, const WorldSnapshot& snapshot);
   ~World();
   /// Moves the world; every call on the moved-from one, but destruction and assignment, throws
   /// StateError.
@@ -44,8 +51,12 @@ class World {
   /// Advances `ticks` fixed ticks (each one Margolus partition of the 8-offset cycle). ticks >= 0.
   void step(int ticks = 1);
 
-  /// Ticks done since creation (the position in the offset cycle is tick() % 8).
+  /// Ticks done since creation (the position in the offset cycle is tick() % 8), or since the tick
+  /// a snapshot or an undo put back.
   std::uint64_t tick() const { return tick_; }
+  /// Calls of dig, shake, pour and paint since creation (each counts one, whatever it changes), or
+  /// since the count a snapshot or an undo put back: pour salts its choice of cells with it.
+  std::uint64_t tool_calls() const { return tool_calls_; }
   /// Grid extent.
   Int3 size() const { return size_; }
   /// The definition this world was made from (size updated to the actual grid).
@@ -102,6 +113,39 @@ class World {
   /// material is unchanged keeps its motion state).
   void load(const Grid& grid);
 
+  /// The world's whole state: every cell byte (motion state included), the tick, the seed, the tool
+  /// calls and the rule set's name and fingerprint. A world made from it (World(def, snapshot), or
+  /// restore()) continues bit-identically: the same hash() after every later tick and tool.
+  WorldSnapshot capture() const;
+  /// Puts back the state `snapshot` holds: every cell byte, the tick and the tool calls. Throws
+  /// InvalidArgument naming the field and both values for a snapshot of another size, seed or rule
+  /// set (fingerprint), and for a cell byte the rule set cannot hold (a motion state on a cell that
+  /// is not granular or liquid, or under rules without a motion model, or a level above
+  /// MotionParams::max_level()); the world is unchanged then. Every brick wakes, as after load().
+  void restore(const WorldSnapshot& snapshot);
+
+  /// Copies the cell bytes (motion state included) of the bricks `bricks` (activity.hpp indices)
+  /// into `out`: brick after brick in the list's order, each brick's cells (brick_box) x fastest.
+  /// `out` holds brick_cells(size(), bricks) bytes.
+  void read_bricks(std::span<const std::uint32_t> bricks, std::span<std::uint8_t> out) const;
+  /// Writes cell bytes laid out as read_bricks gives them into `bricks` and sets the tick and the
+  /// tool calls: how an undo puts a past state back. The bytes are checked as restore() checks a
+  /// snapshot's (InvalidArgument naming the brick and the cell; the world is unchanged then). Every
+  /// brick wakes; bricks_changed_since lists the written ones.
+  void restore_bricks(std::span<const std::uint32_t> bricks, std::span<const std::uint8_t> bytes, std::uint64_t tick,
+                      std::uint64_t tool_calls);
+  /// Keeps a copy of every cell as it is now, the checkpoint, where the backend keeps its cells (host
+  /// memory on the CPU, device memory on CUDA), replacing an earlier one. Throws OutOfMemory when it
+  /// does not fit, BackendError when the backend keeps no checkpoint (Backend::take_checkpoint).
+  void take_checkpoint();
+  /// As read_bricks, from the cells as they were at the last take_checkpoint(). Throws StateError
+  /// when there is no checkpoint.
+  void read_checkpoint_bricks(std::span<const std::uint32_t> bricks, std::span<std::uint8_t> out) const;
+  /// Frees the checkpoint, if any.
+  void drop_checkpoint();
+  /// Bytes the checkpoint holds; 0 when there is none.
+  std::uint64_t checkpoint_bytes() const;
+
   /// A counter that grows with every call that changes cells (step, tools, load). Pass a value
   /// read earlier to bricks_changed_since() to learn what changed after it.
   std::uint64_t change_version() const;
@@ -133,7 +177,8 @@ class World {
   CellsHandoff hand_off_cells();
 
  private:
-  void init(const Grid& initial);
+  // Creates the backend for `initial` under `rules` (null: def_.rule_set, else the preset def_.rules).
+  void init(const Grid& initial, std::shared_ptr<const RuleSet> rules = nullptr);
   // The backend; throws StateError on a moved-from World.
   Backend& live() const;
   // The factory of the backend to create: def_.backend_factory, or the one `wanted` stands for
@@ -143,6 +188,8 @@ class World {
   // The cell bytes of `region` as the backend holds them (a material in the low bits, a grain's
   // motion state above, motion.hpp), read in one backend call.
   std::vector<std::uint8_t> read_cells(const Box& region) const;
+  // A buffer for the cells of `region`; OutOfMemory naming the region when it cannot be allocated.
+  std::vector<std::uint8_t> cell_buffer(const Box& region) const;
   // Puts materials `after` into `region`, whose bytes read_cells gave as `cells`, with one backend
   // write that also wakes the bricks holding a changed cell (marked for bricks_changed_since): a
   // cell whose material stays keeps its byte, motion state included, so a tool or load changes
@@ -151,7 +198,16 @@ class World {
   ChangeReport write_materials(const Box& region, std::vector<std::uint8_t>& cells, std::span<const std::uint8_t> after);
   // Writes the cells of `region` (whole bytes) and wakes the bricks holding a cell flagged in `touched`.
   void write_cells(const Box& region, std::span<const std::uint8_t> cells, std::span<const std::uint8_t> touched);
+  // Writes every cell (whole bytes, x fastest), marks `changed` bricks changed and wakes every brick.
+  void write_grid(std::span<const std::uint8_t> cells, std::span<const std::uint32_t> changed);
   void mark_bricks(std::span<const std::uint32_t> bricks) const;
+  // Throws InvalidArgument (starting with `what`) for a brick index past the grid's, or a buffer of
+  // `bytes` bytes that is not the bricks' cells.
+  void check_bricks(std::span<const std::uint32_t> bricks, std::size_t bytes, const char* what) const;
+  // read_bricks through `read(box, out)`: the backend's cells or its checkpoint.
+  template <class Read>
+  void gather_bricks(std::span<const std::uint32_t> bricks, std::span<std::uint8_t> out, const char* what,
+                     Read&& read) const;
   void take_step_changes() const;
   // A tool's write_materials, with its region and clipping in the report; counts the tool call.
   ChangeReport commit_region(const Box& region, bool clipped, std::vector<std::uint8_t>& cells,
@@ -162,6 +218,7 @@ class World {
   std::uint64_t tick_ = 0;
   std::uint64_t tool_calls_ = 0;
   std::shared_ptr<const RuleSet> rules_;
+  std::uint64_t rule_fingerprint_ = 0;  ///< rule_fingerprint(*rules_)
   std::shared_ptr<const Lut> lut_;
   std::unique_ptr<Backend> backend_;
   std::vector<std::string> notices_;

@@ -1,0 +1,79 @@
+#pragma once
+/// @file world_snapshot.hpp
+/// Snapshots: a world's whole state (every cell byte, motion state included; the tick; the seed;
+/// the tool calls pour salts its choice with; the rule set's name and fingerprint), so that a world
+/// made from one continues bit-identically, and the snapshot file (.gsnap, zstd-compressed cells)
+/// documented field by field in docs/FORMATS.md. World::capture, World::restore and
+/// World(def, snapshot) move a state into and out of a World.
+
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "granular/geometry.hpp"
+
+namespace granular {
+
+/// A world's whole state.
+struct WorldSnapshot {
+  Int3 size{};                      ///< grid extent
+  std::vector<std::uint8_t> cells;  ///< every cell byte as the backend holds it (x fastest; motion.hpp)
+  std::uint64_t tick = 0;           ///< World::tick()
+  std::uint64_t seed = 0;           ///< WorldDef::seed
+  std::uint64_t tool_calls = 0;     ///< World::tool_calls()
+  std::string rules;                ///< the rule set's name (RuleSet::name)
+  std::uint64_t rule_fingerprint = 0;  ///< rule_fingerprint() of the rule set
+  /// The World::hash() of the cells.
+  std::uint64_t hash() const;
+};
+
+/// The 4 magic bytes that open a snapshot file.
+inline constexpr char kSnapshotMagic[4] = {'G', 'S', 'N', 'P'};
+
+/// The snapshot format version this library reads and writes.
+inline constexpr std::uint32_t kSnapshotVersion = 1;
+
+/// Size in bytes of the snapshot header, before the rule set's name.
+inline constexpr std::size_t kSnapshotHeaderSize = 72;
+
+/// Longest rule set name a snapshot holds, in bytes.
+inline constexpr std::size_t kMaxSnapshotRulesName = 256;
+
+/// The extension of snapshot files (matched case-insensitively).
+inline constexpr const char* kSnapshotExtension = ".gsnap";
+
+/// Encodes `snapshot` in the snapshot format (header, rule set name, one zstd frame of the cells).
+/// Throws InvalidArgument for a bad size, a cell count other than the size's, or a rule set name
+/// that is empty, longer than kMaxSnapshotRulesName or holds a control character; OutOfMemory when
+/// the buffer cannot be allocated.
+std::vector<std::uint8_t> encode_snapshot(const WorldSnapshot& snapshot);
+
+/// Decodes a snapshot from `bytes`. `source_name` (usually the file path) starts every error
+/// message. Throws ParseError naming the field, offset or value for a bad magic, an unsupported
+/// version, a truncated header, rule set name or body, trailing bytes, zero or over-large extents,
+/// a bad name, a compressed body that is not one zstd frame of exactly nx * ny * nz bytes (its size
+/// is checked before anything is allocated), or cells whose hash is not the header's; OutOfMemory
+/// when the grid does not fit in memory (check_grid_size).
+WorldSnapshot decode_snapshot(std::span<const std::uint8_t> bytes, const std::string& source_name);
+
+/// Writes `snapshot` to `path` atomically (write_file_atomic). Throws what encode_snapshot throws,
+/// InvalidArgument when the extension is not .gsnap, and FileError when the file cannot be written
+/// (an existing file is then left untouched).
+void save_snapshot(const WorldSnapshot& snapshot, const std::filesystem::path& path);
+
+/// Reads a snapshot file: regular files only, exactly their size (read_file_bytes), then
+/// decode_snapshot. Throws FileError when the file cannot be read, and decode_snapshot's errors.
+WorldSnapshot load_snapshot(const std::filesystem::path& path);
+
+/// True when the extension of `path` is .gsnap, in any case.
+bool is_snapshot_file(const std::filesystem::path& path);
+
+/// Throws what save_snapshot would throw because of the path alone, before any work is done:
+/// InvalidArgument for an extension other than .gsnap, FileError when the path (after symbolic
+/// links) is a directory or its directory is missing or not writable.
+void check_snapshot_save_path(const std::filesystem::path& path);
+
+}  // namespace granular
