@@ -140,8 +140,8 @@ def run(command, screenshot, screenshot_dir, snapshot):
         xdotool("mousemove", "--window", window, str(centre_x), str(centre_y))
         time.sleep(0.5)
 
-        # --renderer auto (the default) measures the ray march first, at least three frames (seconds
-        # on a loaded lavapipe), tries costlier ones while they hold 60 FPS, and prints its choice.
+        # --renderer auto (the default) measures the three renderers, at least three frames each
+        # (seconds on a loaded lavapipe), and prints its choice.
         if not sandbox.wait_for(r"^renderer: \w+ \(auto: .*chosen\)$", timeout=120):
             return "the automatic renderer choice printed no final 'renderer: NAME (auto: ...)' line within 130 s"
         chosen = [m for m in (re.match(r"^renderer: (\w+) \(auto: (.*)\)$", line) for line in sandbox.lines) if m]

@@ -13,30 +13,36 @@ std::optional<RendererKind> RendererChoice::frame(double seconds) {
   ++frames_;
   seconds_ += seconds;
   if (frames_ < kTrialFrames || seconds_ < kTrialSeconds) return std::nullopt;
-  const double fps = frames_ / seconds_;
-  const bool holds = fps >= kTargetFps;
+  fps_[current_] = frames_ / seconds_;
   const int last = int(std::size(kOrder)) - 1;
-  char line[160];
-  std::optional<RendererKind> next;
-  if (holds && current_ < last) {
-    next = kOrder[current_ + 1];
-    std::snprintf(line, sizeof line, "renderer: %s (auto: %s %.1f FPS holds %.0f, trying the next)",
-                  to_string(*next), to_string(kOrder[current_]), fps, kTargetFps);
+  char line[200];
+  if (current_ < last) {
+    std::snprintf(line, sizeof line, "renderer: %s (auto: %s %.1f FPS, measuring the next)", to_string(kOrder[current_ + 1]),
+                  to_string(kOrder[current_]), fps_[current_]);
+    report_ = line;
     ++current_;
     first_frame_ = true;
     frames_ = 0;
     seconds_ = 0;
-  } else {
-    done_ = true;
-    const int kept = holds || current_ == 0 ? current_ : current_ - 1;
-    if (kept != current_) next = kOrder[kept];
-    std::snprintf(line, sizeof line, "renderer: %s (auto: %s %.1f FPS, %s)", to_string(kOrder[kept]),
-                  to_string(kOrder[current_]), fps,
-                  holds ? "holds 60: chosen" : kept == current_ ? "below 60, the cheapest: chosen" : "below 60: the previous one chosen");
-    current_ = kept;
+    return kOrder[current_];
   }
+  done_ = true;
+  int kept = -1;
+  for (int i = 0; i <= last; ++i)
+    if (fps_[i] >= kTargetFps) kept = i;  // the costliest that held it
+  const bool held = kept >= 0;
+  if (!held) {
+    kept = 0;
+    for (int i = 1; i <= last; ++i)
+      if (fps_[i] > fps_[kept]) kept = i;
+  }
+  std::snprintf(line, sizeof line, "renderer: %s (auto: raymarch %.1f, marching %.1f, cubes %.1f FPS; %s: chosen)",
+                to_string(kOrder[kept]), fps_[0], fps_[1], fps_[2],
+                held ? "the costliest holding 60" : "none held 60, the fastest");
   report_ = line;
-  return next;
+  const int measured_last = current_;
+  current_ = kept;
+  return kept == measured_last ? std::nullopt : std::optional<RendererKind>(kOrder[kept]);
 }
 
 }  // namespace viewer

@@ -1,11 +1,12 @@
 #pragma once
 /// @file renderer_choice.hpp
 /// The sandbox's automatic renderer choice (`--renderer auto`, the default). The renderers differ
-/// in cost by orders of magnitude on the same scene (bench/RESULTS.md): the ray march is the
-/// cheapest on every device measured, then marching cubes, then instanced cubes. The choice starts
-/// with the ray march and tries the next costlier renderer while the current one holds the target
-/// frame rate, keeping the costliest that held it (or the ray march when even it did not), so a
-/// slow device never shows more than the cheapest renderer's frames.
+/// in cost by orders of magnitude, and in which is cheapest: on a GPU the ray march, then marching
+/// cubes, then instanced cubes (bench/RESULTS.md); on a CPU rasteriser such as lavapipe the ray
+/// march's cost grows with the pixels and the raster renderers' with the surface, so a settled
+/// scene in a large window draws fastest as cubes. The choice measures each renderer in that order
+/// (ray march, marching, cubes) and keeps the costliest that held the target frame rate, else the
+/// fastest it measured.
 
 #include <optional>
 #include <string>
@@ -44,12 +45,13 @@ class RendererChoice {
   const std::string& report() const { return report_; }
 
  private:
-  /// The renderers from the cheapest to the costliest.
+  /// The renderers from the cheapest on a GPU to the costliest.
   static constexpr RendererKind kOrder[3] = {RendererKind::Raymarch, RendererKind::Marching, RendererKind::Cubes};
   int current_ = 0;          ///< index into kOrder
   bool first_frame_ = true;  ///< the current renderer's first frame (not measured)
   int frames_ = 0;           ///< measured frames of the current renderer
   double seconds_ = 0;       ///< their time
+  double fps_[3] = {};       ///< frames per second measured per renderer of kOrder
   bool done_ = false;
   std::string report_;
 };

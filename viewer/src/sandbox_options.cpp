@@ -50,8 +50,8 @@ void add_sandbox_options(CLI::App& app, SandboxOptions& o) {
                  "yaw,pitch,distance[,tx,ty,tz]: degrees, distance and target as fractions of the grid "
                  "(default: framing the scene's non-void cells)");
   app.add_option("--renderer", o.renderer,
-                 "auto (the default: from the ray march up to marching cubes and cubes, the costliest that "
-                 "holds 60 FPS here), cubes, marching or raymarch");
+                 "auto (the default: measures the ray march, marching cubes and cubes here and keeps the "
+                 "costliest holding 60 FPS, else the fastest), cubes, marching or raymarch");
   app.add_option("--ticks-per-frame", o.ticks_per_frame, "world ticks per fixed update");
   app.add_option("--width", o.width, "image width in pixels");
   app.add_option("--height", o.height, "image height in pixels");
