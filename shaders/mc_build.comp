@@ -4,7 +4,8 @@
 // byte its material and look). Each look present (opaque, liquid, gas: materials.glsl; under x-ray
 // the static materials' look apart, see_inside.glsl) is a layer of its own: a marching cube (cube c
 // spans the lattice points c..c+1, lattice point q lies between cells q-1 and q, and its density is
-// the fraction of the 8 cells around it of the layer's look) emits the triangles of its case into
+// the fraction of the 8 cells around it of the layer's look; a layer's densities at the lattice
+// points -2..18 are counted once into shared memory before its cubes read them) emits the triangles of its case into
 // the brick's slot, with normals from the density gradient and the material most frequent among the
 // layer's cells around it. The opaque layers' triangles (x-ray's static layer included) come first,
 // then the translucent layers'; the first and last bricks along an axis also mesh the cubes just
@@ -31,6 +32,7 @@ const uint kTileCells = uint(kTile * kTile * kTile);
 const float kPositionScale = 50.0;  // fixed point: (local + 1) * 50 fits 10 bits for local in [-1, 17]
 
 shared uint tile[(kTileCells + 3u) / 4u];
+shared uint layer_density[(kTileCells + 3u) / 4u];  // per lattice point -2..18: cells of the layer around it, 0..8
 shared uint triangle_count;
 shared uint tile_looks;  // bit l: some cell of the tile has look l
 
@@ -42,17 +44,35 @@ uint tile_byte(ivec3 local) {
   return (tile[i >> 2] >> ((i & 3u) * 8u)) & 255u;
 }
 
-// Density of layer `look` at lattice point q (local): the fraction of the 8 cells around it of that look.
-float density(ivec3 q, uint look) {
-  uint sum = 0u;
-  for (int i = 0; i < 8; ++i) sum += (tile_byte(q - 1 + ivec3(i & 1, (i >> 1) & 1, (i >> 2) & 1)) >> 3) == look ? 1u : 0u;
-  return float(sum) * 0.125;
+// Counts, for every lattice point q in -2..18 (local), the cells of layer `look` among the 8 around
+// it (cells q - 1 .. q, clamped to the tile) into layer_density. Every invocation calls it.
+void count_layer(uint look) {
+  barrier();  // the previous layer's cubes have read its densities
+  for (uint w = gl_LocalInvocationIndex; w < (kTileCells + 3u) / 4u; w += 256u) {
+    uint word = 0u;
+    for (uint b = 0u; b < 4u; ++b) {
+      uint i = w * 4u + b;
+      if (i >= kTileCells) break;
+      ivec3 q = ivec3(int(i % uint(kTile)), int((i / uint(kTile)) % uint(kTile)), int(i / uint(kTile * kTile))) - 2;
+      uint sum = 0u;
+      for (int c = 0; c < 8; ++c)
+        sum += (tile_byte(clamp(q - 1 + ivec3(c & 1, (c >> 1) & 1, (c >> 2) & 1), ivec3(-2), ivec3(kTile - 3))) >> 3) == look ? 1u : 0u;
+      word |= sum << (b * 8u);
+    }
+    layer_density[w] = word;
+  }
+  barrier();
 }
 
-vec3 gradient(ivec3 q, uint look) {
-  return vec3(density(q + ivec3(1, 0, 0), look) - density(q - ivec3(1, 0, 0), look),
-              density(q + ivec3(0, 1, 0), look) - density(q - ivec3(0, 1, 0), look),
-              density(q + ivec3(0, 0, 1), look) - density(q - ivec3(0, 0, 1), look));
+// Density of the counted layer at lattice point q (local, -2..18): the fraction of the 8 cells around it of its look.
+float density(ivec3 q) {
+  uint i = tile_index(q + 2);
+  return float((layer_density[i >> 2] >> ((i & 3u) * 8u)) & 255u) * 0.125;
+}
+
+vec3 gradient(ivec3 q) {
+  return vec3(density(q + ivec3(1, 0, 0)) - density(q - ivec3(1, 0, 0)), density(q + ivec3(0, 1, 0)) - density(q - ivec3(0, 1, 0)),
+              density(q + ivec3(0, 0, 1)) - density(q - ivec3(0, 0, 1)));
 }
 
 // The material of layer `look` most frequent among the 27 cells around cube `local` (ties: the higher state).
@@ -75,8 +95,9 @@ uint octahedral(vec3 n) {
   return q.x | (q.y << 14);
 }
 
-// Meshes layer `look` of the tile: appends its triangles to the brick's slot.
+// Meshes layer `look` of the tile: appends its triangles to the brick's slot. Every invocation calls it.
 void mesh_layer(uint brick, ivec3 origin, uint look, uint max_triangles) {
+  count_layer(look);
   // Cubes this brick meshes: its own, plus index -1 / index N along an axis at the grid's faces.
   ivec3 first_cube = ivec3(equal(origin, ivec3(0))) * -1;
   bvec3 last_brick = greaterThanEqual(origin + kBrickSize, pc.grid.xyz);
@@ -88,7 +109,7 @@ void mesh_layer(uint brick, ivec3 origin, uint look, uint max_triangles) {
     float d[8];
     uint mask = 0u;
     for (int c = 0; c < 8; ++c) {
-      d[c] = density(local + ivec3(c & 1, (c >> 1) & 1, (c >> 2) & 1), look);
+      d[c] = density(local + ivec3(c & 1, (c >> 1) & 1, (c >> 2) & 1));
       if (d[c] > kIso) mask |= 1u << c;
     }
     if (mask == 0u || mask == 255u) continue;
@@ -108,7 +129,7 @@ void mesh_layer(uint brick, ivec3 origin, uint look, uint max_triangles) {
       ivec3 pb = local + ivec3(int(corner_b & 1u), int((corner_b >> 1) & 1u), int((corner_b >> 2) & 1u));
       float t = clamp((kIso - d[corner_a]) / (d[corner_b] - d[corner_a]), 0.0, 1.0);
       vec3 position = mix(vec3(pa), vec3(pb), t);
-      vec3 normal = -mix(gradient(pa, look), gradient(pb, look), t);
+      vec3 normal = -mix(gradient(pa), gradient(pb), t);
       if (dot(normal, normal) < 1e-8) normal = vec3(0.0, 0.0, 1.0);
       uvec3 fixed_position = uvec3((position + 1.0) * kPositionScale + 0.5);
       vertices[brick * max_triangles * 3u + first * 3u + k] =
