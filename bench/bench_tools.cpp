@@ -7,7 +7,11 @@
 /// tools' own. Figures in bench/RESULTS.md.
 ///
 ///   bench_tools [--backend cpu|cuda|all] [--calls N] [--size X Y Z] [--radius R] [--rules NAME]
-///               [--threads J]
+///               [--threads J] [--dense]
+///
+/// --dense steps densely (WorldDef::sparse = false). The CPU backend's sparse stepping rebuilds its
+/// list of awake bricks at every write that wakes one (about 100 µs), which hides the host work a
+/// tool shares with the CUDA backend; dense, a CPU tool call is that host work and the cells' copy.
 ///
 /// Last, in the game's loop: step(1) alone against step(1) followed by a pour, interleaved call by
 /// call, so that their difference is what the pour adds to a tick, its wake included (the CUDA
@@ -43,6 +47,7 @@ struct Options {
   double radius = 8.0;          ///< the tools' sphere
   std::string rules = WorldDef{}.rules;  ///< rule-set preset
   int threads = 0;              ///< CPU threads (0 = all)
+  bool dense = false;           ///< dense stepping (WorldDef::sparse = false)
 };
 
 /// Reads the options; throws InvalidArgument for unknown ones or bad values.
@@ -59,6 +64,7 @@ Options parse(int argc, char** argv) {
     else if (key == "--calls") o.calls = int(number(i));
     else if (key == "--radius") o.radius = number(i);
     else if (key == "--threads") o.threads = int(number(i));
+    else if (key == "--dense") o.dense = true;
     else if (key == "--size") {
       o.size.x = int(number(i));
       o.size.y = int(number(i));
@@ -108,10 +114,11 @@ void run(BackendKind kind, const Options& o) {
   def.rules = o.rules;
   def.backend = kind;
   def.threads = o.threads;
+  def.sparse = !o.dense;
   World world(def);
   const char* name = backend_name(kind);
-  std::printf("%s: %s, %s rules, %s world\n", name, world.backend_description().c_str(), o.rules.c_str(),
-              to_string(o.size).c_str());
+  std::printf("%s: %s, %s rules, %s world, %s stepping\n", name, world.backend_description().c_str(),
+              o.rules.c_str(), to_string(o.size).c_str(), o.dense ? "dense" : "sparse");
   const int surface = o.size.z / 4;
   world.paint(Box{{0, 0, 0}, {o.size.x, o.size.y, surface}}, Material::Granular);
 

@@ -3,20 +3,27 @@
 /// interface around the real CPU backend: one read of the region and at most one write, which
 /// wakes exactly the bricks holding a changed cell, and no read of the step's changed-brick flags;
 /// the bytes written keep the motion state of every cell whose material stays; bricks_changed_since
-/// stays exact for every version read between steps and tools.
+/// stays exact for every version read between steps and tools; and each tool's cells, report and
+/// woken bricks equal those of a plain per-cell statement of what it does, pour's choice of cells
+/// included.
 
 #include <doctest/doctest.h>
 
 #include <algorithm>
 #include <functional>
 #include <memory>
+#include <random>
+#include <utility>
 #include <vector>
 
 #include "granular/backend.hpp"
 #include "granular/backend_factory.hpp"
+#include "granular/errors.hpp"
 #include "granular/motion.hpp"
+#include "granular/rule_set.hpp"
 #include "granular/world.hpp"
 #include "test_support.hpp"
+#include "tool_region.hpp"
 
 using namespace granular;
 using granular::test::test_def;
@@ -234,4 +241,173 @@ TEST_CASE("world tools: bricks_changed_since stays exact for versions read betwe
   const std::uint64_t v2 = world.change_version();
   CHECK(v2 > v1);
   CHECK(world.bricks_changed_since(v2).empty());
+}
+
+namespace {
+
+/// A tool as a plain loop over every cell of its region: the cells after it (whole bytes) and its
+/// report, from the cells before it.
+struct ReferenceTool {
+  Int3 size;
+  std::vector<std::uint8_t> cells;  ///< the whole grid's bytes, x fastest
+  ChangeReport report{};
+
+  /// The grid index of cell (x, y, z).
+  std::size_t index(int x, int y, int z) const {
+    return std::size_t(x) + std::size_t(size.x) * (std::size_t(y) + std::size_t(size.y) * std::size_t(z));
+  }
+  /// Whether the centre of cell (x, y, z) lies in `s`, the test as the tools state it.
+  static bool inside(const Sphere& s, int x, int y, int z) {
+    const double dx = x + 0.5 - s.center.x, dy = y + 0.5 - s.center.y, dz = z + 0.5 - s.center.z;
+    return dx * dx + dy * dy + dz * dz <= s.radius * s.radius;
+  }
+  /// Gives the cell at `i` material `m` at rest when its material is another, counting it.
+  void set(std::size_t i, std::uint8_t m) {
+    const std::uint8_t was = cells[i] & kMaterialMask;
+    if (was == m) return;
+    cells[i] = m;
+    ++report.cells_changed;
+    ++report.removed[was];
+    ++report.added[m];
+  }
+  /// Calls fn(x, y, z, index) for every cell of `region` whose centre lies in `s`.
+  template <class Fn>
+  void for_each_in(const Box& region, const Sphere& s, Fn&& fn) const {
+    for (int z = region.min.z; z < region.max.z; ++z)
+      for (int y = region.min.y; y < region.max.y; ++y)
+        for (int x = region.min.x; x < region.max.x; ++x)
+          if (inside(s, x, y, z)) fn(x, y, z, index(x, y, z));
+  }
+  /// The region of a sphere tool, put in the report with its clipping.
+  Box region_of(const Sphere& s) {
+    const Box region = sphere_region(s, size, "reference", report.clipped);
+    report.region = region;
+    return region;
+  }
+
+  /// Every cell in the sphere of a material that is not static becomes void.
+  void dig(const Sphere& s, const MaterialTable& table) {
+    for_each_in(region_of(s), s, [&](int, int, int, std::size_t i) {
+      if (table[cells[i] & kMaterialMask].behaviour != Behaviour::Static) set(i, to_cell(Material::Void));
+    });
+  }
+  /// Every cell in the sphere becomes `m`.
+  void paint(const Sphere& s, Material m) {
+    for_each_in(region_of(s), s, [&](int, int, int, std::size_t i) { set(i, to_cell(m)); });
+  }
+  /// Every cell of the box inside the grid becomes `m`.
+  void paint(const Box& box, Material m) {
+    report.region = intersect(box, Box{{0, 0, 0}, size});
+    report.clipped = !(report.region == box);
+    for (int z = report.region.min.z; z < report.region.max.z; ++z)
+      for (int y = report.region.min.y; y < report.region.max.y; ++y)
+        for (int x = report.region.min.x; x < report.region.max.x; ++x) set(index(x, y, z), to_cell(m));
+  }
+  /// The `amount` void cells in the sphere of the smallest mix64(salt ^ packed position), salt =
+  /// mix64(seed ^ mix64(tick * golden ratio + tool calls before this one)).
+  void pour(const Sphere& s, Material m, std::int64_t amount, std::uint64_t seed, std::uint64_t tick,
+            std::uint64_t tool_calls) {
+    const std::uint64_t salt = mix64(seed ^ mix64(tick * 0x9E3779B97F4A7C15ull + tool_calls));
+    std::vector<std::pair<std::uint64_t, std::size_t>> voids;
+    for_each_in(region_of(s), s, [&](int x, int y, int z, std::size_t i) {
+      if ((cells[i] & kMaterialMask) == to_cell(Material::Void))
+        voids.emplace_back(mix64(salt ^ (std::uint64_t(x) | std::uint64_t(y) << 21 | std::uint64_t(z) << 42)), i);
+    });
+    std::sort(voids.begin(), voids.end());
+    for (std::size_t k = 0; k < voids.size() && std::int64_t(k) < amount; ++k) set(voids[k].second, to_cell(m));
+  }
+  /// Every granular or liquid cell in the sphere gets motion level `level`.
+  void shake(const Sphere& s, int level, const MaterialTable& table) {
+    for_each_in(region_of(s), s, [&](int, int, int, std::size_t i) {
+      const Behaviour b = table[cells[i] & kMaterialMask].behaviour;
+      if (b != Behaviour::Granular && b != Behaviour::Liquid) return;
+      const auto shaken = std::uint8_t((cells[i] & ~(kMotionLevelMask << kMotionShift)) | (level << kMotionShift));
+      if (shaken == cells[i]) return;
+      cells[i] = shaken;
+      ++report.cells_shaken;
+    });
+  }
+};
+
+}  // namespace
+
+TEST_CASE("world tools: every tool equals a plain per-cell reference, pour's choice of cells included") {
+  const Int3 size{40, 36, 34};  // partial bricks on every axis
+  auto calls = std::make_shared<BackendCalls>();
+  World world = counted_world(size, calls);
+  const MaterialTable& table = world.rules().materials;
+  std::uint64_t tool_calls = 0;  // the world's count, which pour's choice depends on
+  std::mt19937_64 rng(20261202);
+  std::uniform_real_distribution<double> coord(-6.0, 46.0), radius(0.3, 13.0), unit(0.0, 1.0);
+  std::uniform_int_distribution<int> material(0, kMaterialCount - 1), pick(0, 5);
+  // A mixed scene of every material, grains of it in motion.
+  for (int k = 0; k < 40; ++k) {
+    const Int3 lo{int(unit(rng) * 36), int(unit(rng) * 32), int(unit(rng) * 30)};
+    const Int3 extent{1 + int(unit(rng) * 12), 1 + int(unit(rng) * 12), 1 + int(unit(rng) * 12)};
+    world.paint(Box{lo, {lo.x + extent.x, lo.y + extent.y, lo.z + extent.z}}, Material(material(rng)));
+    ++tool_calls;
+  }
+  int pours_clipped = 0, pours_short = 0, pours_chosen = 0;
+  for (int call = 0; call < 400; ++call) {
+    CAPTURE(call);
+    if (call % 25 == 0) world.step(1 + int(unit(rng) * 5));  // grains moving, the tick advancing
+    const std::vector<std::uint8_t> before = raw_cells(*calls, size);
+    ReferenceTool expected{size, before};
+    const Sphere s{{coord(rng), coord(rng), coord(rng)}, radius(rng)};
+    bool clipped = false;
+    try {
+      (void)sphere_region(s, size, "test", clipped);
+    } catch (const InvalidArgument&) {
+      continue;  // misses the grid
+    }
+    calls->reset();
+    ChangeReport got;
+    const int tool = pick(rng);
+    if (tool == 0) {
+      got = world.dig(s);
+      expected.dig(s, table);
+    } else if (tool == 1 || tool == 2) {
+      const Material m = Material(1 + material(rng) % (kMaterialCount - 1));
+      // Amounts from none to more than the sphere holds.
+      const auto amount = std::int64_t(unit(rng) * unit(rng) * 4.0 * s.radius * s.radius * s.radius);
+      got = world.pour(s.center, s.radius, m, amount);
+      expected.pour(s, m, amount, world.def().seed, world.tick(), tool_calls);
+      pours_clipped += clipped ? 1 : 0;
+      pours_short += got.cells_changed < amount ? 1 : 0;
+      pours_chosen += got.cells_changed == amount && amount > 0 ? 1 : 0;
+    } else if (tool == 3) {
+      const Material m = Material(material(rng));
+      got = world.paint(s, m);
+      expected.paint(s, m);
+    } else if (tool == 4) {
+      const int level = 1 + int(unit(rng) * world.rules().motion.max_level());
+      got = world.shake(s, level);
+      expected.shake(s, level, table);
+    } else {
+      const Int3 lo{int(coord(rng)), int(coord(rng)), int(coord(rng))};
+      const Int3 extent{1 + int(unit(rng) * 10), 1 + int(unit(rng) * 10), 1 + int(unit(rng) * 10)};
+      const Box box{lo, {lo.x + extent.x, lo.y + extent.y, lo.z + extent.z}};
+      if (intersect(box, Box{{0, 0, 0}, size}).empty()) continue;
+      const Material m = Material(material(rng));
+      got = world.paint(box, m);
+      expected.paint(box, m);
+    }
+    ++tool_calls;
+    const std::vector<std::uint8_t> after = raw_cells(*calls, size);
+    REQUIRE(after == expected.cells);
+    CHECK(got.cells_changed == expected.report.cells_changed);
+    CHECK(got.added == expected.report.added);
+    CHECK(got.removed == expected.report.removed);
+    CHECK(got.cells_shaken == expected.report.cells_shaken);
+    CHECK(got.region == expected.report.region);
+    CHECK(got.clipped == expected.report.clipped);
+    const bool changed = before != after;
+    CHECK(calls->writes == (changed ? 1 : 0));
+    if (changed) CHECK(calls->woken == differing_bricks(before, after, size));
+  }
+  // The draws reached every case of the choice: clipped spheres, amounts the void cells fall short
+  // of, and amounts chosen out of more.
+  CHECK(pours_clipped > 5);
+  CHECK(pours_short > 5);
+  CHECK(pours_chosen > 5);
 }

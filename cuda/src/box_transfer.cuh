@@ -131,6 +131,7 @@ class TransferStaging {
     if (event_ == nullptr) check(cudaEventCreateWithFlags(&event_, cudaEventDisableTiming), "cudaEventCreate (staging)");
     if (bytes <= capacity_) return;
     check(cudaStreamSynchronize(stream), "waiting for the device before growing the transfer staging");
+    free_ = true;
     std::uint64_t capacity = std::max<std::uint64_t>(capacity_, kMinimumBytes);
     while (capacity < bytes) capacity *= 2;
     host_.reset();
@@ -154,11 +155,22 @@ class TransferStaging {
   std::uint8_t* host() const { return host_.get(); }
   /// The staging's device address, for kernels (reserve first).
   std::uint8_t* device() const { return device_; }
-  /// Waits until the device has finished the last kernel that reads the staging (read_until).
-  void wait_free() const { check(cudaEventSynchronize(event_), "waiting for the transfer staging"); }
+  /// Waits until the device has finished the last kernel that reads the staging (read_until); at
+  /// once, with no call to the driver, when it is known to have (mark_free).
+  void wait_free() {
+    if (free_) return;
+    check(cudaEventSynchronize(event_), "waiting for the transfer staging");
+    free_ = true;
+  }
   /// Marks the staging busy until the device reaches this point of `stream` (after the kernels
   /// that read it).
-  void read_until(cudaStream_t stream) { check(cudaEventRecord(event_, stream), "cudaEventRecord (staging)"); }
+  void read_until(cudaStream_t stream) {
+    check(cudaEventRecord(event_, stream), "cudaEventRecord (staging)");
+    free_ = false;
+  }
+  /// Tells the staging that the device has finished every kernel enqueued so far (the caller has
+  /// just synchronised the stream of its kernels), so that the next wait_free need not ask.
+  void mark_free() { free_ = true; }
 
  private:
   static constexpr std::uint64_t kMinimumBytes = std::uint64_t(64) << 10;  ///< a tool's box and wake list fit
@@ -166,6 +178,7 @@ class TransferStaging {
   std::uint8_t* device_ = nullptr;
   std::uint64_t capacity_ = 0;
   cudaEvent_t event_ = nullptr;
+  bool free_ = true;  ///< the device has finished every kernel that reads the staging (wait_free need not ask)
 };
 
 }  // namespace granular::cuda

@@ -514,6 +514,7 @@ class CudaBackend final : public Backend {
       cuda::gather_chunk_kernel<<<cuda::chunk_blocks(copy.count), cuda::kChunkThreads, 0, s>>>(copy);
       cuda::check_launch("gather kernel launch (reading cells)");
       stream_.synchronize("read");
+      staging_.mark_free();
       std::memcpy(host + chunk.offset, staging_.host(), bytes);
     });
   }

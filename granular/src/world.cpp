@@ -1,7 +1,6 @@
 #include "granular/world.hpp"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <map>
 #include <mutex>
@@ -19,6 +18,9 @@
 #include "granular/task_system.hpp"
 #include "granular/threads.hpp"
 #include "granular/world_snapshot.hpp"
+#include "pour_choice.hpp"
+#include "region_edit.hpp"
+#include "sphere_runs.hpp"
 #include "step/step_materials.hpp"
 #include "tool_region.hpp"
 
@@ -38,13 +40,6 @@ namespace {
 /// Clears the motion state (motion.hpp) of cell bytes read from a backend: readers get materials.
 void strip_motion(std::span<std::uint8_t> cells) {
   for (auto& c : cells) c &= kMaterialMask;
-}
-
-/// The materials of cell bytes read from a backend.
-std::vector<std::uint8_t> materials_of(std::span<const std::uint8_t> cells) {
-  std::vector<std::uint8_t> materials(cells.begin(), cells.end());
-  strip_motion(materials);
-  return materials;
 }
 
 /// Tables are 64 MiB: worlds of one process share them while any is alive.
@@ -69,50 +64,6 @@ std::shared_ptr<const Lut> shared_lut(const RuleSet& rules, const WorldDef& def,
   notice = got.notice;
   live[fingerprint] = got.lut;
   return got.lut;
-}
-
-/// Calls fn(i, cell), in ascending i (the cell's index in `region`, x fastest), for the cells of
-/// `region` whose centre lies in `s`: dx * dx + dy * dy + dz * dz <= r * r in doubles. Rounding is
-/// monotonic, so along a row the sum only grows away from the cell holding the centre's x (clamped
-/// to the region), and the cells inside are one run around it: each row tests that cell, then
-/// grows the run cell by cell while the test holds. A row whose dy * dy + dz * dz alone exceeds
-/// r * r holds none.
-template <class Fn>
-void for_each_cell_in_sphere(const Box& region, const Sphere& s, Fn&& fn) {
-  const double r2 = s.radius * s.radius;
-  const int nearest = int(std::clamp(std::floor(s.center.x), double(region.min.x), double(region.max.x - 1)));
-  std::size_t row = 0;  // index of the row's first cell
-  for (int z = region.min.z; z < region.max.z; ++z)
-    for (int y = region.min.y; y < region.max.y; ++y, row += std::size_t(region.max.x - region.min.x)) {
-      const double dy = y + 0.5 - s.center.y, dz = z + 0.5 - s.center.z;
-      const double dy2 = dy * dy, dz2 = dz * dz;
-      if (dy2 + dz2 > r2) continue;
-      const auto inside = [&](int x) {
-        const double dx = x + 0.5 - s.center.x;
-        return dx * dx + dy2 + dz2 <= r2;
-      };
-      if (!inside(nearest)) continue;
-      int first = nearest, last = nearest + 1;
-      while (first > region.min.x && inside(first - 1)) --first;
-      while (last < region.max.x && inside(last)) ++last;
-      for (int x = first; x < last; ++x) fn(row + std::size_t(x - region.min.x), Int3{x, y, z});
-    }
-}
-
-/// Keeps the `keep` entries (fewer than there are) of the smallest keys, which are distinct, in no
-/// particular order: those whose top 8 key bits are below the bucket where the count reaches
-/// `keep`, and the smallest of that bucket; one counting pass and two partitions, where ordering
-/// them all by key would cost several times as much.
-void keep_smallest(std::vector<std::pair<std::uint64_t, std::size_t>>& entries, std::size_t keep) {
-  std::array<std::size_t, 256> count{};
-  for (const auto& e : entries) ++count[e.first >> 56];
-  std::size_t below = 0;
-  std::uint64_t bucket = 0;
-  while (below + count[bucket] < keep) below += count[bucket++];
-  const auto in_bucket = std::partition(entries.begin(), entries.end(), [&](const auto& e) { return (e.first >> 56) < bucket; });
-  const auto past = std::partition(in_bucket, entries.end(), [&](const auto& e) { return (e.first >> 56) == bucket; });
-  std::nth_element(in_bucket, in_bucket + std::ptrdiff_t(keep - below), past);
-  entries.resize(keep);
 }
 
 std::string box_string(const Box& b) {
@@ -236,6 +187,11 @@ constexpr double kWorldExtraBytes = 128.0 * 1024 * 1024;
 
 }  // namespace
 
+struct World::Scratch {
+  RegionEdit edit;  ///< the region a tool or load edits
+  PourChoice pour;  ///< pour's choice of cells
+};
+
 World::World(const WorldDef& def) : def_(def) {
   // The initial grid and the backend's copy of it.
   check_grid_size(def.size, "WorldDef::size", 2.0, kWorldExtraBytes);
@@ -290,6 +246,7 @@ void World::init(const Grid& initial, std::shared_ptr<const RuleSet> rules) {
                             "; use a fraction of the bricks in 0..1 (0: always dense-recording, 1: never)");
   size_ = initial.size();
   def_.size = size_;
+  scratch_ = std::make_unique<Scratch>();
   const Int3 bricks = granular::brick_counts(size_);
   brick_version_.assign(std::size_t(bricks.x) * std::size_t(bricks.y) * std::size_t(bricks.z), 0);
   changed_flags_.assign(brick_version_.size(), 0);
@@ -461,8 +418,8 @@ void World::load(const Grid& grid) {
   if (!(grid.size() == size_))
     throw InvalidArgument("World::load: grid is " + to_string(grid.size()) + " but the world is " + to_string(size_));
   check_cells(grid.cells(), grid.size(), "World::load");
-  std::vector<std::uint8_t> cells = read_cells(grid.bounds());
-  write_materials(grid.bounds(), cells, grid.cells());
+  begin_edit(grid.bounds()).put_materials(grid.cells());
+  write_edit();
 }
 
 std::vector<std::uint8_t> World::read_cells(const Box& region) const {
@@ -602,53 +559,28 @@ void World::restore_bricks(std::span<const std::uint32_t> bricks, std::span<cons
   tool_calls_ = tool_calls;
 }
 
-ChangeReport World::write_materials(const Box& region, std::vector<std::uint8_t>& cells,
-                                    std::span<const std::uint8_t> after) {
-  ChangeReport report;
-  std::vector<std::uint8_t> touched(cells.size(), 0);
-  for (std::size_t i = 0; i < cells.size(); ++i) {
-    const std::uint8_t was = cells[i] & kMaterialMask;
-    if (was == after[i]) continue;
-    ++report.cells_changed;
-    ++report.removed[was];
-    ++report.added[after[i]];
-    cells[i] = after[i];
-    touched[i] = 1;
+RegionEdit& World::begin_edit(const Box& region) {
+  Backend& backend = live();
+  RegionEdit& edit = scratch_->edit;
+  edit.begin(region, size_);
+  backend.read(region, edit.cells());
+  return edit;
+}
+
+void World::write_edit() {
+  RegionEdit& edit = scratch_->edit;
+  const std::span<const std::uint32_t> bricks = edit.bricks();
+  if (!bricks.empty()) {
+    mark_bricks(bricks);
+    live().write(edit.region(), edit.cells(), bricks);
   }
-  if (report.cells_changed > 0) write_cells(region, cells, touched);
-  return report;
+  edit.trim();
 }
 
-void World::write_cells(const Box& region, std::span<const std::uint8_t> cells, std::span<const std::uint8_t> touched) {
-  // The bricks of the region, flagged when they hold a touched cell.
-  const Int3 n = granular::brick_counts(size_);
-  const Int3 lo{region.min.x / kBrickSize, region.min.y / kBrickSize, region.min.z / kBrickSize};
-  const Int3 span{(region.max.x - 1) / kBrickSize - lo.x + 1, (region.max.y - 1) / kBrickSize - lo.y + 1,
-                  (region.max.z - 1) / kBrickSize - lo.z + 1};
-  std::vector<std::uint8_t> flagged(std::size_t(span.x) * std::size_t(span.y) * std::size_t(span.z), 0);
-  std::size_t i = 0;
-  for (int z = region.min.z; z < region.max.z; ++z)
-    for (int y = region.min.y; y < region.max.y; ++y) {
-      const std::size_t row = (std::size_t(z / kBrickSize - lo.z) * std::size_t(span.y) +
-                               std::size_t(y / kBrickSize - lo.y)) * std::size_t(span.x);
-      for (int x = region.min.x; x < region.max.x; ++x, ++i)
-        if (touched[i]) flagged[row + std::size_t(x / kBrickSize - lo.x)] = 1;
-    }
-  std::vector<std::uint32_t> bricks;  // ascending: z, then y, then x
-  for (int bz = 0; bz < span.z; ++bz)
-    for (int by = 0; by < span.y; ++by)
-      for (int bx = 0; bx < span.x; ++bx)
-        if (flagged[(std::size_t(bz) * std::size_t(span.y) + std::size_t(by)) * std::size_t(span.x) + std::size_t(bx)])
-          bricks.push_back(std::uint32_t(
-              (std::size_t(lo.z + bz) * std::size_t(n.y) + std::size_t(lo.y + by)) * std::size_t(n.x) + std::size_t(lo.x + bx)));
-  mark_bricks(bricks);
-  live().write(region, cells, bricks);
-}
-
-ChangeReport World::commit_region(const Box& region, bool clipped, std::vector<std::uint8_t>& cells,
-                                  std::span<const std::uint8_t> after) {
-  ChangeReport report = write_materials(region, cells, after);
-  report.region = region;
+ChangeReport World::finish_tool(bool clipped) {
+  write_edit();
+  ChangeReport report = scratch_->edit.report();
+  report.region = scratch_->edit.region();
   report.clipped = clipped;
   ++tool_calls_;
   return report;
@@ -657,13 +589,12 @@ ChangeReport World::commit_region(const Box& region, bool clipped, std::vector<s
 ChangeReport World::dig(const Sphere& sphere) {
   bool clipped = false;
   const Box region = sphere_region(sphere, size_, "dig", clipped);
-  auto cells = read_cells(region);
-  auto after = materials_of(cells);
   const MaterialTable& table = rules().materials;
-  for_each_cell_in_sphere(region, sphere, [&](std::size_t i, Int3) {
-    if (table[after[i]].behaviour != Behaviour::Static) after[i] = to_cell(Material::Void);
-  });
-  return commit_region(region, clipped, cells, after);
+  MaterialMap to{};
+  for (std::size_t m = 0; m < to.size(); ++m)
+    to[m] = table[m].behaviour == Behaviour::Static ? std::uint8_t(m) : to_cell(Material::Void);
+  begin_edit(region).map_materials(sphere, to);
+  return finish_tool(clipped);
 }
 
 ChangeReport World::shake(const Sphere& sphere, int level) {
@@ -676,47 +607,33 @@ ChangeReport World::shake(const Sphere& sphere, int level) {
                           std::to_string(motion.max_level()) + " (the rule set's highest motion level)");
   bool clipped = false;
   const Box region = sphere_region(sphere, size_, "shake", clipped);
-  auto cells = read_cells(region);
   const StepMaterials mats = step_materials(rules().materials);
-  ChangeReport report;
-  report.region = region;
-  report.clipped = clipped;
-  std::vector<std::uint8_t> touched_cells(cells.size(), 0);
-  for_each_cell_in_sphere(region, sphere, [&](std::size_t i, Int3) {
-    const std::uint8_t m = cell_material(cells[i]);
-    if (!mats.is_faller(m)) return;
-    const std::uint8_t shaken = std::uint8_t((cells[i] & ~(kMotionLevelMask << kMotionShift)) | (level << kMotionShift));
-    if (shaken == cells[i]) return;
-    cells[i] = shaken;
-    touched_cells[i] = 1;
-    ++report.cells_shaken;
+  RegionEdit& edit = begin_edit(region);
+  for_each_run_in_sphere(region, sphere, [&](int y, int z, int first, int last) {
+    const RegionEdit::Row row = edit.row(y, z);
+    for (int x = first; x < last; ++x) {
+      const std::uint8_t cell = edit.byte(row.cell(x));
+      if (!mats.is_faller(cell_material(cell))) continue;
+      const auto shaken = std::uint8_t((cell & ~(kMotionLevelMask << kMotionShift)) | (level << kMotionShift));
+      if (shaken != cell) edit.set_motion(row.cell(x), row.flag(x), shaken);
+    }
   });
-  ++tool_calls_;
-  if (report.cells_shaken == 0) return report;
-  write_cells(region, cells, touched_cells);
-  return report;
+  return finish_tool(clipped);
 }
 
 ChangeReport World::pour(Vec3 center, double radius, Material material, std::int64_t amount) {
   const Sphere sphere{center, radius};
   bool clipped = false;
   const Box region = check_pour(sphere, material, amount, size_, clipped);
-  auto cells = read_cells(region);
-  auto after = materials_of(cells);
-  // Pick `amount` of the sphere's void cells by a hash of (seed, tick, call, position): a spray
-  // that looks random yet is the same on every backend and every run with this seed.
-  // The cells with the `amount` smallest hashes: the hash is a bijection of the position (each
-  // coordinate < 2^21), so no two cells share one.
-  const std::uint64_t salt = mix64(def_.seed ^ mix64(tick_ * 0x9E3779B97F4A7C15ull + tool_calls_));
-  std::vector<std::pair<std::uint64_t, std::size_t>> candidates;
-  candidates.reserve(after.size());
-  for_each_cell_in_sphere(region, sphere, [&](std::size_t i, Int3 p) {
-    if (after[i] == to_cell(Material::Void))
-      candidates.emplace_back(mix64(salt ^ (std::uint64_t(p.x) | std::uint64_t(p.y) << 21 | std::uint64_t(p.z) << 42)), i);
-  });
-  if (std::int64_t(candidates.size()) > amount) keep_smallest(candidates, std::size_t(amount));
-  for (const auto& c : candidates) after[c.second] = to_cell(material);
-  return commit_region(region, clipped, cells, after);
+  RegionEdit& edit = begin_edit(region);
+  const std::uint64_t salt = pour_salt(def_.seed, tick_, tool_calls_);
+  for (const PourCandidate& c : scratch_->pour.choose(edit, sphere, salt, std::size_t(amount))) {
+    const Int3 p = unpack_position(c.position);
+    const RegionEdit::Row row = edit.row(p.y, p.z);
+    edit.set_material(row.cell(p.x), row.flag(p.x), to_cell(material));
+  }
+  scratch_->pour.trim();
+  return finish_tool(clipped);
 }
 
 ChangeReport World::paint(const Box& box, Material material) {
@@ -725,19 +642,20 @@ ChangeReport World::paint(const Box& box, Material material) {
   const Box region = intersect(box, Box{{0, 0, 0}, size_});
   if (region.empty())
     throw InvalidArgument("paint: box " + box_string(box) + " lies outside the " + to_string(size_) + " grid");
-  auto cells = read_cells(region);
-  const std::vector<std::uint8_t> after(cells.size(), to_cell(material));
-  return commit_region(region, !(region == box), cells, after);
+  MaterialMap to{};
+  to.fill(to_cell(material));
+  begin_edit(region).map_materials(to);
+  return finish_tool(!(region == box));
 }
 
 ChangeReport World::paint(const Sphere& sphere, Material material) {
   check_tool_material(material, "paint");
   bool clipped = false;
   const Box region = sphere_region(sphere, size_, "paint", clipped);
-  auto cells = read_cells(region);
-  auto after = materials_of(cells);
-  for_each_cell_in_sphere(region, sphere, [&](std::size_t i, Int3) { after[i] = to_cell(material); });
-  return commit_region(region, clipped, cells, after);
+  MaterialMap to{};
+  to.fill(to_cell(material));
+  begin_edit(region).map_materials(sphere, to);
+  return finish_tool(clipped);
 }
 
 }  // namespace granular

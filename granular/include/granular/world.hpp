@@ -22,6 +22,7 @@ namespace granular {
 
 class Backend;
 class Lut;
+class RegionEdit;
 struct RuleSet;
 
 /// A block-cellular-automaton world of sand. Not thread-safe: call it from one thread; it uses its
@@ -190,16 +191,21 @@ class World {
   std::vector<std::uint8_t> read_cells(const Box& region) const;
   // A buffer for the cells of `region`; OutOfMemory naming the region when it cannot be allocated.
   std::vector<std::uint8_t> cell_buffer(const Box& region) const;
-  // Puts materials `after` into `region`, whose bytes read_cells gave as `cells`, with one backend
-  // write that also wakes the bricks holding a changed cell (marked for bricks_changed_since): a
-  // cell whose material stays keeps its byte, motion state included, so a tool or load changes
-  // nothing it does not change in materials (a sleeping brick stays exact). `cells` ends holding the
-  // bytes written. Returns the cells changed per material (region and clipped left unset).
-  ChangeReport write_materials(const Box& region, std::vector<std::uint8_t>& cells, std::span<const std::uint8_t> after);
-  // Writes the cells of `region` (whole bytes) and wakes the bricks holding a cell flagged in `touched`.
-  void write_cells(const Box& region, std::span<const std::uint8_t> cells, std::span<const std::uint8_t> touched);
   // Writes every cell (whole bytes, x fastest), marks `changed` bricks changed and wakes every brick.
   void write_grid(std::span<const std::uint8_t> cells, std::span<const std::uint32_t> changed);
+  // The scratch of the tools and load (the region being edited, pour's choice), reused from call to
+  // call.
+  struct Scratch;
+  // Starts the edit of `region` (scratch_): its cell bytes as the backend holds them (a material
+  // in the low bits, a grain's motion state above, motion.hpp), read in one backend call.
+  RegionEdit& begin_edit(const Box& region);
+  // Writes the edited region with one backend write that also wakes the bricks holding a cell the
+  // edit set (marked for bricks_changed_since); writes nothing when it set none. A cell whose
+  // material stays keeps its byte, motion state included, so a tool or load changes nothing it
+  // does not change in materials (a sleeping brick stays exact).
+  void write_edit();
+  // A tool's write_edit: the edit's report, with its region and clipping; counts the tool call.
+  ChangeReport finish_tool(bool clipped);
   void mark_bricks(std::span<const std::uint32_t> bricks) const;
   // Throws InvalidArgument (starting with `what`) for a brick index past the grid's, or a buffer of
   // `bytes` bytes that is not the bricks' cells.
@@ -209,9 +215,6 @@ class World {
   void gather_bricks(std::span<const std::uint32_t> bricks, std::span<std::uint8_t> out, const char* what,
                      Read&& read) const;
   void take_step_changes() const;
-  // A tool's write_materials, with its region and clipping in the report; counts the tool call.
-  ChangeReport commit_region(const Box& region, bool clipped, std::vector<std::uint8_t>& cells,
-                             std::span<const std::uint8_t> after);
 
   WorldDef def_;
   Int3 size_{};
@@ -221,6 +224,7 @@ class World {
   std::uint64_t rule_fingerprint_ = 0;  ///< rule_fingerprint(*rules_)
   std::shared_ptr<const Lut> lut_;
   std::unique_ptr<Backend> backend_;
+  std::unique_ptr<Scratch> scratch_;
   std::vector<std::string> notices_;
   double lut_seconds_ = 0;
   bool lut_from_cache_ = false;
