@@ -293,8 +293,8 @@ class CudaBackend final : public Backend {
     dirty_ = cuda::DeviceBuffer<std::uint8_t>(total_bricks_, "dirty bricks");
     changed_ = cuda::DeviceBuffer<std::uint8_t>(total_bricks_, "changed bricks");
     if (step_rules_.motion.enabled()) {
-      reach_ = cuda::DeviceBuffer<std::uint8_t>(total_bricks_, "brick reaches");
-      cuda::check(cudaMemsetAsync(reach_.data(), 0, total_bricks_, s), "cudaMemsetAsync (brick reaches)");
+      reach_ = cuda::DeviceBuffer<unsigned>(total_bricks_, "brick reaches");
+      cuda::check(cudaMemsetAsync(reach_.data(), 0, reach_.bytes(), s), "cudaMemsetAsync (brick reaches)");
     }
     list_ = cuda::DeviceBuffer<std::uint32_t>(total_bricks_, "the awake brick list");
     count_ = cuda::DeviceBuffer<unsigned>(1, "the awake brick count");
@@ -589,7 +589,8 @@ class CudaBackend final : public Backend {
   mutable std::uint64_t known_awake_;  ///< bricks awake at the last tick the host knows of (an upper
                                        ///< bound after a tool's wake); all at creation
   unsigned sparse_grid_ = 1;
-  cuda::DeviceBuffer<std::uint8_t> awake_, dirty_, changed_, reach_;
+  cuda::DeviceBuffer<std::uint8_t> awake_, dirty_, changed_;
+  cuda::DeviceBuffer<unsigned> reach_;  ///< per brick: its reach in the tick (motion model only)
   cuda::DeviceBuffer<std::uint32_t> list_;
   cuda::DeviceBuffer<unsigned> count_;
   cuda::DeviceBuffer<unsigned long long> counters_;

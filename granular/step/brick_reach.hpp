@@ -4,7 +4,7 @@
 /// nothing near it can move in that sub-step. Shared by the CPU and CUDA backends.
 ///
 /// A faller at motion level L takes part only in the sub-steps of its window, and in a sub-step
-/// s >= 2 only when s + 2 <= 2 L + start (motion::reach_of). Each brick keeps a *reach* byte: the
+/// s >= 2 only when s + 2 <= 2 L + start (motion::reach_of). Each brick keeps a *reach*: the
 /// largest 2 L + start recorded into it in the current tick. A stepped block adds reach_of(its bytes
 /// after the step) to its owner brick in sub-steps 0 and 1 (every awake brick is stepped there; the
 /// reach restarts at sub-step 0) and, later, when it changed (MotionRule::reach_added). Reaches only
