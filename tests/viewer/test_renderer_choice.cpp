@@ -7,8 +7,10 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "renderer_choice.hpp"
+#include "vulkan_check.hpp"
 
 using namespace viewer;
 
@@ -79,4 +81,26 @@ TEST_CASE("renderer choice: the user's choice ends it") {
   choice.stop();
   CHECK_FALSE(choice.measuring());
   CHECK(choice.frame(1.0) == std::nullopt);
+}
+
+TEST_CASE("renderer choice: a renderer that cannot be made here counts as 0 FPS and the next is tried") {
+  RendererChoice choice;
+  std::vector<std::string> lines;
+  const auto print = [&](const std::string& line) { lines.push_back(line); };
+  std::vector<RendererKind> made;
+  const auto switch_to = [&](RendererKind kind) {
+    if (kind == RendererKind::Marching) throw VulkanError("the grid is too large for the marching-cubes renderer");
+    made.push_back(kind);
+  };
+  std::optional<RendererKind> now;
+  for (int frame = 0; frame < 100 && !now; ++frame) now = choice.advance(1.0 / 100, switch_to, print);
+  CHECK(now == RendererKind::Cubes);  // marching failed to build: skipped
+  REQUIRE(lines.size() == 2);
+  CHECK(lines[1] == "renderer: cubes (auto: marching unavailable here: the grid is too large for the marching-cubes "
+                    "renderer, measuring the next)");
+  now.reset();
+  for (int frame = 0; frame < 100 && !now && choice.measuring(); ++frame) now = choice.advance(1.0 / 20, switch_to, print);
+  CHECK_FALSE(choice.measuring());
+  CHECK(now == RendererKind::Raymarch);  // cubes measured 20 FPS, marching 0: the ray march's 100 wins
+  CHECK(made == std::vector<RendererKind>{RendererKind::Cubes, RendererKind::Raymarch});
 }

@@ -61,13 +61,12 @@ int run_headless(const SandboxOptions& options) {
     clock.advance(loop.timestep().tick_seconds());
     if (automatic && renderer_choice.measuring()) {
       // The choice measures the frames as drawn here, back to back (two in flight).
-      const std::optional<RendererKind> next =
-          renderer_choice.frame(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-      if (next) {
-        kind = *next;
-        offscreen.set_kind(kind);
-      }
-      if (next || !renderer_choice.measuring()) std::printf("%s\n", renderer_choice.report().c_str());
+      const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      if (const auto now = renderer_choice.advance(
+              seconds, [&](RendererKind next) { offscreen.set_kind(next); },
+              [](const std::string& line) { std::printf("%s\n", line.c_str()); }))
+        kind = *now;
+      if (!renderer_choice.measuring()) offscreen.world_renderer().release_inactive();
     }
   }
   if (!options.save.empty()) std::printf("%s\n", save_world(world, options.save).c_str());

@@ -2,6 +2,8 @@
 
 #include <cstdio>
 
+#include "vulkan_check.hpp"
+
 namespace viewer {
 
 std::optional<RendererKind> RendererChoice::frame(double seconds) {
@@ -13,12 +15,26 @@ std::optional<RendererKind> RendererChoice::frame(double seconds) {
   ++frames_;
   seconds_ += seconds;
   if (frames_ < kTrialFrames || seconds_ < kTrialSeconds) return std::nullopt;
-  fps_[current_] = frames_ / seconds_;
+  return end_trial(frames_ / seconds_, "");
+}
+
+std::optional<RendererKind> RendererChoice::unavailable(const std::string& why) {
+  if (done_) return std::nullopt;
+  return end_trial(0.0, "unavailable here: " + why);
+}
+
+std::optional<RendererKind> RendererChoice::end_trial(double fps, const std::string& note) {
+  fps_[current_] = fps;
+  char measured[300];
+  if (note.empty())
+    std::snprintf(measured, sizeof measured, "%s %.1f FPS", to_string(kOrder[current_]), fps);
+  else
+    std::snprintf(measured, sizeof measured, "%s %s", to_string(kOrder[current_]), note.c_str());
   const int last = int(std::size(kOrder)) - 1;
-  char line[200];
+  char line[400];
   if (current_ < last) {
-    std::snprintf(line, sizeof line, "renderer: %s (auto: %s %.1f FPS, measuring the next)", to_string(kOrder[current_ + 1]),
-                  to_string(kOrder[current_]), fps_[current_]);
+    std::snprintf(line, sizeof line, "renderer: %s (auto: %s, measuring the next)", to_string(kOrder[current_ + 1]),
+                  measured);
     report_ = line;
     ++current_;
     first_frame_ = true;
@@ -43,6 +59,25 @@ std::optional<RendererKind> RendererChoice::frame(double seconds) {
   const int measured_last = current_;
   current_ = kept;
   return kept == measured_last ? std::nullopt : std::optional<RendererKind>(kOrder[kept]);
+}
+
+std::optional<RendererKind> RendererChoice::advance(double seconds, const std::function<void(RendererKind)>& switch_to,
+                                                    const std::function<void(const std::string&)>& print) {
+  if (done_) return std::nullopt;
+  std::optional<RendererKind> next = frame(seconds);
+  std::optional<RendererKind> now;
+  while (next) {
+    try {
+      switch_to(*next);
+      now = next;
+      break;
+    } catch (const VulkanError& e) {
+      print(report_);
+      next = unavailable(e.what());
+    }
+  }
+  if (now || !measuring()) print(report_);
+  return now;
 }
 
 }  // namespace viewer

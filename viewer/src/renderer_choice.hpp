@@ -8,6 +8,7 @@
 /// (ray march, marching, cubes) and keeps the costliest that held the target frame rate, else the
 /// fastest it measured.
 
+#include <functional>
 #include <optional>
 #include <string>
 
@@ -38,6 +39,16 @@ class RendererChoice {
   /// when the current one's measurement is over and another is to be tried or kept.
   std::optional<RendererKind> frame(double seconds);
 
+  /// Ends the trial of the renderer frame() asked for: it cannot be made on this device for this
+  /// world (`why`), and counts as 0 FPS. Returns the renderer to switch to instead, as frame() does.
+  std::optional<RendererKind> unavailable(const std::string& why);
+
+  /// A frame as a sandbox runs it: frame(seconds), then `switch_to` each renderer it asks for until
+  /// one can be made (switch_to throws VulkanError for one that cannot: unavailable()); each line
+  /// to show goes to `print`. Returns the renderer drawing from now on when it changed.
+  std::optional<RendererKind> advance(double seconds, const std::function<void(RendererKind)>& switch_to,
+                                      const std::function<void(const std::string&)>& print);
+
   /// Ends the choice: the user picked a renderer.
   void stop() { done_ = true; }
 
@@ -54,6 +65,10 @@ class RendererChoice {
   double fps_[3] = {};       ///< frames per second measured per renderer of kOrder
   bool done_ = false;
   std::string report_;
+
+  // Ends the current renderer's trial at `fps` (`note` in its line when it is not ""): the next
+  // renderer to try, else the chosen one when it is not the current.
+  std::optional<RendererKind> end_trial(double fps, const std::string& note);
 };
 
 }  // namespace viewer

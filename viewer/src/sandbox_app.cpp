@@ -37,6 +37,7 @@
 #include "png_writer.hpp"
 #include "renderer_choice.hpp"
 #include "renderer_factory.hpp"
+#include "vulkan_check.hpp"
 #include "sandbox_tools.hpp"
 #include "screenshot_path.hpp"
 #include "section_pick.hpp"
@@ -167,12 +168,11 @@ class SandboxApp final : public granular::engine::Subsystem {
     frame_seconds_ = frame_seconds;
     if (frame_seconds > 0) fps_ = fps_ * 0.95 + 0.05 / frame_seconds;
     if (options_.renderer == "auto" && choice_of_renderer_.measuring()) {
-      const std::optional<RendererKind> next = choice_of_renderer_.frame(frame_seconds);
-      if (next) {
-        kind_ = *next;
-        renderer_->set_kind(*next);
-      }
-      if (next || !choice_of_renderer_.measuring()) report("%s", choice_of_renderer_.report().c_str());
+      if (const auto now = choice_of_renderer_.advance(
+              frame_seconds, [this](RendererKind kind) { renderer_->set_kind(kind); },
+              [this](const std::string& line) { report("%s", line.c_str()); }))
+        kind_ = *now;
+      if (!choice_of_renderer_.measuring()) renderer_->release_inactive();
     }
     pick();
     handle_events();
@@ -351,8 +351,13 @@ class SandboxApp final : public granular::engine::Subsystem {
   /// The user's choice of renderer: it ends the automatic one.
   void set_renderer(RendererKind kind) {
     choice_of_renderer_.stop();
+    try {
+      renderer_->set_kind(kind);
+    } catch (const VulkanError& e) {
+      report("renderer: %s unavailable here (%s); still %s", to_string(kind), e.what(), to_string(kind_));
+      return;
+    }
     kind_ = kind;
-    renderer_->set_kind(kind);
     report("renderer: %s", to_string(kind));
   }
 

@@ -47,6 +47,12 @@ void WorldRenderer::set_see_inside(const SeeInside& inside) {
   inside_ = inside;
 }
 
+void WorldRenderer::release_inactive() {
+  vkDeviceWaitIdle(context_.device());
+  for (auto& renderer : renderers_)
+    if (renderer.get() != active_) renderer.reset();
+}
+
 void WorldRenderer::set_kind(RendererKind kind) {
   Renderer& next = renderer_of(kind);
   if (&next != active_) next.invalidate();

@@ -64,6 +64,8 @@ class WorldRenderer {
   void set_target_pass(VkRenderPass target_pass) { target_pass_ = target_pass; }
   /// Switches the renderer (created on first use).
   void set_kind(RendererKind kind);
+  /// Frees the renderers made earlier that are not drawing now (waits for the device first).
+  void release_inactive();
   /// The active renderer.
   RendererKind kind() const { return active_->kind(); }
   /// The cell buffer.
