@@ -25,10 +25,12 @@ TestReport run_gravel_cone_test(const SuiteOptions& options);
 /// angle at which more than 1% of the grains move, theta_stop the slope that bed relaxes to.
 TestReport run_hysteresis_test(const SuiteOptions& options);
 
-/// 4. Silo discharge: a cylindrical silo with a flat bottom and a centred round orifice of
-/// diameter D; grains that leave are removed below and counted. Steady flow rate W(D), the fit
-/// W = C (D - k)^n (Beverloo: n = 5/2), and W against the fill level; then the shipped hourglass
-/// scene (quick N = 64, full 192): W against the fraction emptied, constant from 20% to 80%.
+/// 4. Silo discharge: a cylindrical silo (radius 1.5 D + 6 quick, + 8 full) with a flat bottom and
+/// a centred round orifice of diameter D, filled 3.5 silo diameters high; grains that leave are
+/// removed below and counted. Steady flow rate W(D) while the fill height falls from 3 to 2 silo
+/// diameters, the fit W = C (D - k)^n (Beverloo: n = 5/2), and W against the fill height; then
+/// the shipped hourglass scene (quick N = 64, full 192): W against the fraction emptied, constant
+/// from 20% to 80%.
 TestReport run_silo_test(const SuiteOptions& options);
 
 /// 5. Column collapse: a cylinder of sand of radius R0 and height a R0 released at once, for
