@@ -33,22 +33,25 @@ HeightMap depth_map(const Grid& grid, int level) {
   return m;
 }
 
-/// The surface's mean height against the distance from the crater's axis, in 1-cell rings.
-Series profile(const std::string& name, const HeightMap& h, double c) {
-  const int rings = int(std::ceil(std::hypot(h.nx, h.ny) / 2));
-  std::vector<double> sum(std::size_t(rings) + 1, 0), n(std::size_t(rings) + 1, 0);
+/// The surface's mean height against the distance from the crater's axis, in 1-cell rings out to
+/// the box's half width, both measured from the wall's point at half the crater's depth (ring
+/// r_mid, height h_mid): walls of the same slope lie on one line through the origin.
+Series profile(const std::string& name, const HeightMap& h, double c, double r_mid, double h_mid, bool reference) {
+  const std::size_t rings = std::size_t(c);
+  std::vector<double> sum(rings, 0), n(rings, 0);
   for (int y = 0; y < h.ny; ++y)
     for (int x = 0; x < h.nx; ++x) {
       const std::size_t k = std::size_t(std::hypot(x + 0.5 - c, y + 0.5 - c));
-      if (k >= sum.size()) continue;
+      if (k >= rings) continue;
       sum[k] += h.at(x, y);
       n[k] += 1;
     }
-  Series s{name, "distance from the crater's axis r (cells)", "mean surface height (cells)", {}, {}, false};
-  for (std::size_t k = 0; k < sum.size(); ++k)
-    if (n[k] > 0 && k + 0.5 <= c) {
-      s.x.push_back(double(k) + 0.5);
-      s.y.push_back(sum[k] / n[k]);
+  Series s{name, "distance from the wall at half depth (cells)", "height above the wall at half depth (cells)", {}, {},
+           reference};
+  for (std::size_t k = 0; k < rings; ++k)
+    if (n[k] > 0) {
+      s.x.push_back(double(k) + 0.5 - r_mid);
+      s.y.push_back(sum[k] / n[k] - h_mid);
     }
   return s;
 }
@@ -107,20 +110,19 @@ TestReport run_dug_slope_test(const SuiteOptions& o) {
   const double angle = wall.bins > 0 ? wall.angle_deg : std::nan("");
   r.metrics.push_back({"wall_angle", "deg", angle, o.material.repose_deg, 2.0,
                        o.material.name + " angle of repose: a slope cut steeper fails until it rests at it"});
-  Series settled_profile = profile("settled", height_map(settled, 0, Material::Granular), bed.half);
-  r.series.push_back(profile("as dug", height_map(as_dug, 0, Material::Granular), bed.half));
-  r.series.push_back(settled_profile);
-  const double r_mid = finite_mean(wall.bin_r_half);
-  if (std::isfinite(r_mid)) {
-    // The material's slope through the settled wall at half the crater's depth.
-    const double t = std::tan(o.material.repose_deg * std::numbers::pi / 180), h_mid = bed.depth - wall.height_cells / 2;
-    Series ref{o.material.name + " at " + std::to_string(int(o.material.repose_deg)) + " deg through the wall at half depth",
-               settled_profile.x_label, settled_profile.y_label, {}, {}, true};
-    for (double x : {r_mid - 0.5 * wall.height_cells / t, r_mid + 0.5 * wall.height_cells / t}) {
-      ref.x.push_back(x);
-      ref.y.push_back(h_mid + (x - r_mid) * t);
-    }
-    r.series.push_back(ref);
+  const double dug_r_mid = finite_mean(dug_cone.bin_r_half), r_mid = finite_mean(wall.bin_r_half);
+  if (std::isfinite(dug_r_mid) && std::isfinite(r_mid)) {
+    // The profiles as dug and settled, each from its wall's point at half its depth, and the
+    // material's slope through that point.
+    r.series.push_back(profile("as dug", height_map(as_dug, 0, Material::Granular), bed.half, dug_r_mid,
+                               bed.depth - dug_cone.height_cells / 2, true));
+    const Series settled_profile = profile("settled", height_map(settled, 0, Material::Granular), bed.half, r_mid,
+                                           bed.depth - wall.height_cells / 2, false);
+    r.series.push_back(settled_profile);
+    const double t = std::tan(o.material.repose_deg * std::numbers::pi / 180);
+    r.series.push_back({o.material.name + " at " + std::to_string(int(o.material.repose_deg)) + " deg",
+                        settled_profile.x_label, settled_profile.y_label, {-0.5 * bed.radius, 0.5 * bed.radius},
+                        {-0.5 * bed.radius * t, 0.5 * bed.radius * t}, true});
   }
   Series per_bin{"wall angle per azimuth bin", "azimuth (deg)", "wall angle (deg)", {}, {}, false};
   for (int k = 0; k < kConeAzimuthBins; ++k)

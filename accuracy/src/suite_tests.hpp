@@ -34,7 +34,8 @@ TestReport run_hysteresis_test(const SuiteOptions& options);
 /// 5. Dug slope: a bed of sand filling a box (quick 80^2 x 24, full 208^2 x 56), settled; a
 /// hemisphere (quick radius 16, full 48) centred on its surface dug out with World::dig, then
 /// settled again; the crater walls' angle, measure_cone of the crater's depth map, against the
-/// material's angle of repose (+- 2 deg), with the radial profile as dug and settled.
+/// material's angle of repose (+- 2 deg), with the radial profiles as dug and settled (each from
+/// its wall's point at half depth) and the angle per azimuth.
 TestReport run_dug_slope_test(const SuiteOptions& options);
 
 /// 6. Silo discharge: a cylindrical silo (radius 1.5 D + 6 quick, + 8 full) with a flat bottom and
@@ -61,9 +62,8 @@ TestReport run_fall_test(const SuiteOptions& options, const TestReport* collapse
 /// released at rest and watched every tick until its centre (the grains' mean height) has fallen
 /// 2 block heights; its packing fraction then (the grains in its footprint between the 5th and
 /// 95th percentile layers over the footprint's cells there: 1 at release) against the one at
-/// release (ratio 1 +- 0.1), with the fall of its centre, bottom and top against g t^2 / 2, the
-/// packing against the fall and the fill of the layers within 2 block heights of its top, at
-/// release and at the end.
+/// release (ratio 1 +- 0.1), with the fall of its centre against g t^2 / 2, the packing against
+/// the fall and the fill of the layers within 2 block heights of its top, at release and at the end.
 TestReport run_falling_block_test(const SuiteOptions& options);
 
 /// 10. Communicating vessels: a U-tube with one leg full of liquid and the other empty over a full
