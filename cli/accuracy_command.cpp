@@ -159,7 +159,7 @@ void add_accuracy_command(CLI::App& app) {
   add_number_option(*cmd, "--seed", o->seed, {}, "world seed");
   cmd->add_option("--material", o->material, "target material for the repose angle: sand (33 deg) or glass (24 deg)")
       ->capture_default_str();
-  cmd->add_flag("--quick", o->quick, "reduced sizes (CI; under 2 minutes on 2 cores); default: full size, for a GPU");
+  cmd->add_flag("--quick", o->quick, "reduced sizes (CI; 15 s to 3 minutes per rule set on 2 cores); default: full size, for a GPU");
   cmd->add_flag("--dense", o->dense, "step every block every tick (default: sparse, the same results)");
   cmd->add_flag("--json", o->json, "print the report as JSON instead of text");
   cmd->add_option("--csv", o->csv, "also write one CSV row per metric to this file");

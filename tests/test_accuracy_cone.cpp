@@ -7,6 +7,7 @@
 #include <string>
 
 #include "granular/accuracy/cone_metrics.hpp"
+#include "granular/accuracy/height_map.hpp"
 #include "granular/accuracy/pour_cone.hpp"
 #include "test_support.hpp"
 
@@ -72,6 +73,24 @@ TEST_CASE("measure_cone: a synthetic square pyramid has a square footprint") {
   CHECK(m.fourfold_amplitude > 0.05);
 }
 
+TEST_CASE("measure_cone: a crater's depth map is the cone of its walls") {
+  // A bed 20 high whose crater's walls rise at 33 degrees from a flat bottom 12 deep (radius 6)
+  // to the bed's level: the depth map (bed level minus height) is a truncated cone of 33 degrees.
+  const int n = 96, level = 20, depth = 12;
+  const double t = std::tan(33 * std::numbers::pi / 180), bottom = 6;
+  const Grid bed = paint_pile(n, level, [&](double dx, double dy) {
+    return level - std::clamp(depth - (std::hypot(dx, dy) - bottom) * t, 0.0, double(depth));
+  });
+  HeightMap d = height_map(bed, 1, Material::Granular);
+  for (double& v : d.h) v = level - v;
+  const ConeMetrics m = measure_cone(d, {n / 2.0, n / 2.0, 0});
+  report("crater 33", m);
+  CHECK(m.height_cells == depth);
+  CHECK(m.bins == kConeAzimuthBins);
+  CHECK(std::abs(m.angle_deg - 33) < 1.5);
+  CHECK(m.r_half_ratio <= 1.1);
+}
+
 TEST_CASE("measure_cone: an empty grid measures as zeros") {
   Grid g({16, 16, 8});
   g.fill(Box{{0, 0, 0}, {16, 16, 1}}, Material::Solid);
@@ -94,6 +113,7 @@ void check_conserved(const PourResult& r) {
   CHECK(r.before[to_cell(Material::Granular)] == 0);
   CHECK(r.after[to_cell(Material::Granular)] == r.poured);
   CHECK(r.after[to_cell(Material::Solid)] == r.before[to_cell(Material::Solid)]);
+  CHECK(r.conserved);
   CHECK(r.settled);
 }
 
@@ -103,6 +123,13 @@ void check_conserved(const PourResult& r) {
 // and the diagonals lies between atan(1/sqrt 2) = 35.3 degrees (diagonals) and 45 (axes): the
 // synthetic square pyramid measures 41.7. The poured piles measure about 38 (about 43 along the
 // axes, 35 along the diagonals), so the bound checked is that range, not 45 +- 3.
+TEST_CASE("pour_cone: a grain budget stops the pour at that many grains") {
+  const PourResult r = pour_cone(test::test_def({32, 32, 32}, "paper"), 32, 32, 60, 4000, 2000, 2.0, Material::Granular, 500);
+  CHECK(r.poured == 500);
+  CHECK(r.pour_ticks < 4000);
+  check_conserved(r);
+}
+
 TEST_CASE("pour_cone: paper and isotropic rules conserve grains; paper's footprint is the less round") {
   auto pour_checked = [](const char* rules) {
     const PourResult r = pour_small(rules);

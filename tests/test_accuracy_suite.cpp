@@ -137,3 +137,46 @@ TEST_CASE("accuracy suite, quick, default rules: liquid, gas and gravel against 
   CHECK(metric(gravel, "twofold_amplitude").met());
   CHECK(metric(gravel, "onefold_amplitude").met());
 }
+
+// The three tests of the size, slope and free-fall gaps, quick. Asserted: what holds by
+// construction (grains conserved, every metric measured, every pile poured in full) and how each
+// test reads the grid. Reported only (docs/ACCURACY.md, "Gaps"): the angles against 33 deg, the
+// crater's walls and the falling block's packing. The default rules run the crater and the block
+// (a second together); the cones run on the paper's rules, whose three pours take a few seconds
+// where the motion model's take about 45 on 2 cores.
+TEST_CASE("accuracy suite, quick: cone sizes, dug slope and falling block measure finite values and conserve grains") {
+  const std::string rules = WorldDef{}.rules;
+  const SuiteReport r = run_suite(quick_options(rules), {"dug_slope", "falling_block"});
+  const SuiteReport cones = run_suite(quick_options("paper"), {"cone_sizes"});
+  REQUIRE(r.tests.size() == 2);
+  REQUIRE(cones.tests.size() == 1);
+  for (const SuiteReport* s : {&r, &cones}) {
+    CHECK(s->conserved());
+    for (const TestReport& t : s->tests) {
+      for (const Metric& m : t.metrics) {
+        MESSAGE(s->config.rules << " " << t.test << " " << m.name << " = " << m.measured << " (target " << m.reference
+                                << " +- " << m.tolerance << ")");
+        CHECK(std::isfinite(m.measured));
+      }
+      MESSAGE(t.test << ": " << t.seconds << " s, " << t.ticks << " ticks");
+    }
+  }
+  const TestReport& sizes = cones.tests[0];
+  REQUIRE(sizes.series.size() == 2);
+  const Series& angles = sizes.series[0];
+  REQUIRE(angles.x.size() == 3);
+  // Every pile holds the grains it was scaled for: 10^4, 10^4.75 and 10^5.5.
+  CHECK(angles.x[0] == 10000);
+  CHECK(angles.x[1] == 56234);
+  CHECK(angles.x[2] == 316228);
+  CHECK(metric(sizes, "angle_range").measured >= 0);
+  // The crater is dug 16 deep into a bed 24 deep: its walls measure between flat and the dug
+  // hemisphere's 56 deg chord.
+  const double wall = metric(r.tests[0], "wall_angle").measured;
+  CHECK(wall > 0);
+  CHECK(wall < 57);
+  // At release the block's packing fraction is 1 by definition; its ratio after the fall lies in (0, 1].
+  const double packing = metric(r.tests[1], "packing_fraction_ratio").measured;
+  CHECK(packing > 0);
+  CHECK(packing <= 1);
+}

@@ -21,31 +21,26 @@ struct BinSums {
 }  // namespace
 
 ConeMetrics measure_cone(const Grid& grid, Vec3 apex_xy_center, int floor_z, Material material) {
-  const Int3 size = grid.size();
-  const int z0 = std::max(floor_z, 0);
-  std::vector<int> h(std::size_t(size.x) * std::size_t(size.y), 0);
-  int height = 0;
-  for (int y = 0; y < size.y; ++y)
-    for (int x = 0; x < size.x; ++x) {
-      int count = 0;
-      for (int z = z0; z < size.z; ++z) count += grid.at({x, y, z}) == material;
-      h[std::size_t(x) + std::size_t(size.x) * std::size_t(y)] = count;
-      height = std::max(height, count);
-    }
+  return measure_cone(height_map(grid, floor_z, material), apex_xy_center);
+}
+
+ConeMetrics measure_cone(const HeightMap& heights, Vec3 apex_xy_center) {
+  double height = 0;
+  for (double v : heights.h) height = std::max(height, v);
   ConeMetrics m;
   m.bin_angle_deg.fill(std::numeric_limits<double>::quiet_NaN());
   m.bin_r_half.fill(std::numeric_limits<double>::quiet_NaN());
-  if (height == 0) return m;
+  if (height <= 0) return m;
   m.height_cells = height;
 
   const double two_pi = 2 * std::numbers::pi;
   const double bin_width = two_pi / kConeAzimuthBins;
   const double lo = 0.2 * height, hi = 0.8 * height, half = 0.5 * height;
   std::array<BinSums, kConeAzimuthBins> bins{};
-  for (int y = 0; y < size.y; ++y)
-    for (int x = 0; x < size.x; ++x) {
-      const double hv = h[std::size_t(x) + std::size_t(size.x) * std::size_t(y)];
-      if (hv == 0) continue;
+  for (int y = 0; y < heights.ny; ++y)
+    for (int x = 0; x < heights.nx; ++x) {
+      const double hv = heights.at(x, y);
+      if (hv <= 0) continue;
       const double dx = x + 0.5 - apex_xy_center.x, dy = y + 0.5 - apex_xy_center.y;
       const double r = std::hypot(dx, dy);
       double phi = std::atan2(dy, dx);
@@ -112,6 +107,31 @@ ConeMetrics measure_cone(const Grid& grid, Vec3 apex_xy_center, int floor_z, Mat
     m.fourfold_amplitude = std::abs(r_four) / r_sum;
   }
   return m;
+}
+
+AxisDiagonalAngles axis_diagonal_angles(const ConeMetrics& m) {
+  double axis_sum = 0, diagonal_sum = 0;
+  int axis_n = 0, diagonal_n = 0;
+  for (int k = 0; k < kConeAzimuthBins; ++k) {
+    const double a = m.bin_angle_deg[std::size_t(k)];
+    if (!std::isfinite(a)) continue;
+    const double phi = (k + 0.5) * 360.0 / kConeAzimuthBins;
+    const double from_axis = std::abs(std::remainder(phi, 90.0));
+    if (from_axis <= 10) {
+      axis_sum += a;
+      ++axis_n;
+    } else if (std::abs(from_axis - 45) <= 5) {
+      diagonal_sum += a;
+      ++diagonal_n;
+    }
+  }
+  AxisDiagonalAngles r;
+  r.ok = axis_n > 0 && diagonal_n > 0;
+  if (r.ok) {
+    r.axis_deg = axis_sum / axis_n;
+    r.diagonal_deg = diagonal_sum / diagonal_n;
+  }
+  return r;
 }
 
 }  // namespace granular::accuracy

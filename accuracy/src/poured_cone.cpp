@@ -35,11 +35,7 @@ TestReport run_poured_cone(const SuiteOptions& o, const ConeTarget& target) {
   r.seconds = p.seconds;
   r.ticks = p.ticks;
   r.cell_updates = double(floor) * floor * height * double(p.ticks);
-  r.conserved = true;
-  for (int m = 0; m < kMaterialCount; ++m)
-    r.conserved = r.conserved && p.after[std::size_t(m)] == p.before[std::size_t(m)] +
-                                                               (m == to_cell(target.material) ? p.poured : 0) -
-                                                               (m == to_cell(Material::Void) ? p.poured : 0);
+  r.conserved = p.conserved;
   const std::string round = "ideal: a poured cone of dry grains is round (target r_max/r_min <= 1.05)";
   r.metrics.push_back({"angle_of_repose", "deg", m.angle_deg, target.repose_deg, 2.0, target.source});
   r.metrics.push_back({"r_max_over_r_min", "", m.r_half_ratio, 1.0, kRatioTarget - 1, round});
@@ -63,30 +59,10 @@ TestReport run_poured_cone(const SuiteOptions& o, const ConeTarget& target) {
   r.series.push_back({"target " + target.name, "azimuth (deg)", "angle of repose (deg)", {0, 360},
                       {target.repose_deg, target.repose_deg}, true});
   r.series.push_back(radius);
-  {
-    // Angle near the axes (bin centres within 10 deg of 0, 90, 180, 270) and near the diagonals
-    // (within 5 deg of 45, 135, ...): a 2x2x2 toppling rule rests at 45 and 35 deg respectively.
-    double axis_sum = 0, diagonal_sum = 0;
-    int axis_n = 0, diagonal_n = 0;
-    for (int k = 0; k < kConeAzimuthBins; ++k) {
-      const double a = m.bin_angle_deg[std::size_t(k)];
-      if (!std::isfinite(a)) continue;
-      const double phi = (k + 0.5) * 360.0 / kConeAzimuthBins;
-      const double from_axis = std::abs(std::remainder(phi, 90.0));
-      if (from_axis <= 10) {
-        axis_sum += a;
-        ++axis_n;
-      } else if (std::abs(from_axis - 45) <= 5) {
-        diagonal_sum += a;
-        ++diagonal_n;
-      }
-    }
-    if (axis_n && diagonal_n) {
-      char line[160];
-      std::snprintf(line, sizeof line, "angle near the axes %.1f deg, near the diagonals %.1f deg", axis_sum / axis_n,
-                    diagonal_sum / diagonal_n);
-      r.notes.push_back(line);
-    }
+  if (const AxisDiagonalAngles a = axis_diagonal_angles(m); a.ok) {
+    char line[160];
+    std::snprintf(line, sizeof line, "angle near the axes %.1f deg, near the diagonals %.1f deg", a.axis_deg, a.diagonal_deg);
+    r.notes.push_back(line);
   }
   r.notes.push_back("pile height " + std::to_string(int(m.height_cells)) + " cells, " + std::to_string(p.poured) +
                     " grains; per-bin angle spread " + std::to_string(m.angle_spread_deg) + " deg over " +

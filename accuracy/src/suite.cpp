@@ -9,8 +9,9 @@
 namespace granular::accuracy {
 
 std::vector<std::string> suite_test_names() {
-  return {"cone",         "gravel_cone", "hysteresis", "silo",     "collapse",    "fall", "communicating_vessels",
-          "dam_break",    "torricelli",  "buoyancy",   "conservation"};
+  return {"cone",          "cone_sizes",            "gravel_cone", "hysteresis", "dug_slope",
+          "silo",          "collapse",              "fall",        "falling_block",
+          "communicating_vessels", "dam_break",     "torricelli",  "buoyancy",   "conservation"};
 }
 
 SuiteReport run_suite(const SuiteOptions& o, const std::vector<std::string>& tests) {
@@ -39,8 +40,10 @@ SuiteReport run_suite(const SuiteOptions& o, const std::vector<std::string>& tes
   }
   const TestReport* collapse = nullptr;
   if (wanted("cone")) report.tests.push_back(run_cone_test(o));
+  if (wanted("cone_sizes")) report.tests.push_back(run_cone_sizes_test(o));
   if (wanted("gravel_cone")) report.tests.push_back(run_gravel_cone_test(o));
   if (wanted("hysteresis")) report.tests.push_back(run_hysteresis_test(o));
+  if (wanted("dug_slope")) report.tests.push_back(run_dug_slope_test(o));
   if (wanted("silo")) report.tests.push_back(run_silo_test(o));
   std::size_t collapse_index = 0;
   if (wanted("collapse")) {
@@ -52,6 +55,7 @@ SuiteReport run_suite(const SuiteOptions& o, const std::vector<std::string>& tes
     TestReport fall = run_fall_test(o, collapse);
     report.tests.push_back(std::move(fall));
   }
+  if (wanted("falling_block")) report.tests.push_back(run_falling_block_test(o));
   if (wanted("communicating_vessels")) report.tests.push_back(run_communicating_vessels_test(o));
   if (wanted("dam_break")) report.tests.push_back(run_dam_break_test(o));
   if (wanted("torricelli")) report.tests.push_back(run_torricelli_test(o));

@@ -1,6 +1,6 @@
 #pragma once
 /// @file suite_tests.hpp
-/// The eleven tests of the accuracy suite. Each builds its scenes programmatically (sizes depend on
+/// The fourteen tests of the accuracy suite. Each builds its scenes programmatically (sizes depend on
 /// SuiteOptions::quick), runs them on the configured backend, measures from the grid and returns
 /// a TestReport with measured values, references and their sources, and the series of its plot.
 
@@ -16,54 +16,77 @@ namespace granular::accuracy {
 /// and the 1-, 2- and 4-fold Fourier amplitudes of r(phi) against a round footprint.
 TestReport run_cone_test(const SuiteOptions& options);
 
-/// 2. Gravel cone: the cone test's pour and measurement with the table's gravel against dry
+/// 2. Cone sizes: the cone test's pour (pour_cone) scaled to piles of three sizes (quick 10^4,
+/// 10^4.75 and 10^5.5 grains; full 10^4, 10^5 and 10^6), poured until every grain is in and settled;
+/// each pile's angle of repose (measure_cone) against the material's target (+- 2 deg) and the
+/// largest minus the smallest of the three against 0 (+- 2 deg), with the angle against the grains.
+TestReport run_cone_sizes_test(const SuiteOptions& options);
+
+/// 3. Gravel cone: the cone test's pour and measurement with the table's gravel against dry
 /// gravel's 40 deg, with the sand cone's footprint targets.
 TestReport run_gravel_cone_test(const SuiteOptions& options);
 
-/// 3. Hysteresis: beds with a plane surface inclined at theta along x (a tilt done in steps: each
+/// 4. Hysteresis: beds with a plane surface inclined at theta along x (a tilt done in steps: each
 /// step is a fresh bed at the next angle) in a walled box with a run-out; theta_start is the first
 /// angle at which more than 1% of the grains move, theta_stop the slope that bed relaxes to.
 TestReport run_hysteresis_test(const SuiteOptions& options);
 
-/// 4. Silo discharge: a cylindrical silo with a flat bottom and a centred round orifice of
-/// diameter D; grains that leave are removed below and counted. Steady flow rate W(D), the fit
-/// W = C (D - k)^n (Beverloo: n = 5/2), and W against the fill level; then the shipped hourglass
-/// scene (quick N = 64, full 192): W against the fraction emptied, constant from 20% to 80%.
+/// 5. Dug slope: a bed of sand filling a box (quick 80^2 x 24, full 208^2 x 56), settled; a
+/// hemisphere (quick radius 16, full 48) centred on its surface dug out with World::dig, then
+/// settled again; the crater walls' angle, measure_cone of the crater's depth map, against the
+/// material's angle of repose (+- 2 deg), with the radial profiles as dug and settled (each from
+/// its wall's point at half depth) and the angle per azimuth.
+TestReport run_dug_slope_test(const SuiteOptions& options);
+
+/// 6. Silo discharge: a cylindrical silo (radius 1.5 D + 6 quick, + 8 full) with a flat bottom and
+/// a centred round orifice of diameter D, filled 3.5 silo diameters high; grains that leave are
+/// removed below and counted. Steady flow rate W(D) while the fill height falls from 3 to 2 silo
+/// diameters, the fit W = C (D - k)^n (Beverloo: n = 5/2), and W against the fill height; then
+/// the shipped hourglass scene (quick N = 64, full 192): W against the fraction emptied, constant
+/// from 20% to 80%.
 TestReport run_silo_test(const SuiteOptions& options);
 
-/// 5. Column collapse: a cylinder of sand of radius R0 and height a R0 released at once, for
+/// 7. Column collapse: a cylinder of sand of radius R0 and height a R0 released at once, for
 /// a in {0.5, 1, 2, 4, 8}; normalised runout (R_inf - R0) / R0 against a with power-law fits below
 /// and above a = 1.7 (Lube et al. 2004: exponents 1 and 1/2). Its series "stop time" holds the
 /// ticks each collapse took to come to rest against H0, which run_fall_test uses.
 TestReport run_collapse_test(const SuiteOptions& options);
 
-/// 6. Free fall: a single grain dropped from 16 to 256 cells (quick: to 128); the exponent of fall
+/// 8. Free fall: a single grain dropped from 16 to 256 cells (quick: to 128); the exponent of fall
 /// distance against time (2 under gravity) and of fall time against height (1/2). When `collapse`
 /// is given (the collapse test's report), also the exponent of the collapse stop time against
 /// H0 (1/2: t_stop is proportional to sqrt(H0 / g)).
 TestReport run_fall_test(const SuiteOptions& options, const TestReport* collapse);
 
-/// 7. Communicating vessels: a U-tube with one leg full of liquid and the other empty over a full
+/// 9. Falling block: a cube of sand (quick 24 cells wide, 800 above the floor; full 96, 4000)
+/// released at rest and watched every tick until its centre (the grains' mean height) has fallen
+/// 2 block heights; its packing fraction then (the grains in its footprint between the 5th and
+/// 95th percentile layers over the footprint's cells there: 1 at release) against the one at
+/// release (ratio 1 +- 0.1), with the fall of its centre against g t^2 / 2, the packing against
+/// the fall and the fill of the layers within 2 block heights of its top, at release and at the end.
+TestReport run_falling_block_test(const SuiteOptions& options);
+
+/// 10. Communicating vessels: a U-tube with one leg full of liquid and the other empty over a full
 /// channel (quick: legs of 8^2 cells, 40 high; full: 32^2, 160 high), run until at rest or 20
 /// oscillation periods; the level difference of the legs against 0 (+- 1 cell).
 TestReport run_communicating_vessels_test(const SuiteOptions& options);
 
-/// 8. Dam break: a liquid column H0 high and 2 H0 long released at the closed end of a dry channel
+/// 11. Dam break: a liquid column H0 high and 2 H0 long released at the closed end of a dry channel
 /// (quick: H0 in {16, 32}, 8 wide; full: {32, 64, 128}, 32 wide); the front's arrival times over its
 /// first 2 H0 of travel fitted as x_f = U t, U / (2 sqrt(g H0)) against Ritter's 1 (+- 0.15).
 TestReport run_dam_break_test(const SuiteOptions& options);
 
-/// 9. Torricelli: a cylindrical tank of liquid (quick: radius 8, 64 high, orifice 4; full: 32,
+/// 12. Torricelli: a cylindrical tank of liquid (quick: radius 8, 64 high, orifice 4; full: 32,
 /// 192, 8) drains through a centred bottom orifice; the exponent n of Q = C h^n over windows of
 /// the head from 90% to 20% of the fill against 1/2 (+- 0.1).
 TestReport run_torricelli_test(const SuiteOptions& options);
 
-/// 10. Buoyancy: a block of sand dropped onto liquid in a closed box, with a gas pocket under the
+/// 13. Buoyancy: a block of sand dropped onto liquid in a closed box, with a gas pocket under the
 /// liquid (quick: 24^2 x 40; full: 96^2 x 160), run until at rest; sand cells with liquid below
 /// them, gas cells with liquid above them, and materials whose count changed, each against 0.
 TestReport run_buoyancy_test(const SuiteOptions& options);
 
-/// 11. Conservation and stability: random scenes (void/solid/granular, and all 8 states) stepped
+/// 14. Conservation and stability: random scenes (void/solid/granular, and all 8 states) stepped
 /// for many ticks (quick 2 x 10^4 each; full 10^6 and 10^5) must keep every material's count exactly
 /// and give the same hash on the configured backend and on the CPU with 1, 2 and 3 threads (full:
 /// 1 thread for the 10^6-tick scene, 1 and 3 for the other), and with sparse and dense stepping;

@@ -8,6 +8,7 @@
 
 #include "granular/accuracy/fit.hpp"
 #include "granular/world.hpp"
+#include "orifice_tank.hpp"
 #include "suite_tests.hpp"
 
 namespace granular::accuracy {
@@ -17,43 +18,8 @@ namespace {
 /// Discharge coefficient of a sharp-edged orifice (the vena contracta): Q = C_d a sqrt(2 g h).
 constexpr double kDischargeCoefficient = 0.61;
 
-/// A cylindrical tank: a sink of kSink layers at the bottom (all but its top 2 cleared every tick,
-/// so the liquid is counted once it has fallen clear of the plate), a solid plate kPlate thick with
-/// a centred round orifice of diameter `orifice`, a solid shell outside radius `radius`, and
-/// liquid filled `fill` layers above the plate.
-struct Tank {
-  int orifice, radius, fill;
-  static constexpr int kSink = 8, kPlate = 2;
-  int plate_top() const { return kSink + kPlate; }
-  Int3 size() const { return {2 * radius + 4, 2 * radius + 4, plate_top() + fill + 4}; }
-  bool inside(int x, int y) const {
-    const double c = size().x / 2.0;
-    return std::hypot(x + 0.5 - c, y + 0.5 - c) <= radius;
-  }
-  /// Columns inside the shell: the tank's cross-section in cells.
-  double area() const {
-    double n = 0;
-    for (int y = 0; y < size().y; ++y)
-      for (int x = 0; x < size().x; ++x) n += inside(x, y);
-    return n;
-  }
-  Grid build() const {
-    const Int3 s = size();
-    Grid g(s);
-    const double c = s.x / 2.0;
-    for (int y = 0; y < s.y; ++y)
-      for (int x = 0; x < s.x; ++x) {
-        const bool in_hole = std::hypot(x + 0.5 - c, y + 0.5 - c) <= orifice / 2.0;
-        if (!inside(x, y)) g.fill(Box{{x, y, kSink}, {x + 1, y + 1, s.z}}, Material::Solid);
-        else if (!in_hole) g.fill(Box{{x, y, kSink}, {x + 1, y + 1, plate_top()}}, Material::Solid);
-        if (inside(x, y)) g.fill(Box{{x, y, plate_top()}, {x + 1, y + 1, plate_top() + fill}}, Material::Liquid);
-      }
-    return g;
-  }
-};
-
 /// Liquid cells above the plate.
-double liquid_in_tank(const World& world, const Tank& tank) {
+double liquid_in_tank(const World& world, const OrificeTank& tank) {
   const Int3 s = tank.size();
   const std::vector<std::uint8_t> cells = world.read_region(Box{{0, 0, tank.plate_top()}, s});
   return double(std::count(cells.begin(), cells.end(), to_cell(Material::Liquid)));
@@ -62,10 +28,10 @@ double liquid_in_tank(const World& world, const Tank& tank) {
 }  // namespace
 
 TestReport run_torricelli_test(const SuiteOptions& o) {
-  const Tank tank = o.quick ? Tank{4, 8, 64} : Tank{8, 32, 192};
+  const OrificeTank tank = o.quick ? OrificeTank{4, 8, 64} : OrificeTank{8, 32, 192};
   const Int3 s = tank.size();
   const double g = o.calibration.gravity_cells();
-  const double area = tank.area();
+  const double area = double(tank.area());
   // Heads (h: the liquid's mean height above the plate, its volume over the cross-section) at the
   // window edges, from 90% to 20% of the fill: the start's transient and the last few orifice
   // diameters (where h ~ D) are left out.
@@ -78,10 +44,10 @@ TestReport run_torricelli_test(const SuiteOptions& o) {
             " in its flat bottom; liquid leaving is removed 8 cells below; the rate Q in 7 windows of the head h from 90% "
             "to 20% of the fill";
   log_line(o, "torricelli: " + r.scene);
-  const Grid initial = tank.build();
+  const Grid initial = tank.build(Material::Liquid);
   World world(test_world_def(o, s), initial);
   const MaterialCounts before = world.count();
-  const Box sink{{0, 0, 0}, {s.x, s.y, Tank::kSink - 2}};
+  const Box sink = tank.sink();
   const double v0 = liquid_in_tank(world, tank);
   std::vector<double> tick_of{0}, head_of{v0 / area};
   double out = 0;

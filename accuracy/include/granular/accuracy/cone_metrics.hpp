@@ -5,6 +5,7 @@
 
 #include <array>
 
+#include "granular/accuracy/height_map.hpp"
 #include "granular/geometry.hpp"
 #include "granular/grid.hpp"
 #include "granular/material.hpp"
@@ -30,11 +31,28 @@ struct ConeMetrics {
   int bins = 0;                 ///< bins that produced an angle (at most kConeAzimuthBins)
 };
 
+/// A cone's angle along the grid's axes and along its diagonals, where a 2x2x2 toppling rule rests
+/// at 45 and 35 deg.
+struct AxisDiagonalAngles {
+  double axis_deg = 0;      ///< mean per-bin angle over bins centred within 10 deg of 0, 90, 180 or 270
+  double diagonal_deg = 0;  ///< mean per-bin angle over bins centred within 5 deg of 45, 135, 225 or 315
+  bool ok = false;          ///< false when either set of bins has no angle
+};
+
+/// The per-bin angles of `m` averaged near the axes and near the diagonals.
+AxisDiagonalAngles axis_diagonal_angles(const ConeMetrics& m);
+
 /// Measures the pile of `material` standing on the layer `floor_z` of `grid`, around the vertical
-/// axis through (apex_xy_center.x, apex_xy_center.y) (z is ignored).
+/// axis through (apex_xy_center.x, apex_xy_center.y) (z is ignored): measure_cone of the grid's
+/// height_map(grid, floor_z, material), h(x, y) the number of `material` cells in the column with
+/// floor_z <= z < nz. Returns all zeros when the grid holds no grain of `material` above floor_z.
+ConeMetrics measure_cone(const Grid& grid, Vec3 apex_xy_center, int floor_z, Material material = Material::Granular);
+
+/// Measures the cone whose height map is `heights` (columns of height h(x, y) <= 0 are outside it)
+/// around the vertical axis through (apex_xy_center.x, apex_xy_center.y) (z is ignored). A crater
+/// is measured as the cone of its depth map (the bed's level minus h).
 ///
 /// Definitions (column (x, y) has its centre at (x + 0.5, y + 0.5)):
-/// * height map: h(x, y) = number of `material` cells in the column with floor_z <= z < nz;
 /// * H = max h(x, y); dx = x + 0.5 - cx, dy = y + 0.5 - cy, r = sqrt(dx^2 + dy^2),
 ///   phi = atan2(dy, dx) mapped to [0, 2 pi); bin k = floor(phi / (2 pi / 36)), centre angle
 ///   phi_k = (k + 1/2) 2 pi / 36;
@@ -48,7 +66,7 @@ struct ConeMetrics {
 ///   pyramid measures about 0.07 whatever its orientation, as the modulus removes the phase);
 ///   onefold_amplitude and twofold_amplitude use e^{i phi_k} and e^{2 i phi_k} likewise (an
 ///   ellipse of axes a > b measures about (a - b) / (a + b) in the 2-fold amplitude).
-/// Returns all zeros when the grid holds no grain of `material` above floor_z.
-ConeMetrics measure_cone(const Grid& grid, Vec3 apex_xy_center, int floor_z, Material material = Material::Granular);
+/// Returns all zeros when no column is above 0.
+ConeMetrics measure_cone(const HeightMap& heights, Vec3 apex_xy_center);
 
 }  // namespace granular::accuracy
