@@ -97,6 +97,7 @@ class CudaBackend final : public Backend {
     step_rules_.random_axis_order = rules.random_axis_order;
     step_rules_.motion = rules.motion;
     step_rules_.materials = step_materials(rules.materials);
+    step_rules_.origin = block_position_offset(info.domain_origin.x, info.domain_origin.y, info.domain_origin.z);
     step_rules_.result = result_.data();
     if (sparse_) init_sparse(s);
     step_rules_.inert = inert_.data();

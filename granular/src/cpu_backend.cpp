@@ -74,6 +74,7 @@ CpuBackend::CpuBackend(const BackendCreateInfo& info)
   step_rules_.random_axis_order = rules.random_axis_order;
   step_rules_.motion = rules.motion;
   step_rules_.materials = step_materials(rules.materials);
+  step_rules_.origin = block_position_offset(info.domain_origin.x, info.domain_origin.y, info.domain_origin.z);
   outside_row_.assign(std::size_t(grid_.size().x), std::uint8_t(step_rules_.materials.outside));
 }
 

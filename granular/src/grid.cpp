@@ -127,6 +127,17 @@ std::uint64_t hash_words(std::span<const std::uint8_t> cells, std::size_t first_
   return sum;
 }
 
+std::uint64_t hash_words_from(std::span<const std::uint8_t> bytes, std::size_t first_word) {
+  constexpr std::uint64_t kGolden = 0x9E3779B97F4A7C15ull;
+  std::uint64_t sum = 0;
+  for (std::size_t at = 0, i = first_word; at < bytes.size(); at += 8, ++i) {
+    std::uint64_t w = 0;
+    std::memcpy(&w, bytes.data() + at, std::min<std::size_t>(8, bytes.size() - at));  // little-endian hosts only
+    sum += mix64(w + (i + 1) * kGolden);
+  }
+  return sum;
+}
+
 std::uint64_t finish_hash(Int3 size, std::uint64_t partial_sum) {
   const std::uint64_t dims = std::uint64_t(std::uint32_t(size.x)) | (std::uint64_t(std::uint32_t(size.y)) << 21) |
                              (std::uint64_t(std::uint32_t(size.z)) << 42);

@@ -64,6 +64,7 @@ std::span<PourCandidate> keep_smallest(std::span<PourCandidate> candidates, std:
 }
 
 std::size_t PourChoice::gather(const RegionEdit& edit, std::uint64_t salt, std::uint64_t limit) {
+  const Int3 origin = edit.origin();
   const std::uint8_t* const cells = edit.cells().data();
   PourCandidate* const out = candidates_.data();
   std::size_t found = 0;
@@ -71,9 +72,9 @@ std::size_t PourChoice::gather(const RegionEdit& edit, std::uint64_t salt, std::
   // a sphere of void and grains, and the random keys, would mispredict).
   for (const Run& run : runs_) {
     const RegionEdit::Row row = edit.row(run.y, run.z);
-    const std::uint64_t row_position = pack_position(0, run.y, run.z);
+    const std::uint64_t row_position = pack_position(origin.x, run.y + origin.y, run.z + origin.z);
     for (int x = run.first; x < run.last; ++x) {
-      const std::uint64_t position = row_position | std::uint64_t(x);
+      const std::uint64_t position = row_position + std::uint64_t(x);
       const std::uint64_t key = pour_key(salt, position);
       out[found] = {key, position};
       found += cell_material(cells[row.cell(x)]) == to_cell(Material::Void) && key < limit ? 1 : 0;
@@ -89,7 +90,7 @@ std::span<const PourCandidate> PourChoice::choose(const RegionEdit& edit, const 
   for_each_run_in_sphere(edit.region(), sphere, [&](int y, int z, int first, int last) {
     runs_.push_back({y, z, first, last});
     in_sphere += std::size_t(last - first);
-  });
+  }, edit.origin());
   if (candidates_.size() < in_sphere) candidates_.resize(in_sphere);
   // First the void cells of keys below the limit for as many keys as the sphere holds cells: when
   // at least `amount` are, the `amount` smallest keys are among them (every key at or above the

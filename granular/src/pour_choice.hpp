@@ -53,6 +53,7 @@ class PourChoice {
   /// The void cells of `edit`'s region whose centres lie in `sphere`, of the `amount` smallest
   /// pour_key(salt, position) (all of them when there are no more), in no particular order; valid
   /// until the next call.
+  /// The sphere and the positions are in the coordinates of the edit's spheres (RegionEdit::origin).
   std::span<const PourCandidate> choose(const RegionEdit& edit, const Sphere& sphere, std::uint64_t salt,
                                         std::size_t amount);
   /// Frees buffers a large sphere made large (trim_scratch).

@@ -5,8 +5,9 @@
 
 namespace granular {
 
-void RegionEdit::begin(const Box& region, Int3 grid_size) {
+void RegionEdit::begin(const Box& region, Int3 grid_size, Int3 origin) {
   region_ = region;
+  origin_ = origin;
   extent_ = region.extent();
   count_ = std::size_t(region.volume());
   grid_bricks_ = brick_counts(grid_size);
@@ -50,12 +51,26 @@ void RegionEdit::for_each_row(Fn&& fn) const {
     for (int y = region_.min.y; y < region_.max.y; ++y) fn(y, z, region_.min.x, region_.max.x);
 }
 
+void RegionEdit::replace_bytes(std::span<const std::uint8_t> bytes) {
+  std::uint8_t* const cells = cells_.data();
+  std::uint8_t* const flags = flags_.data();
+  std::size_t i = 0;
+  for_each_row([&](int y, int z, int first, int last) {
+    const Row r = row(y, z);
+    for (int x = first; x < last; ++x, ++i) {
+      if (cells[r.cell(x)] == bytes[i]) continue;
+      cells[r.cell(x)] = bytes[i];
+      flags[r.flag(x)] = 1;
+    }
+  });
+}
+
 void RegionEdit::map_materials(const MaterialMap& to) {
   set_runs([&](auto&& fn) { for_each_row(fn); }, [map = to](std::size_t, std::uint8_t was) { return map[was]; });
 }
 
 void RegionEdit::map_materials(const Sphere& sphere, const MaterialMap& to) {
-  set_runs([&](auto&& fn) { for_each_run_in_sphere(region_, sphere, fn); },
+  set_runs([&](auto&& fn) { for_each_run_in_sphere(region_, sphere, fn, origin_); },
            [map = to](std::size_t, std::uint8_t was) { return map[was]; });
 }
 

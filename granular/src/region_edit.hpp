@@ -39,9 +39,13 @@ class RegionEdit {
 
   /// Starts an edit of `region`, a non-empty box inside a grid of `grid_size`: makes room for its
   /// cells (cells(), for the caller to fill from the backend), an empty report and no brick flagged.
-  void begin(const Box& region, Int3 grid_size);
+  /// Spheres (map_materials) and positions (origin()) are in the coordinates of a world in which
+  /// the grid's cell (0, 0, 0) is cell `origin` (World's slab tools; (0, 0, 0) for a world of its own).
+  void begin(const Box& region, Int3 grid_size, Int3 origin = {});
   /// The region being edited.
   const Box& region() const { return region_; }
+  /// Where the grid's cell (0, 0, 0) lies in the coordinates of the edit's spheres.
+  Int3 origin() const { return origin_; }
   /// The region's cell bytes (x fastest), as the backend holds them, with the edit's changes.
   std::span<std::uint8_t> cells() { return {cells_.data(), count_}; }
   /// The region's cell bytes (x fastest), as the backend holds them, with the edit's changes.
@@ -81,6 +85,10 @@ class RegionEdit {
   /// Each cell of the region whose centre lies in `sphere` and whose material m is not to[m] gets
   /// material to[m], at rest, counted in the report, its brick flagged.
   void map_materials(const Sphere& sphere, const MaterialMap& to);
+  /// Each cell of the region whose byte differs from `bytes`' (a byte per cell, x fastest) gets that
+  /// byte, motion state and all, its brick flagged; not counted in the report (a slab's halo taking
+  /// its neighbour's cells).
+  void replace_bytes(std::span<const std::uint8_t> bytes);
   /// Each cell of the region whose material is not `after`'s (a material per cell, x fastest) gets
   /// that material, at rest, counted in the report, its brick flagged.
   void put_materials(std::span<const std::uint8_t> after);
@@ -105,6 +113,7 @@ class RegionEdit {
   void for_each_row(Fn&& fn) const;
 
   Box region_{};
+  Int3 origin_{};       ///< begin's origin
   Int3 extent_{};       ///< cells of the region per axis
   Int3 grid_bricks_{};  ///< bricks of the grid per axis
   Int3 first_brick_{};  ///< brick coordinates of the region's first cell

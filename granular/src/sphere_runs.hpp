@@ -18,7 +18,7 @@ namespace granular {
 /// centre fails the test; otherwise each end of the run starts where the square root puts it and
 /// the test moves it to the last cell where it holds.
 template <class Fn>
-void for_each_run_in_sphere(const Box& region, const Sphere& s, Fn&& fn) {
+void walk_runs_in_sphere(const Box& region, const Sphere& s, Fn&& fn) {
   const double r2 = s.radius * s.radius;
   const int nearest = int(std::clamp(std::floor(s.center.x), double(region.min.x), double(region.max.x - 1)));
   for (int z = region.min.z; z < region.max.z; ++z)
@@ -45,6 +45,18 @@ void for_each_run_in_sphere(const Box& region, const Sphere& s, Fn&& fn) {
       while (!inside(last - 1)) --last;
       fn(y, z, first, last);
     }
+}
+
+/// walk_runs_in_sphere of `region`, a box of a grid whose cell (0, 0, 0) is cell `origin` of a
+/// larger world, for a sphere in that world's coordinates: the walk is the larger world's, to the
+/// cell, and fn gets the grid's own coordinates.
+template <class Fn>
+void for_each_run_in_sphere(const Box& region, const Sphere& s, Fn&& fn, Int3 origin = {}) {
+  const Box moved{{region.min.x + origin.x, region.min.y + origin.y, region.min.z + origin.z},
+                  {region.max.x + origin.x, region.max.y + origin.y, region.max.z + origin.z}};
+  walk_runs_in_sphere(moved, s, [&](int y, int z, int first, int last) {
+    fn(y - origin.y, z - origin.z, first - origin.x, last - origin.x);
+  });
 }
 
 }  // namespace granular

@@ -6,6 +6,7 @@
 
 #include "granular/errors.hpp"
 #include "granular/grid.hpp"
+#include "granular/rule_set.hpp"
 
 namespace granular {
 
@@ -14,6 +15,15 @@ namespace {
 std::string format_vec(const Vec3& v) {
   return "(" + std::to_string(v.x) + ", " + std::to_string(v.y) + ", " + std::to_string(v.z) + ")";
 }
+
+}  // namespace
+
+std::string box_string(const Box& b) {
+  return "[" + std::to_string(b.min.x) + "," + std::to_string(b.min.y) + "," + std::to_string(b.min.z) + ")-[" +
+         std::to_string(b.max.x) + "," + std::to_string(b.max.y) + "," + std::to_string(b.max.z) + ")";
+}
+
+namespace {
 
 }  // namespace
 
@@ -52,6 +62,26 @@ Box check_pour(const Sphere& sphere, Material material, std::int64_t amount, Int
   if (material == Material::Void) throw InvalidArgument("pour: material is void; pour a material (dig removes grains)");
   if (amount < 0) throw InvalidArgument("pour: amount = " + std::to_string(amount) + " must be >= 0");
   return sphere_region(sphere, size, "pour", clipped);
+}
+
+void check_shake(const RuleSet& rules, int level) {
+  const MotionParams& motion = rules.motion;
+  if (!motion.enabled())
+    throw InvalidArgument("shake: rule set '" + rules.name +
+                          "' has no motion model (MotionParams::substeps 1), so its cells have no motion level to set");
+  if (level < 1 || level > motion.max_level())
+    throw InvalidArgument("shake: level = " + std::to_string(level) + " is outside 1.." +
+                          std::to_string(motion.max_level()) + " (the rule set's highest motion level)");
+}
+
+Box check_paint_box(const Box& box, Material material, Int3 size, bool& clipped) {
+  check_tool_material(material, "paint");
+  if (box.empty()) throw InvalidArgument("paint: box " + box_string(box) + " is empty");
+  const Box region = intersect(box, Box{{0, 0, 0}, size});
+  if (region.empty())
+    throw InvalidArgument("paint: box " + box_string(box) + " lies outside the " + to_string(size) + " grid");
+  clipped = !(region == box);
+  return region;
 }
 
 }  // namespace granular

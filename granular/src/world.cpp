@@ -5,6 +5,7 @@
 #include <map>
 #include <mutex>
 #include <new>
+#include <tuple>
 
 #include "granular/backend.hpp"
 #include "granular/backend_factory.hpp"
@@ -64,11 +65,6 @@ std::shared_ptr<const Lut> shared_lut(const RuleSet& rules, const WorldDef& def,
   notice = got.notice;
   live[fingerprint] = got.lut;
   return got.lut;
-}
-
-std::string box_string(const Box& b) {
-  return "[" + std::to_string(b.min.x) + "," + std::to_string(b.min.y) + "," + std::to_string(b.min.z) + ")-[" +
-         std::to_string(b.max.x) + "," + std::to_string(b.max.y) + "," + std::to_string(b.max.z) + ")";
 }
 
 /// Throws unless `box` is non-empty and lies inside a grid of `size`.
@@ -246,6 +242,14 @@ void World::init(const Grid& initial, std::shared_ptr<const RuleSet> rules) {
                             "; use a fraction of the bricks in 0..1 (0: always dense-recording, 1: never)");
   size_ = initial.size();
   def_.size = size_;
+  for (const auto& [axis, origin, extent] : {std::tuple{"x", def_.domain_origin.x, size_.x},
+                                            std::tuple{"y", def_.domain_origin.y, size_.y},
+                                            std::tuple{"z", def_.domain_origin.z, size_.z}})
+    if (origin < 0 || origin % 2 != 0 || origin > kMaxGridExtent - extent)
+      throw InvalidArgument(std::string("WorldDef::domain_origin.") + axis + " = " + std::to_string(origin) +
+                            "; use an even coordinate in 0.." + std::to_string(kMaxGridExtent - extent) +
+                            " (the grid must lie inside a " + std::to_string(kMaxGridExtent) +
+                            "-cell world, on the block partition's parity)");
   scratch_ = std::make_unique<Scratch>();
   const Int3 bricks = granular::brick_counts(size_);
   brick_version_.assign(std::size_t(bricks.x) * std::size_t(bricks.y) * std::size_t(bricks.z), 0);
@@ -268,7 +272,8 @@ void World::init(const Grid& initial, std::shared_ptr<const RuleSet> rules) {
                                          .sparse = def_.sparse,
                                          .threads = threads,
                                          .task_system = def_.task_system,
-                                         .cuda = def_.cuda});
+                                         .cuda = def_.cuda,
+                                         .domain_origin = def_.domain_origin});
   } catch (const std::bad_alloc&) {
     throw OutOfMemory("World: out of host memory creating the backend of the " + to_string(size_) + " grid (" +
                       std::to_string(initial.cell_count() >> 20) +
@@ -562,7 +567,7 @@ void World::restore_bricks(std::span<const std::uint32_t> bricks, std::span<cons
 RegionEdit& World::begin_edit(const Box& region) {
   Backend& backend = live();
   RegionEdit& edit = scratch_->edit;
-  edit.begin(region, size_);
+  edit.begin(region, size_, slab_tools_ ? slab_tools_->origin : Int3{});
   backend.read(region, edit.cells());
   return edit;
 }
@@ -586,9 +591,34 @@ ChangeReport World::finish_tool(bool clipped) {
   return report;
 }
 
+Box World::tool_box(const Box& region) const {
+  if (!slab_tools_) return region;
+  const Int3 o = slab_tools_->origin;
+  const Box in = intersect(Box{{region.min.x - o.x, region.min.y - o.y, region.min.z - o.z},
+                               {region.max.x - o.x, region.max.y - o.y, region.max.z - o.z}},
+                           slab_tools_->owned);
+  if (in.empty())
+    throw StateError("World: a tool's region " + box_string(region) + " misses the cells this slab owns, " +
+                     box_string(slab_tools_->owned) + " from " + to_string(o));
+  return in;
+}
+
+std::vector<std::uint64_t> World::pour_keys(const Sphere& sphere, std::size_t amount) {
+  bool clipped = false;
+  const Box region = tool_box(sphere_region(sphere, tool_space(), "pour", clipped));
+  RegionEdit& edit = begin_edit(region);
+  std::vector<std::uint64_t> keys;
+  for (const PourCandidate& c :
+       scratch_->pour.choose(edit, sphere, pour_salt(def_.seed, tick_, tool_calls_), amount))
+    keys.push_back(c.key);
+  edit.trim();
+  scratch_->pour.trim();
+  return keys;
+}
+
 ChangeReport World::dig(const Sphere& sphere) {
   bool clipped = false;
-  const Box region = sphere_region(sphere, size_, "dig", clipped);
+  const Box region = tool_box(sphere_region(sphere, tool_space(), "dig", clipped));
   const MaterialTable& table = rules().materials;
   MaterialMap to{};
   for (std::size_t m = 0; m < to.size(); ++m)
@@ -598,15 +628,9 @@ ChangeReport World::dig(const Sphere& sphere) {
 }
 
 ChangeReport World::shake(const Sphere& sphere, int level) {
-  const MotionParams& motion = rules().motion;
-  if (!motion.enabled())
-    throw InvalidArgument("shake: rule set '" + rules().name +
-                          "' has no motion model (MotionParams::substeps 1), so its cells have no motion level to set");
-  if (level < 1 || level > motion.max_level())
-    throw InvalidArgument("shake: level = " + std::to_string(level) + " is outside 1.." +
-                          std::to_string(motion.max_level()) + " (the rule set's highest motion level)");
+  check_shake(rules(), level);
   bool clipped = false;
-  const Box region = sphere_region(sphere, size_, "shake", clipped);
+  const Box region = tool_box(sphere_region(sphere, tool_space(), "shake", clipped));
   const StepMaterials mats = step_materials(rules().materials);
   RegionEdit& edit = begin_edit(region);
   for_each_run_in_sphere(region, sphere, [&](int y, int z, int first, int last) {
@@ -617,18 +641,19 @@ ChangeReport World::shake(const Sphere& sphere, int level) {
       const auto shaken = std::uint8_t((cell & ~(kMotionLevelMask << kMotionShift)) | (level << kMotionShift));
       if (shaken != cell) edit.set_motion(row.cell(x), row.flag(x), shaken);
     }
-  });
+  }, edit.origin());
   return finish_tool(clipped);
 }
 
 ChangeReport World::pour(Vec3 center, double radius, Material material, std::int64_t amount) {
   const Sphere sphere{center, radius};
   bool clipped = false;
-  const Box region = check_pour(sphere, material, amount, size_, clipped);
+  const Box region = tool_box(check_pour(sphere, material, amount, tool_space(), clipped));
   RegionEdit& edit = begin_edit(region);
   const std::uint64_t salt = pour_salt(def_.seed, tick_, tool_calls_);
   for (const PourCandidate& c : scratch_->pour.choose(edit, sphere, salt, std::size_t(amount))) {
-    const Int3 p = unpack_position(c.position);
+    const Int3 g = unpack_position(c.position), o = edit.origin();
+    const Int3 p{g.x - o.x, g.y - o.y, g.z - o.z};
     const RegionEdit::Row row = edit.row(p.y, p.z);
     edit.set_material(row.cell(p.x), row.flag(p.x), to_cell(material));
   }
@@ -637,21 +662,18 @@ ChangeReport World::pour(Vec3 center, double radius, Material material, std::int
 }
 
 ChangeReport World::paint(const Box& box, Material material) {
-  check_tool_material(material, "paint");
-  if (box.empty()) throw InvalidArgument("paint: box " + box_string(box) + " is empty");
-  const Box region = intersect(box, Box{{0, 0, 0}, size_});
-  if (region.empty())
-    throw InvalidArgument("paint: box " + box_string(box) + " lies outside the " + to_string(size_) + " grid");
+  bool clipped = false;
+  const Box region = tool_box(check_paint_box(box, material, tool_space(), clipped));
   MaterialMap to{};
   to.fill(to_cell(material));
   begin_edit(region).map_materials(to);
-  return finish_tool(!(region == box));
+  return finish_tool(clipped);
 }
 
 ChangeReport World::paint(const Sphere& sphere, Material material) {
   check_tool_material(material, "paint");
   bool clipped = false;
-  const Box region = sphere_region(sphere, size_, "paint", clipped);
+  const Box region = tool_box(sphere_region(sphere, tool_space(), "paint", clipped));
   MaterialMap to{};
   to.fill(to_cell(material));
   begin_edit(region).map_materials(sphere, to);

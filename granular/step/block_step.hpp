@@ -43,6 +43,7 @@ struct StepRules {
   bool random_axis_order = false;          ///< RuleSet::random_axis_order
   MotionParams motion;                     ///< RuleSet::motion
   StepMaterials materials;                 ///< RuleSet::materials as the step reads it
+  std::uint64_t origin = 0;                ///< block_position_offset of WorldDef::domain_origin
 };
 
 /// The byte operations of a Platform: its own (Platform::ByteOps, e.g. a GPU's byte permute), or
@@ -72,6 +73,7 @@ struct OneStepRule {
   std::uint64_t tick;           ///< the tick
   BlockOffset offset;           ///< the tick's partition offset
   std::uint32_t outside;        ///< the state a cell outside the grid reads as
+  std::uint64_t origin;         ///< block_position_offset of the world's domain origin
 
   /// No motion model.
   static constexpr bool kMotion = false;
@@ -87,7 +89,7 @@ struct OneStepRule {
   /// The key of the block at (x0, y0, z0) after the tick (`key` its key now).
   constexpr BlockKey next_key(BlockKey key, int x0, int y0, int z0) const {
     if constexpr (kRandom) {
-      const int s = int(block_random(seed, tick, x0, y0, z0) & 7u);
+      const int s = int(block_random_keyed(block_seed_key(seed), tick, x0, y0, z0, origin) & 7u);
       return Platform::unview(Platform::load(result + Platform::view(key, s)), s);
     } else {
       return Platform::load(result + key);
@@ -196,10 +198,10 @@ constexpr Rule make_rule(const StepRules& r, std::uint64_t n) {
     const int substeps = r.motion.substeps;
     return Rule{r.transitions, r.inert,
                 motion::sub_step(r.motion, r.materials, r.seed, n / std::uint64_t(substeps), int(n % std::uint64_t(substeps)),
-                                 r.random_symmetry),
+                                 r.random_symmetry, r.origin),
                 offset, r.materials.outside, motion::rest_block(r.materials, offset.z)};
   } else {
-    return Rule{r.result, r.inert, r.seed, n, offset, r.materials.outside};
+    return Rule{r.result, r.inert, r.seed, n, offset, r.materials.outside, r.origin};
   }
 }
 

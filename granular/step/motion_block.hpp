@@ -181,13 +181,17 @@ struct SubStep {
   constexpr std::uint64_t step() const { return tick * std::uint64_t(substeps) + std::uint64_t(substep); }
   /// block_seed_key of the block random words (seed) and of the fluid pass's draws (seed ^ kDrawSalt).
   std::uint64_t random_key = 0, draw_key = 0;
+  /// block_position_offset of the world's domain origin (0 for a whole world).
+  std::uint64_t origin = 0;
 };
 
 /// The SubStep of sub-step `substep` of tick `tick` for a rule set's motion model.
+/// The SubStep of sub-step `substep` of tick `tick` for a rule set's motion model, in a world whose
+/// domain origin packs to `origin` (block_position_offset).
 constexpr SubStep sub_step(const MotionParams& motion, const StepMaterials& materials, std::uint64_t seed,
-                           std::uint64_t tick, int substep, bool random_symmetry) {
+                           std::uint64_t tick, int substep, bool random_symmetry, std::uint64_t origin = 0) {
   return SubStep{seed,      tick, substep, motion.substeps, random_symmetry, materials, block_seed_key(seed),
-                 block_seed_key(seed ^ fluid::kDrawSalt)};
+                 block_seed_key(seed ^ fluid::kDrawSalt), origin};
 }
 
 /// The phase bits of a block whose cells are all grains, as sub-step 0 sets them, at partition z
@@ -275,7 +279,7 @@ constexpr std::uint64_t step_block(std::uint64_t bytes, const SubStep& m, int x0
   }
   const std::uint32_t gases = s < 2 && mats.gases != 0 ? std::uint32_t(props >> 3) & 0x01010101u : 0u;
   if ((part | gases) == 0) return bytes;
-  const std::uint64_t random = block_random_keyed(m.random_key, m.step(), x0, y0, z0);
+  const std::uint64_t random = block_random_keyed(m.random_key, m.step(), x0, y0, z0, m.origin);
   const int symmetry = m.random_symmetry ? int(random & 7u) : 0;
   // The table codes: a top faller outside its window is too slow to move now, an obstacle (code 2 ->
   // 1); one inside it with a motion level above 0 is, with chance roll_chance / 256, a roller (2 -> 3).
@@ -329,7 +333,7 @@ constexpr std::uint64_t step_block(std::uint64_t bytes, const SubStep& m, int x0
   stayed = (stayed | (stayed >> 12)) & 0xFFu;
   std::uint32_t took_part = (part << 4) | gases;  // 1 in byte k for cell 4 + k, in byte j for cell j
   took_part = (took_part | (took_part >> 7) | (took_part >> 14) | (took_part >> 21)) & 0xFFu;
-  const std::uint64_t draws = block_random_keyed(m.draw_key, m.step(), x0, y0, z0);
+  const std::uint64_t draws = block_random_keyed(m.draw_key, m.step(), x0, y0, z0, m.origin);
   return fluid::fluid_pass<true>(out, took_part & stayed, symmetry, draws, mats);
 }
 

@@ -9,6 +9,7 @@
 #include <memory>
 
 #include "granular/cuda_options.hpp"
+#include "granular/geometry.hpp"
 
 namespace granular {
 
@@ -31,6 +32,10 @@ struct BackendCreateInfo {
   std::shared_ptr<TaskSystem> task_system;  ///< WorldDef::task_system: the game's threads for every
                                             ///< parallel loop of a CPU step; null = a pool of `threads`
   CudaOptions cuda;                      ///< WorldDef::cuda
+  Int3 domain_origin{};                  ///< WorldDef::domain_origin: where the grid's cell (0, 0, 0) lies in
+                                         ///< the whole world, which every random draw of the step must use
+                                         ///< (block_random_keyed's origin); a backend that cannot must
+                                         ///< throw BackendError when it is not (0, 0, 0)
 };
 
 /// Creates a backend holding a copy of info.initial. Throws BackendError when the backend cannot

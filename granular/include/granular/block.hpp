@@ -121,10 +121,18 @@ constexpr std::uint64_t random_mix(std::uint64_t z) {
 /// The part of block_random that depends on the seed alone (a step may compute it once).
 constexpr std::uint64_t block_seed_key(std::uint64_t seed) { return random_mix(seed ^ 0x5EEDB10C5EEDB10Cull); }
 
-/// block_random from the seed's block_seed_key.
-constexpr std::uint64_t block_random_keyed(std::uint64_t seed_key, std::uint64_t tick, int x0, int y0, int z0) {
-  const std::uint64_t pos = std::uint64_t(std::uint32_t(x0 + 1)) | (std::uint64_t(std::uint32_t(y0 + 1)) << 21) |
-                            (std::uint64_t(std::uint32_t(z0 + 1)) << 42);
+/// What block_random_keyed adds to the packed position of a block of a world whose cell (0, 0, 0) is
+/// cell `origin` of a larger world (WorldDef::domain_origin): with it, a part of a world draws what
+/// the whole world draws at the same place. Every packed coordinate stays below 2^21 (grids are at
+/// most kMaxGridExtent wide), so adding the packed origin adds each coordinate's.
+constexpr std::uint64_t block_position_offset(int x, int y, int z) {
+  return std::uint64_t(std::uint32_t(x)) | (std::uint64_t(std::uint32_t(y)) << 21) | (std::uint64_t(std::uint32_t(z)) << 42);
+}
+
+/// block_random from the seed's block_seed_key, for a world whose block_position_offset is `origin`.
+constexpr std::uint64_t block_random_keyed(std::uint64_t seed_key, std::uint64_t tick, int x0, int y0, int z0,
+                                           std::uint64_t origin = 0) {
+  const std::uint64_t pos = block_position_offset(x0 + 1, y0 + 1, z0 + 1) + origin;
   return random_mix(seed_key + random_mix(tick * 0x9E3779B97F4A7C15ull + pos));
 }
 

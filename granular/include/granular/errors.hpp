@@ -52,6 +52,13 @@ class BackendError : public Error {
   using Error::Error;
 };
 
+/// The ranks of a distributed world could not exchange cells (a rank failed, a transport error, a
+/// message of the wrong size); distributed_world.hpp.
+class CommunicatorError : public Error {
+ public:
+  using Error::Error;
+};
+
 }  // namespace granular
 
 namespace granular {

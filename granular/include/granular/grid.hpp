@@ -93,6 +93,11 @@ std::uint64_t hash_cells(Int3 size, std::span<const std::uint8_t> cells);
 /// hash_cells), for backends that reduce in parallel; combine with finish_hash.
 std::uint64_t hash_words(std::span<const std::uint8_t> cells, std::size_t first_word, std::size_t word_count);
 
+/// The summand of hash_cells for the words numbered first_word, first_word + 1, ... held in `bytes`,
+/// 8 bytes per word (a short last word counts its missing bytes as 0): a part of a grid held
+/// elsewhere (a DistributedWorld's slab) sums its own words.
+std::uint64_t hash_words_from(std::span<const std::uint8_t> bytes, std::size_t first_word);
+
 /// Finalises a sum of hash_words partials for a grid of `size`.
 std::uint64_t finish_hash(Int3 size, std::uint64_t partial_sum);
 

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -178,6 +179,24 @@ class World {
   CellsHandoff hand_off_cells();
 
  private:
+  // A DistributedWorld's slab is a World whose tools take the whole world's shapes and change its
+  // owned layers only (slab_tools_), whose pour chooses among the whole world's cells (pour_keys)
+  // and which counts the tool calls that miss its slab (tool_calls_).
+  friend class DistributedWorld;
+  // Where a slab lies in the whole world.
+  struct SlabTools {
+    Int3 origin;  // the grid's cell (0, 0, 0) in the whole world (WorldDef::domain_origin)
+    Int3 whole;   // the whole world's extent
+    Box owned;    // the cells the slab's tools change, in the grid's coordinates
+  };
+  // The extent of the space tools' shapes are in: the grid's, or the whole world's for a slab.
+  Int3 tool_space() const { return slab_tools_ ? slab_tools_->whole : size_; }
+  // The grid's box of a tool's `region` in tool_space(): a slab's owned part of it (StateError when
+  // it holds none).
+  Box tool_box(const Box& region) const;
+  // The keys of the void cells pour(sphere, ..., amount) would fill, at most `amount` of the
+  // smallest (pour_key), in no particular order; changes nothing.
+  std::vector<std::uint64_t> pour_keys(const Sphere& sphere, std::size_t amount);
   // Creates the backend for `initial` under `rules` (null: def_.rule_set, else the preset def_.rules).
   void init(const Grid& initial, std::shared_ptr<const RuleSet> rules = nullptr);
   // The backend; throws StateError on a moved-from World.
@@ -226,6 +245,7 @@ class World {
   std::unique_ptr<Backend> backend_;
   std::unique_ptr<Scratch> scratch_;
   std::vector<std::string> notices_;
+  std::optional<SlabTools> slab_tools_;  ///< set for a DistributedWorld's slab
   double lut_seconds_ = 0;
   bool lut_from_cache_ = false;
   // Change versions are brought up to date lazily (take_step_changes), so that step() costs no

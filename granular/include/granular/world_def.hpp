@@ -46,6 +46,11 @@ struct WorldDef {
   bool sparse = true;           ///< step only bricks where something may move (same result as dense;
                                 ///< false steps every block every tick, for comparison)
   CudaOptions cuda;             ///< settings only the CUDA backend reads (cuda_options.hpp)
+  Int3 domain_origin{};         ///< where this world's cell (0, 0, 0) lies when it is one part of a
+                                ///< larger world (a DistributedWorld's slab, distributed_world.hpp):
+                                ///< the rules' random draws and pour's choice of cells then are the
+                                ///< whole world's at the same place. Each coordinate even (the block
+                                ///< partition's parity) and 0 or more; (0, 0, 0) for a world of its own
 };
 
 /// The default WorldDef (identical to a value-initialised one; provided for symmetry with Box2D).

@@ -1,0 +1,230 @@
+/// @file test_distributed_world.cpp
+/// A world split into z-slabs (DistributedWorld) over in-process ranks equals one World of the whole
+/// grid, cell for cell: every preset, every material, odd sizes, 2 and 3 ranks, sparse and dense
+/// stepping, tools across slab boundaries, snapshots both ways; and the split's bad input.
+
+#include <doctest/doctest.h>
+
+#include <mutex>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "granular/distributed_world.hpp"
+#include "granular/errors.hpp"
+#include "granular/local_group.hpp"
+#include "granular/rule_presets.hpp"
+#include "granular/world.hpp"
+#include "test_support.hpp"
+
+using namespace granular;
+using namespace granular::test;
+
+namespace {
+
+/// A scene with every material moving: void, solid and the two static states of the game's own
+/// below a layer of loose sand, water, gas and gravel, half of it void.
+Grid mixed_grid(Int3 size, std::uint64_t seed) {
+  Grid g(size);
+  std::mt19937_64 rng(seed);
+  for (std::uint8_t& c : g.cells()) {
+    const int p = int(rng() % 100);
+    c = p < 50 ? 0 : p < 58 ? 1 : p < 60 ? std::uint8_t(6 + rng() % 2) : std::uint8_t(2 + rng() % 4);
+  }
+  return g;
+}
+
+/// What a run records after each checkpoint: the hash, and the tool reports' totals.
+struct Trace {
+  std::vector<std::uint64_t> hashes;
+  std::vector<std::int64_t> changed;
+  Grid cells;
+  bool operator==(const Trace& o) const { return hashes == o.hashes && changed == o.changed; }
+};
+
+/// The tools of one session: spheres centred on slab boundaries and inside slabs, all materials.
+template <class W>
+void apply_tools(W& w, Int3 size, int round, Trace& trace) {
+  const double zs[3] = {size.z * 0.34, size.z * 0.5, size.z * 0.67};
+  const double z = zs[round % 3];
+  trace.changed.push_back(w.dig(Sphere{{size.x * 0.5, size.y * 0.5, z}, 4.5}).cells_changed);
+  trace.changed.push_back(
+      w.pour(Vec3{size.x * 0.3, size.y * 0.6, z + 1.25}, 5.0, Material(2 + round % 4), 40 + 7 * round).cells_changed);
+  trace.changed.push_back(w.paint(Box{{1, 2, int(z) - 3}, {size.x - 2, 5, int(z) + 4}}, Material(1 + round % 5)).cells_changed);
+  trace.changed.push_back(w.paint(Sphere{{size.x * 0.7, size.y * 0.3, z - 0.5}, 3.0}, Material::Granular).cells_changed);
+  if (w.rules().motion.enabled()) trace.changed.push_back(w.shake(Sphere{{size.x * 0.5, size.y * 0.5, z}, 6.0}, 3).cells_shaken);
+}
+
+/// One World of the whole grid: hashes after each of `rounds` rounds of tools and `ticks` ticks.
+Trace run_whole(const WorldDef& def, const Grid& initial, int rounds, int ticks, bool tools) {
+  World w(def, initial);
+  Trace t;
+  for (int r = 0; r < rounds; ++r) {
+    if (tools) apply_tools(w, initial.size(), r, t);
+    w.step(ticks);
+    t.hashes.push_back(w.hash());
+  }
+  const WorldSnapshot s = w.capture();  // whole bytes, motion state included, as gather gives them
+  t.cells = Grid(initial.size());
+  std::copy(s.cells.begin(), s.cells.end(), t.cells.cells().begin());
+  return t;
+}
+
+/// The same on `ranks` in-process ranks; rank 0's trace.
+Trace run_split(const WorldDef& def, const Grid& initial, int ranks, int rounds, int ticks, bool tools) {
+  Trace out;
+  std::mutex m;
+  run_local_ranks(ranks, [&](Communicator& comm) {
+    DistributedWorld w(def, comm, initial);
+    Trace t;
+    for (int r = 0; r < rounds; ++r) {
+      if (tools) apply_tools(w, initial.size(), r, t);
+      w.step(ticks);
+      t.hashes.push_back(w.hash());
+    }
+    Grid all = w.gather(0);
+    if (comm.rank() == 0) {
+      const std::lock_guard lock(m);
+      out = std::move(t);
+      out.cells = std::move(all);
+    }
+  });
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("slab layout: even boundaries covering the grid, each slab at least its halo, bad splits named") {
+  const SlabLayout l({37, 29, 75}, 3, 24);
+  int z = 0;
+  for (int r = 0; r < 3; ++r) {
+    const Slab s = l.slab(r);
+    CHECK(s.z0 == z);
+    CHECK(s.z0 % 2 == 0);
+    CHECK(s.z1 - s.z0 >= 24);
+    CHECK(s.local_z0 == std::max(0, s.z0 - 24));
+    CHECK(s.local_z1 == std::min(75, s.z1 + 24));
+    z = s.z1;
+  }
+  CHECK(z == 75);
+  check_has(error_of<InvalidArgument>([] { (void)SlabLayout({37, 29, 75}, 4, 24); }),
+            {"ranks = 4", "rank 0", "fewer than its halo of 24", "use at most"});
+  check_has(error_of<InvalidArgument>([] { (void)SlabLayout({8, 8, 64}, 0, 2); }), {"ranks = 0"});
+  check_has(error_of<InvalidArgument>([] { (void)SlabLayout({8, 8, 64}, 2, 3); }), {"halo = 3"});
+  check_has(error_of<InvalidArgument>([] { (void)SlabLayout({1, 3, 64}, 2, 2); }), {"holds 3 cells"});
+  CHECK(SlabLayout::halo_for(preset("inertial-24")) == 24);
+  CHECK(SlabLayout::halo_for(preset("paper")) == 2);
+}
+
+TEST_CASE("distributed world: 2 and 3 in-process ranks equal one World for every preset, all materials, odd sizes") {
+  const Int3 size{21, 19, 77};
+  const Grid initial = mixed_grid(size, 11);
+  for (const std::string& rules : rule_preset_names()) {
+    for (const bool sparse : {true, false}) {
+      if (!sparse && rules != "inertial-24" && rules != "paper") continue;
+      WorldDef def = test_def(size, rules.c_str(), 1, 5);
+      def.sparse = sparse;
+      const Trace whole = run_whole(def, initial, 4, 6, false);
+      for (const int ranks : {2, 3}) {
+        CAPTURE(rules);
+        CAPTURE(sparse);
+        CAPTURE(ranks);
+        const Trace split = run_split(def, initial, ranks, 4, 6, false);
+        CHECK(split.hashes == whole.hashes);
+        const std::string where = first_differing_cell(size, whole.cells.cells(), split.cells.cells(), "one World",
+                                                       "the distributed world");
+        CHECK_MESSAGE(where.empty(), where);
+      }
+    }
+  }
+}
+
+TEST_CASE("distributed world: dig, pour, paint and shake across slab boundaries equal one World's") {
+  const Int3 size{23, 17, 61};
+  const Grid initial = mixed_grid(size, 3);
+  for (const std::string rules : {"inertial-24", "isotropic"}) {
+    CAPTURE(rules);
+    const WorldDef def = test_def(size, rules.c_str(), 1, 9);
+    const Trace whole = run_whole(def, initial, 5, 3, true);
+    for (const int ranks : {2, 3}) {
+      if (rules == "inertial-24" && ranks == 3) continue;  // 61 layers hold 2 halos of 24
+      CAPTURE(ranks);
+      const Trace split = run_split(def, initial, ranks, 5, 3, true);
+      CHECK(split.changed == whole.changed);
+      CHECK(split.hashes == whole.hashes);
+      const std::string where =
+          first_differing_cell(size, whole.cells.cells(), split.cells.cells(), "one World", "the distributed world");
+      CHECK_MESSAGE(where.empty(), where);
+    }
+  }
+}
+
+TEST_CASE("distributed world: a single World's snapshot continues split, and the split world's snapshot continues whole") {
+  const Int3 size{19, 21, 64};
+  const WorldDef def = test_def(size, "inertial-24", 1, 4);
+  World whole(def, mixed_grid(size, 8));
+  whole.step(5);
+  const WorldSnapshot at5 = whole.capture();
+  whole.step(7);
+  const std::uint64_t at12 = whole.hash();
+  WorldSnapshot split_at12;
+  std::uint64_t split_hash = 0;
+  std::mutex m;
+  run_local_ranks(2, [&](Communicator& comm) {
+    DistributedWorld w(def, comm, at5);
+    CHECK(w.tick() == 5);
+    w.step(7);
+    const std::uint64_t h = w.hash();
+    WorldSnapshot s = w.capture(0);
+    if (comm.rank() == 0) {
+      const std::lock_guard lock(m);
+      split_hash = h;
+      split_at12 = std::move(s);
+    } else {
+      CHECK(s.cells.empty());
+    }
+  });
+  CHECK(split_hash == at12);
+  CHECK(split_at12.tick == 12);
+  CHECK(split_at12.hash() == at12);
+  World again(def, split_at12);
+  whole.step(3);
+  again.step(3);
+  CHECK(again.hash() == whole.hash());
+}
+
+TEST_CASE("distributed world: counts, bad input and a failing rank") {
+  const Int3 size{16, 16, 40};
+  const Grid initial = mixed_grid(size, 2);
+  const MaterialCounts expected = World(test_def(size, "paper", 1), initial).count();
+  run_local_ranks(3, [&](Communicator& comm) {
+    DistributedWorld w(test_def(size, "paper", 1), comm, initial);
+    CHECK(w.count() == expected);
+    // Every rank throws the same error before any exchange, so none waits for another.
+    check_has(error_of<InvalidArgument>([&] { w.dig(Sphere{{8, 8, 500}, 3}); }), {"dig", "covers no cell"});
+    check_has(error_of<InvalidArgument>([&] { w.pour({8, 8, 8}, 3, Material::Void, 5); }), {"pour", "void"});
+    check_has(error_of<InvalidArgument>([&] { w.step(-1); }), {"ticks = -1"});
+    CHECK(w.count() == expected);
+  });
+  WorldDef shifted = test_def(size, "paper", 1);
+  shifted.domain_origin = {0, 0, 2};
+  check_has(error_of<InvalidArgument>([&] { run_local_ranks(2, [&](Communicator& c) { DistributedWorld w(shifted, c); }); }),
+            {"domain_origin"});
+  check_has(error_of<InvalidArgument>([&] {
+              run_local_ranks(2, [&](Communicator& c) { DistributedWorld w(test_def({16, 16, 40}, "inertial-24", 1), c); });
+            }),
+            {"ranks = 2", "fewer than its halo of 24"});
+  // A rank that fails on its own stops the others (they get a CommunicatorError) and its error is
+  // the one reported.
+  check_has(error_of<StateError>([&] {
+              run_local_ranks(3, [&](Communicator& comm) {
+                DistributedWorld w(test_def(size, "paper", 1), comm, initial);
+                if (comm.rank() == 1) throw StateError("rank 1 gave up");
+                w.step(2);
+              });
+            }),
+            {"rank 1 gave up"});
+  WorldDef odd = test_def(size, "paper", 1);
+  odd.domain_origin = {0, 0, 3};
+  check_has(error_of<InvalidArgument>([&] { World w(odd); }), {"WorldDef::domain_origin.z = 3", "even"});
+}
