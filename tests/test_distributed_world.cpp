@@ -5,6 +5,7 @@
 
 #include <doctest/doctest.h>
 
+#include <filesystem>
 #include <mutex>
 #include <random>
 #include <string>
@@ -12,6 +13,8 @@
 
 #include "granular/distributed_world.hpp"
 #include "granular/errors.hpp"
+#include "granular/grid_io.hpp"
+#include "granular/world_snapshot.hpp"
 #include "granular/local_group.hpp"
 #include "granular/rule_presets.hpp"
 #include "granular/world.hpp"
@@ -227,4 +230,61 @@ TEST_CASE("distributed world: counts, bad input and a failing rank") {
   WorldDef odd = test_def(size, "paper", 1);
   odd.domain_origin = {0, 0, 3};
   check_has(error_of<InvalidArgument>([&] { World w(odd); }), {"WorldDef::domain_origin.z = 3", "even"});
+}
+
+TEST_CASE("distributed world: snapshot files, each slab a frame, read back split or whole, damage named") {
+  const Int3 size{17, 23, 66};
+  const WorldDef def = test_def(size, "inertial-24", 1, 7);
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "granular_distributed_snapshot";
+  std::filesystem::create_directories(dir);
+  const std::filesystem::path whole_file = dir / "whole.gsnap", split_file = dir / "split.gsnap";
+  World whole(def, mixed_grid(size, 21));
+  whole.step(4);
+  save_snapshot(whole.capture(), whole_file);
+  whole.step(6);
+  const std::uint64_t at10 = whole.hash();
+  // A World's file (one frame) continues over 2 ranks, which save it as 2 frames.
+  run_local_ranks(2, [&](Communicator& comm) {
+    DistributedWorld w(def, comm, whole_file);
+    CHECK(w.tick() == 4);
+    w.step(6);
+    CHECK(w.hash() == at10);
+    w.save(split_file);
+  });
+  const std::vector<std::uint8_t> bytes = read_file_bytes(split_file);
+  CHECK(bytes[4] == kSlabSnapshotVersion);
+  // The 2-frame file continues as one World and over 3 ranks alike.
+  World again(def, load_snapshot(split_file));
+  CHECK(again.tick() == 10);
+  CHECK(again.hash() == at10);
+  whole.step(3);
+  again.step(3);
+  CHECK(again.hash() == whole.hash());
+  std::uint64_t three = 0;
+  run_local_ranks(2, [&](Communicator& comm) {
+    DistributedWorld w(def, comm, split_file);
+    w.step(3);
+    const std::uint64_t h = w.hash();
+    if (comm.rank() == 0) three = h;
+  });
+  CHECK(three == whole.hash());
+  // A damaged byte in the second frame is named on every rank, whichever reads it.
+  std::vector<std::uint8_t> damaged = bytes;
+  damaged[damaged.size() - 9] ^= 0x5A;
+  const std::filesystem::path bad = dir / "damaged.gsnap";
+  write_file_atomic(bad, {std::span<const std::uint8_t>(damaged)});
+  const std::string one = error_of<ParseError>([&] { (void)load_snapshot(bad); });
+  check_has(one, {"damaged.gsnap"});
+  const std::string split = error_of<ParseError>([&] {
+    run_local_ranks(2, [&](Communicator& comm) { DistributedWorld w(def, comm, bad); });
+  });
+  check_has(split, {"damaged.gsnap"});
+  check_has(error_of<InvalidArgument>([&] {
+              run_local_ranks(2, [&](Communicator& comm) {
+                DistributedWorld w(def, comm, split_file);
+                w.save(dir / "wrong.txt");
+              });
+            }),
+            {"wrong.txt", ".gsnap"});
+  std::filesystem::remove_all(dir);
 }

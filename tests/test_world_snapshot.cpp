@@ -21,6 +21,7 @@
 #include "granular/rule_set.hpp"
 #include "granular/world.hpp"
 #include "granular/world_snapshot.hpp"
+#include "little_endian.hpp"
 #include "test_support.hpp"
 #include "tool_session.hpp"
 
@@ -165,8 +166,19 @@ TEST_CASE("snapshot: bad files are ParseErrors naming the field, offset or value
   check_has(parse_error(bad), {"not a snapshot file", "bad magic \"GXNP\"", "expected \"GSNP\""});
   check_has(parse_error({'G', 'R', 'A', 'W', 1, 0, 0, 0}), {"bad magic \"GRAW\""});
   bad = good;
-  bad[4] = 2;
-  check_has(parse_error(bad), {"unsupported snapshot version 2", "version (bytes 4..7)", "reads version 1"});
+  bad[4] = 3;
+  check_has(parse_error(bad), {"unsupported snapshot version 3", "version (bytes 4..7)", "reads versions 1 and 2"});
+  // Version 2 (a DistributedWorld's: one frame per slab) holds one or more frames; version 1 one.
+  auto two = good;
+  two[4] = 2;
+  CHECK(decode_snapshot(two, "two.gsnap").hash() == decode_snapshot(good, "good.gsnap").hash());
+  const std::size_t body = good.size() - get_u64(good, 64);
+  auto doubled = good;
+  doubled.insert(doubled.end(), good.begin() + std::ptrdiff_t(body), good.end());
+  put_u64(doubled.data() + 64, 2 * get_u64(good, 64));
+  check_has(parse_error(doubled), {"bytes follow the zstd frame"});
+  doubled[4] = 2;
+  check_has(parse_error(doubled), {"frame 1 at byte", "the frames hold more than"});
   bad = good;
   bad[12] = 0;
   check_has(parse_error(bad), {"ny (bytes 12..15) = 0", "outside 1..65536"});

@@ -31,55 +31,60 @@ SlabLayout make_layout(const WorldDef& def, const Communicator& comm, Int3 size)
   return SlabLayout(size, comm.size(), SlabLayout::halo_for(*rules));
 }
 
-/// The size of the world being made: the grid's, the snapshot's, or def.size.
-Int3 world_size(const WorldDef& def, const Grid* whole, const WorldSnapshot* snapshot) {
-  return whole ? whole->size() : snapshot ? snapshot->size : def.size;
+/// `s` without its cells.
+WorldSnapshot snapshot_part(const WorldSnapshot& s) {
+  WorldSnapshot part;
+  part.size = s.size;
+  part.tick = s.tick;
+  part.seed = s.seed;
+  part.tool_calls = s.tool_calls;
+  part.rules = s.rules;
+  part.rule_fingerprint = s.rule_fingerprint;
+  return part;
+}
+
+/// The cells of the layers a slab keeps, out of the whole grid's `cells`.
+std::span<const std::uint8_t> kept_cells(std::span<const std::uint8_t> cells, Int3 size, const Slab& slab) {
+  return cells.subspan(std::size_t(slab.local_z0) * layer_bytes(size),
+                       std::size_t(slab.local_z1 - slab.local_z0) * layer_bytes(size));
 }
 
 }  // namespace
 
-DistributedWorld::DistributedWorld(const WorldDef& def, Communicator& comm) : DistributedWorld(def, comm, nullptr, nullptr) {}
+DistributedWorld::DistributedWorld(const WorldDef& def, Communicator& comm)
+    : DistributedWorld(def, comm, def.size, [](const WorldDef& local, const Slab&) { return std::make_unique<World>(local); }) {}
 
 DistributedWorld::DistributedWorld(const WorldDef& def, Communicator& comm, const Grid& whole)
-    : DistributedWorld(def, comm, &whole, nullptr) {}
+    : DistributedWorld(def, comm, whole.size(), [&](const WorldDef& local, const Slab& slab) {
+        Grid initial(local.size);
+        const std::span<const std::uint8_t> kept = kept_cells(whole.cells(), whole.size(), slab);
+        std::copy(kept.begin(), kept.end(), initial.cells().begin());
+        return std::make_unique<World>(local, initial);
+      }) {}
 
 DistributedWorld::DistributedWorld(const WorldDef& def, Communicator& comm, const WorldSnapshot& snapshot)
-    : DistributedWorld(def, comm, nullptr, &snapshot) {}
+    : DistributedWorld(def, comm, snapshot.size, [&](const WorldDef& local, const Slab& slab) {
+        const Int3 size = snapshot.size;
+        if (snapshot.cells.size() != std::size_t(size.x) * std::size_t(size.y) * std::size_t(size.z))
+          throw InvalidArgument("DistributedWorld: WorldSnapshot::cells holds " + std::to_string(snapshot.cells.size()) +
+                                " bytes; its " + to_string(size) + " grid has another number of cells");
+        WorldSnapshot part = snapshot_part(snapshot);
+        part.size = local.size;
+        const std::span<const std::uint8_t> kept = kept_cells(snapshot.cells, size, slab);
+        part.cells.assign(kept.begin(), kept.end());
+        return std::make_unique<World>(local, part);
+      }) {}
 
-DistributedWorld::DistributedWorld(const WorldDef& def, Communicator& comm, const Grid* whole,
-                                   const WorldSnapshot* snapshot)
-    : comm_(comm),
-      layout_(make_layout(def, comm, world_size(def, whole, snapshot))),
-      slab_range_(layout_.slab(comm.rank())) {
-  const Int3 size = layout_.size();
+DistributedWorld::DistributedWorld(const WorldDef& def, Communicator& comm, Int3 size,
+                                   const std::function<std::unique_ptr<World>(const WorldDef&, const Slab&)>& make_slab)
+    : comm_(comm), layout_(make_layout(def, comm, size)), slab_range_(layout_.slab(comm.rank())) {
   WorldDef local = def;
   local.size = {size.x, size.y, slab_range_.local_z1 - slab_range_.local_z0};
   local.domain_origin = {0, 0, slab_range_.local_z0};
-  const std::size_t first = std::size_t(slab_range_.local_z0) * layer_bytes(size);
-  const std::size_t bytes = std::size_t(local.size.z) * layer_bytes(size);
   // A rank that cannot make its World (memory, a backend) fails every rank, so none waits for it.
   std::exception_ptr failure;
   try {
-    if (snapshot) {
-      if (snapshot->cells.size() != std::size_t(size.x) * std::size_t(size.y) * std::size_t(size.z))
-        throw InvalidArgument("DistributedWorld: WorldSnapshot::cells holds " + std::to_string(snapshot->cells.size()) +
-                              " bytes; its " + to_string(size) + " grid has more or fewer cells");
-      WorldSnapshot part;
-      part.size = local.size;
-      part.cells.assign(snapshot->cells.begin() + std::ptrdiff_t(first),
-                        snapshot->cells.begin() + std::ptrdiff_t(first + bytes));
-      part.tick = snapshot->tick;
-      part.seed = snapshot->seed;
-      part.tool_calls = snapshot->tool_calls;
-      part.rules = snapshot->rules;
-      part.rule_fingerprint = snapshot->rule_fingerprint;
-      slab_ = std::make_unique<World>(local, part);
-    } else {
-      Grid initial(local.size);
-      if (whole)
-        std::copy_n(whole->cells().begin() + std::ptrdiff_t(first), bytes, initial.cells().begin());
-      slab_ = std::make_unique<World>(local, initial);
-    }
+    slab_ = make_slab(local, slab_range_);
     slab_->slab_tools_ = World::SlabTools{
         local.domain_origin, size,
         Box{{0, 0, slab_range_.z0 - slab_range_.local_z0}, {size.x, size.y, slab_range_.z1 - slab_range_.local_z0}}};
@@ -143,8 +148,7 @@ void DistributedWorld::step(int ticks) {
   }
 }
 
-template <class Fn>
-void DistributedWorld::for_each_owned_chunk(Fn&& fn) const {
+void DistributedWorld::for_each_owned_chunk(const std::function<void(int, int, std::span<const std::uint8_t>)>& fn) const {
   const std::size_t layer = layer_bytes(layout_.size());
   const int chunk_layers = int(std::max<std::size_t>(1, (std::size_t(64) << 20) / layer));
   std::vector<std::uint8_t> chunk;
@@ -241,16 +245,19 @@ Grid DistributedWorld::gather(int root) {
 
 WorldSnapshot DistributedWorld::capture(int root) {
   Grid whole = gather(root);
+  WorldSnapshot s = meta();
+  if (comm_.rank() == root) s.cells.assign(whole.cells().begin(), whole.cells().end());
+  return s;
+}
+
+WorldSnapshot DistributedWorld::meta() const {
   WorldSnapshot s;
+  s.size = layout_.size();
   s.tick = slab_->tick();
   s.seed = slab_->def().seed;
   s.tool_calls = slab_->tool_calls();
   s.rules = slab_->rules().name;
   s.rule_fingerprint = slab_->rule_fingerprint_;
-  if (comm_.rank() == root) {
-    s.size = whole.size();
-    s.cells.assign(whole.cells().begin(), whole.cells().end());
-  }
   return s;
 }
 

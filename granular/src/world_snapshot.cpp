@@ -10,6 +10,7 @@
 #include "granular/grid_io.hpp"
 #include "granular/hex.hpp"
 #include "little_endian.hpp"
+#include "snapshot_header.hpp"
 #include "zstd_bytes.hpp"
 
 namespace granular {
@@ -83,16 +84,22 @@ std::vector<std::uint8_t> encode_snapshot(const WorldSnapshot& s) {
   if (const std::string problem = name_problem(s.rules); !problem.empty())
     throw InvalidArgument("encode_snapshot: WorldSnapshot::rules '" + s.rules.substr(0, 40) + "' " + problem);
   const std::vector<std::uint8_t> packed = zstd_compress(s.cells, 3, "encode_snapshot");
-  std::vector<std::uint8_t> out;
+  std::vector<std::uint8_t> out = snapshot_header_bytes(s, kSnapshotVersion, s.hash(), packed.size());
   try {
-    out.resize(kSnapshotHeaderSize + s.rules.size() + packed.size());
+    out.insert(out.end(), packed.begin(), packed.end());
   } catch (const std::bad_alloc&) {
     throw OutOfMemory("encode_snapshot: could not allocate " + std::to_string(kSnapshotHeaderSize + packed.size()) +
                       " bytes for the snapshot of a " + to_string(s.size) + " grid");
   }
+  return out;
+}
+
+std::vector<std::uint8_t> snapshot_header_bytes(const WorldSnapshot& s, std::uint32_t version, std::uint64_t hash,
+                                                std::uint64_t packed_size) {
+  std::vector<std::uint8_t> out(kSnapshotHeaderSize + s.rules.size());
   std::uint8_t* h = out.data();
   std::copy(std::begin(kSnapshotMagic), std::end(kSnapshotMagic), h);
-  put_u32(h + kVersionField.at, kSnapshotVersion);
+  put_u32(h + kVersionField.at, version);
   put_u32(h + kExtentFields[0].at, std::uint32_t(s.size.x));
   put_u32(h + kExtentFields[1].at, std::uint32_t(s.size.y));
   put_u32(h + kExtentFields[2].at, std::uint32_t(s.size.z));
@@ -101,16 +108,14 @@ std::vector<std::uint8_t> encode_snapshot(const WorldSnapshot& s) {
   put_u64(h + kSeedField.at, s.seed);
   put_u64(h + kToolCallsField.at, s.tool_calls);
   put_u64(h + kFingerprintField.at, s.rule_fingerprint);
-  put_u64(h + kHashField.at, s.hash());
-  put_u64(h + kPackedSizeField.at, packed.size());
+  put_u64(h + kHashField.at, hash);
+  put_u64(h + kPackedSizeField.at, packed_size);
   std::memcpy(h + kSnapshotHeaderSize, s.rules.data(), s.rules.size());
-  std::memcpy(h + kSnapshotHeaderSize + s.rules.size(), packed.data(), packed.size());
   return out;
 }
 
-WorldSnapshot decode_snapshot(std::span<const std::uint8_t> bytes, const std::string& src) {
-  const std::size_t total = bytes.size();
-  const std::size_t magic_have = std::min<std::size_t>(total, 4);
+SnapshotHeader parse_snapshot_header(std::span<const std::uint8_t> bytes, std::uint64_t total, const std::string& src) {
+  const std::size_t magic_have = std::min<std::size_t>(bytes.size(), 4);
   if (!std::equal(bytes.begin(), bytes.begin() + std::ptrdiff_t(magic_have), kSnapshotMagic))
     throw ParseError(src + ": not a snapshot file: bad magic " + printable_bytes(bytes.first(magic_have)) +
                      " at byte 0 (expected \"GSNP\")");
@@ -122,17 +127,19 @@ WorldSnapshot decode_snapshot(std::span<const std::uint8_t> bytes, const std::st
                      " bytes and ends inside field " + field_text(*ends_in) + "; a snapshot header is " +
                      std::to_string(kSnapshotHeaderSize) + " bytes");
   }
-  const std::uint32_t version = get_u32(bytes, kVersionField.at);
-  if (version != kSnapshotVersion)
-    throw ParseError(src + ": unsupported snapshot version " + std::to_string(version) + " (field " +
-                     field_text(kVersionField) + "); this build reads version " + std::to_string(kSnapshotVersion));
-  WorldSnapshot s;
+  SnapshotHeader h;
+  h.version = get_u32(bytes, kVersionField.at);
+  if (h.version != kSnapshotVersion && h.version != kSlabSnapshotVersion)
+    throw ParseError(src + ": unsupported snapshot version " + std::to_string(h.version) + " (field " +
+                     field_text(kVersionField) + "); this build reads versions " + std::to_string(kSnapshotVersion) +
+                     " and " + std::to_string(kSlabSnapshotVersion));
+  WorldSnapshot& s = h.meta;
   s.size = parse_extents(bytes, src);
   const std::uint32_t name_length = get_u32(bytes, kNameLengthField.at);
   if (name_length == 0 || name_length > kMaxSnapshotRulesName)
     throw ParseError(src + ": header field " + field_text(kNameLengthField) + " = " + std::to_string(name_length) +
                      " is outside 1.." + std::to_string(kMaxSnapshotRulesName));
-  if (total < kSnapshotHeaderSize + name_length)
+  if (total < kSnapshotHeaderSize + name_length || bytes.size() < kSnapshotHeaderSize + name_length)
     throw ParseError(src + ": truncated rule set name: the header says " + std::to_string(name_length) +
                      " bytes but only " + std::to_string(total - kSnapshotHeaderSize) + " follow the " +
                      std::to_string(kSnapshotHeaderSize) + "-byte header");
@@ -143,31 +150,41 @@ WorldSnapshot decode_snapshot(std::span<const std::uint8_t> bytes, const std::st
   s.seed = get_u64(bytes, kSeedField.at);
   s.tool_calls = get_u64(bytes, kToolCallsField.at);
   s.rule_fingerprint = get_u64(bytes, kFingerprintField.at);
-  const std::uint64_t hash = get_u64(bytes, kHashField.at);
-  const std::uint64_t packed_size = get_u64(bytes, kPackedSizeField.at);
-  const std::size_t body_at = kSnapshotHeaderSize + name_length;
-  const std::uint64_t body = total - body_at;
-  if (body < packed_size)
+  h.hash = get_u64(bytes, kHashField.at);
+  h.packed_size = get_u64(bytes, kPackedSizeField.at);
+  h.body_at = kSnapshotHeaderSize + name_length;
+  const std::uint64_t body = total - h.body_at;
+  if (body < h.packed_size)
     throw ParseError(src + ": truncated body: header field " + field_text(kPackedSizeField) + " says " +
-                     std::to_string(packed_size) + " bytes of compressed cells but only " + std::to_string(body) +
+                     std::to_string(h.packed_size) + " bytes of compressed cells but only " + std::to_string(body) +
                      " follow the rule set name");
-  if (body > packed_size)
-    throw ParseError(src + ": " + std::to_string(body - packed_size) + " trailing bytes after the compressed cells: " +
-                     "the file should be " + std::to_string(body_at + packed_size) + " bytes but it is " +
+  if (body > h.packed_size)
+    throw ParseError(src + ": " + std::to_string(body - h.packed_size) + " trailing bytes after the compressed cells: " +
+                     "the file should be " + std::to_string(h.body_at + h.packed_size) + " bytes but it is " +
                      std::to_string(total));
   const std::uint64_t cells = std::uint64_t(s.size.x) * std::uint64_t(s.size.y) * std::uint64_t(s.size.z);
-  const std::string grid = "header fields nx, ny, nz (" + to_string(s.size) + " = " + std::to_string(cells) + " cells)";
-  if (cells / kMaxZstdExpansion > packed_size)
-    throw ParseError(src + ": " + grid + " cannot come from " + std::to_string(packed_size) +
+  if (cells / kMaxZstdExpansion > h.packed_size)
+    throw ParseError(src + ": header fields nx, ny, nz (" + to_string(s.size) + " = " + std::to_string(cells) +
+                     " cells) cannot come from " + std::to_string(h.packed_size) +
                      " bytes of compressed cells (zstd expands at most " + std::to_string(kMaxZstdExpansion) +
                      "-fold)");
-  const std::span<const std::uint8_t> packed = bytes.subspan(body_at);
-  check_grid_size(s.size, src + ": " + grid);
-  s.cells = zstd_decompress(packed, cells, src + ": the compressed cells at byte " + std::to_string(body_at));
-  if (s.hash() != hash)
-    throw ParseError(src + ": the cells' hash " + hex64(s.hash()) + " differs from header field " +
-                     field_text(kHashField) + " = " + hex64(hash) + " (the file is damaged)");
-  return s;
+  return h;
+}
+
+std::string snapshot_hash_problem(std::uint64_t found, std::uint64_t header) {
+  return "the cells' hash " + hex64(found) + " differs from header field " + field_text(kHashField) + " = " +
+         hex64(header) + " (the file is damaged)";
+}
+
+WorldSnapshot decode_snapshot(std::span<const std::uint8_t> bytes, const std::string& src) {
+  SnapshotHeader h = parse_snapshot_header(bytes, bytes.size(), src);
+  WorldSnapshot& s = h.meta;
+  const std::uint64_t cells = std::uint64_t(s.size.x) * std::uint64_t(s.size.y) * std::uint64_t(s.size.z);
+  check_grid_size(s.size, src + ": header fields nx, ny, nz (" + to_string(s.size) + " = " + std::to_string(cells) + " cells)");
+  s.cells = zstd_decompress(bytes.subspan(h.body_at), cells, src + ": the compressed cells at byte " + std::to_string(h.body_at),
+                            h.version == kSlabSnapshotVersion);
+  if (s.hash() != h.hash) throw ParseError(src + ": " + snapshot_hash_problem(s.hash(), h.hash));
+  return std::move(s);
 }
 
 void save_snapshot(const WorldSnapshot& snapshot, const std::filesystem::path& path) {

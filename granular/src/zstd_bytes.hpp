@@ -4,6 +4,7 @@
 /// snapshot file's cells and the stroke history's bricks.
 
 #include <cstdint>
+#include <istream>
 #include <span>
 #include <string>
 #include <vector>
@@ -14,10 +15,41 @@ namespace granular {
 /// `what` when the buffer cannot be allocated or zstd fails.
 std::vector<std::uint8_t> zstd_compress(std::span<const std::uint8_t> bytes, int level, const std::string& what);
 
-/// The content of `packed`, which must be exactly one zstd frame stating a content size of `size`
-/// bytes: both are checked before the output is allocated. Throws ParseError starting with `what`
-/// for anything else or corrupt data, OutOfMemory when the output cannot be allocated.
+/// The content of `packed`: exactly one zstd frame (`several_frames` false), or one or more frames
+/// one after the other (true), each stating its content size, together `size` bytes; frames and
+/// sizes are checked before the output is allocated. Throws ParseError starting with `what` for
+/// anything else or corrupt data, OutOfMemory when the output cannot be allocated.
 std::vector<std::uint8_t> zstd_decompress(std::span<const std::uint8_t> packed, std::uint64_t size,
-                                          const std::string& what);
+                                          const std::string& what, bool several_frames = false);
+
+/// One zstd frame that states its content size, compressed from the content's pieces in order
+/// (a DistributedWorld rank's slab, read a chunk at a time).
+class ZstdFrameWriter {
+ public:
+  /// A frame of `content_size` bytes at `level`. Throws OutOfMemory naming `what` when zstd cannot
+  /// start.
+  ZstdFrameWriter(std::uint64_t content_size, int level, std::string what);
+  ~ZstdFrameWriter();
+  ZstdFrameWriter(const ZstdFrameWriter&) = delete;
+  ZstdFrameWriter& operator=(const ZstdFrameWriter&) = delete;
+  /// Compresses the next piece.
+  void add(std::span<const std::uint8_t> piece);
+  /// Ends the frame and returns it; throws OutOfMemory when the pieces did not add up to the
+  /// content size.
+  std::vector<std::uint8_t> finish();
+
+ private:
+  void* context_;  ///< ZSTD_CCtx
+  std::string what_;
+  std::vector<std::uint8_t> out_;
+};
+
+/// Decompresses `packed` bytes of zstd frames read from `in` (one frame when `several_frames` is
+/// false), keeping the content bytes [keep_at, keep_at + keep.size()) in `keep`, with a bounded
+/// buffer whatever the content's size. Returns the content's size. Throws ParseError starting with
+/// `what` for corrupt or cut-short data, more frames than allowed, or a content shorter than the
+/// kept range; FileError when `in` fails.
+std::uint64_t zstd_decompress_range(std::istream& in, std::uint64_t packed, bool several_frames, std::uint64_t keep_at,
+                                    std::span<std::uint8_t> keep, const std::string& what);
 
 }  // namespace granular

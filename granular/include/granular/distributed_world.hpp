@@ -21,6 +21,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <memory>
 
 #include "granular/communicator.hpp"
@@ -43,6 +44,10 @@ class DistributedWorld {
   DistributedWorld(const WorldDef& def, Communicator& comm, const Grid& whole);
   /// The same, continuing `snapshot` (the whole world's, the same on every rank) bit-identically.
   DistributedWorld(const WorldDef& def, Communicator& comm, const WorldSnapshot& snapshot);
+  /// The same, continuing the snapshot file at `path` (written by World or by save()), which every
+  /// rank reads, keeping its slab's cells only (memory for the slab, not the whole grid). Throws
+  /// load_snapshot's errors, on every rank.
+  DistributedWorld(const WorldDef& def, Communicator& comm, const std::filesystem::path& path);
   ~DistributedWorld();
   DistributedWorld(const DistributedWorld&) = delete;
   DistributedWorld& operator=(const DistributedWorld&) = delete;
@@ -79,6 +84,12 @@ class DistributedWorld {
   /// The whole world's snapshot (World::capture) on rank `root`; one with no cells on the others.
   /// Collective.
   WorldSnapshot capture(int root = 0);
+  /// Writes the whole world's snapshot file (docs/FORMATS.md, version kSlabSnapshotVersion): each
+  /// rank compresses its slab into a zstd frame of its own, rank `root` writes the header and the
+  /// frames in rank order, atomically. World(def, load_snapshot(path)) and a DistributedWorld over
+  /// any number of ranks continue it bit-identically. Throws save_snapshot's errors, on every rank.
+  /// Collective.
+  void save(const std::filesystem::path& path, int root = 0);
 
   /// World::dig of the whole world; the report (cells changed, added, removed) sums every rank's.
   /// Collective.
@@ -94,7 +105,11 @@ class DistributedWorld {
   ChangeReport paint(const Sphere& sphere, Material material);
 
  private:
-  DistributedWorld(const WorldDef& def, Communicator& comm, const Grid* whole, const WorldSnapshot* snapshot);
+  // Makes rank comm.rank()'s slab World of a world of `size` with make_slab(local def, slab).
+  DistributedWorld(const WorldDef& def, Communicator& comm, Int3 size,
+                   const std::function<std::unique_ptr<World>(const WorldDef&, const Slab&)>& make_slab);
+  // The whole world's snapshot without its cells.
+  WorldSnapshot meta() const;
   // Sends the owned boundary layers to the neighbours and writes what they send over the halo.
   void exchange_halos();
   // Writes `bytes` (the whole grid's layers [z0, z0 + bytes / layer)) over this slab's copy, only the
@@ -103,8 +118,7 @@ class DistributedWorld {
   // Reads the whole grid's layers [z0, z1) (owned or halo) of this slab into `out`.
   void read_layers(int z0, int z1, std::span<std::uint8_t> out) const;
   // Calls fn(z0, z1, bytes) over the owned layers in chunks of at most 64 MiB.
-  template <class Fn>
-  void for_each_owned_chunk(Fn&& fn) const;
+  void for_each_owned_chunk(const std::function<void(int, int, std::span<const std::uint8_t>)>& fn) const;
   // A tool over `region` (the whole grid's box it covers, checked): runs `local` (the tool on this
   // slab's World, which takes the whole world's shapes) when `here`, else counts the call; sums the
   // ranks' reports.

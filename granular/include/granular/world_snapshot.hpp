@@ -33,8 +33,12 @@ struct WorldSnapshot {
 /// The 4 magic bytes that open a snapshot file.
 inline constexpr char kSnapshotMagic[4] = {'G', 'S', 'N', 'P'};
 
-/// The snapshot format version this library reads and writes.
+/// The snapshot format version a World writes: the cells in one zstd frame.
 inline constexpr std::uint32_t kSnapshotVersion = 1;
+
+/// The snapshot format version a DistributedWorld writes: the cells in one zstd frame per rank's
+/// slab, one after the other. This library reads both.
+inline constexpr std::uint32_t kSlabSnapshotVersion = 2;
 
 /// Size in bytes of the snapshot header, before the rule set's name.
 inline constexpr std::size_t kSnapshotHeaderSize = 72;

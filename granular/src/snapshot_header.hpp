@@ -1,0 +1,36 @@
+#pragma once
+/// @file snapshot_header.hpp
+/// The snapshot file's header, parsed and checked apart from its cells: decode_snapshot and a
+/// DistributedWorld's ranks, each of which reads only the header and its slab's part of the cells.
+
+#include <cstdint>
+#include <span>
+#include <string>
+
+#include "granular/world_snapshot.hpp"
+
+namespace granular {
+
+/// A snapshot file's header (docs/FORMATS.md).
+struct SnapshotHeader {
+  WorldSnapshot meta;            ///< every field but the cells
+  std::uint32_t version = 0;     ///< kSnapshotVersion or kSlabSnapshotVersion
+  std::uint64_t hash = 0;        ///< the header's hash of the cells
+  std::size_t body_at = 0;       ///< where the compressed cells start
+  std::uint64_t packed_size = 0; ///< their bytes
+};
+
+/// Parses the header and rule set name at the start of `bytes` (at least that much of a file of
+/// `total` bytes) and checks what does not need the cells (decode_snapshot's errors but those of the
+/// cells). Throws ParseError starting with `src`.
+SnapshotHeader parse_snapshot_header(std::span<const std::uint8_t> bytes, std::uint64_t total, const std::string& src);
+
+/// The message of a hash that differs from the header's.
+std::string snapshot_hash_problem(std::uint64_t found, std::uint64_t header);
+
+/// The bytes of a snapshot header (version `version`) and rule set name for `meta` (its cells
+/// unused) whose cells hash to `hash` and take `packed_size` compressed bytes.
+std::vector<std::uint8_t> snapshot_header_bytes(const WorldSnapshot& meta, std::uint32_t version, std::uint64_t hash,
+                                                std::uint64_t packed_size);
+
+}  // namespace granular
