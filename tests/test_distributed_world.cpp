@@ -288,3 +288,51 @@ TEST_CASE("distributed world: snapshot files, each slab a frame, read back split
             {"wrong.txt", ".gsnap"});
   std::filesystem::remove_all(dir);
 }
+
+TEST_CASE("distributed world: settled boundaries exchange nothing; a change at one sends its layers again") {
+  // A bed at rest below the boundaries at z = 20 and 40 (3 ranks of paper) or 30 (2 of inertial-24),
+  // then a few grains dropped from above the top boundary onto it.
+  const Int3 size{16, 16, 60};
+  Grid bed(size);
+  for (int z = 0; z < 30; ++z)
+    for (int i = 0; i < size.x * size.y; ++i) bed.cells()[std::size_t(z) * 256 + std::size_t(i)] = to_cell(Material::Granular);
+  for (const std::string rules : {"paper", "inertial-24"}) {
+    CAPTURE(rules);
+    const WorldDef def = test_def(size, rules.c_str(), 1, 3);
+    const int ranks = rules == "paper" ? 3 : 2;
+    const Box grains{{7, 7, 44}, {9, 9, 46}};
+    std::vector<std::uint64_t> sent;
+    std::uint64_t split_hash = 0;
+    std::mutex m;
+    run_local_ranks(ranks, [&](Communicator& comm) {
+      DistributedWorld w(def, comm, bed);
+      std::vector<std::uint64_t> mine;
+      for (int t = 0; t < 4; ++t) {
+        w.step(1);
+        mine.push_back(w.last_exchange_bytes());
+      }
+      w.paint(grains, Material::Granular);
+      for (int t = 0; t < 40; ++t) {
+        w.step(1);
+        mine.push_back(w.last_exchange_bytes());
+      }
+      const std::uint64_t h = w.hash();
+      if (comm.rank() == ranks - 1) {  // the top slab: its boundary below is crossed by the grains
+        const std::lock_guard lock(m);
+        sent = mine;
+        split_hash = h;
+      }
+    });
+    World whole(def, bed);
+    whole.step(4);
+    whole.paint(grains, Material::Granular);
+    whole.step(40);
+    CHECK(split_hash == whole.hash());
+    REQUIRE(sent.size() == 44);
+    // The bed at rest sends nothing (under the motion model after its first tick, whose first
+    // sub-step gives every grain its phase).
+    for (int t = rules == "paper" ? 0 : 2; t < 4; ++t) CHECK(sent[std::size_t(t)] == 0);
+    CHECK(sent[4] > 0);  // the grains: a change beside the boundary
+    for (int t = 34; t < 44; ++t) CHECK(sent[std::size_t(t)] == 0);  // landed and at rest
+  }
+}

@@ -67,7 +67,7 @@ std::string error_of(F&& f) {
   } catch (const E& e) {
     return e.what();
   } catch (const std::exception& e) {
-    FAIL("wrong exception type, message: " << e.what());
+    FAIL("wrong exception type, message: " << std::string(e.what()));
     return {};
   }
   FAIL("no exception was thrown");

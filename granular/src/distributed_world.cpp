@@ -108,32 +108,66 @@ void DistributedWorld::read_layers(int z0, int z1, std::span<std::uint8_t> out) 
 void DistributedWorld::write_halo(int z0, std::span<const std::uint8_t> bytes) {
   const Int3 size = layout_.size();
   const int layers = int(bytes.size() / layer_bytes(size));
-  current_.resize(bytes.size());
-  read_layers(z0, z0 + layers, current_);
-  if (std::memcmp(current_.data(), bytes.data(), bytes.size()) == 0) return;
   RegionEdit& edit = slab_->begin_edit(Box{{0, 0, z0 - slab_range_.local_z0}, {size.x, size.y, z0 + layers - slab_range_.local_z0}});
   edit.replace_bytes(bytes);
   slab_->write_edit();
+}
+
+bool DistributedWorld::changed_since_exchange(int z0, int z1) const {
+  // A brick changed when a step or a write (a tool, a halo) gave it a version after the last
+  // exchange's (World::bricks_changed_since, for the bricks of these layers only).
+  slab_->take_step_changes();
+  const Int3 bricks = slab_->brick_counts();
+  const std::size_t per_layer = std::size_t(bricks.x) * std::size_t(bricks.y);
+  const int first = (z0 - slab_range_.local_z0) / kBrickSize, last = (z1 - 1 - slab_range_.local_z0) / kBrickSize;
+  for (std::size_t i = std::size_t(first) * per_layer; i < std::size_t(last + 1) * per_layer; ++i)
+    if (slab_->brick_version_[i] > exchange_version_) return true;
+  return false;
 }
 
 void DistributedWorld::exchange_halos() {
   const int below = comm_.rank() > 0 ? comm_.rank() - 1 : Communicator::kNoRank;
   const int above = comm_.rank() + 1 < comm_.size() ? comm_.rank() + 1 : Communicator::kNoRank;
   const int halo = layout_.halo();
+  const Slab& s = slab_range_;
+  // A halo needs its neighbour's layers when they changed since the last exchange, or when the
+  // halo did (a slab steps its halo too, wrongly near its far edge): otherwise it holds them
+  // already. Each side says what changed on its side of a boundary; both then know which layers
+  // travel.
+  std::uint8_t to_below[2] = {}, to_above[2] = {}, from_below[2] = {}, from_above[2] = {};
+  if (below != Communicator::kNoRank) {
+    to_below[0] = changed_since_exchange(s.z0, s.z0 + halo);  // what I send down
+    to_below[1] = changed_since_exchange(s.z0 - halo, s.z0);  // my halo below
+  }
+  if (above != Communicator::kNoRank) {
+    to_above[0] = changed_since_exchange(s.z1 - halo, s.z1);  // what I send up
+    to_above[1] = changed_since_exchange(s.z1, s.z1 + halo);  // my halo above
+  }
+  comm_.send_receive(below, below != Communicator::kNoRank ? std::span<const std::uint8_t>(to_below) : std::span<const std::uint8_t>{},
+                     above, above != Communicator::kNoRank ? std::span<std::uint8_t>(from_above) : std::span<std::uint8_t>{});
+  comm_.send_receive(above, above != Communicator::kNoRank ? std::span<const std::uint8_t>(to_above) : std::span<const std::uint8_t>{},
+                     below, below != Communicator::kNoRank ? std::span<std::uint8_t>(from_below) : std::span<std::uint8_t>{});
+  const bool send_down = below != Communicator::kNoRank && (to_below[0] || from_below[1]);
+  const bool take_from_above = above != Communicator::kNoRank && (from_above[0] || to_above[1]);
+  const bool send_up = above != Communicator::kNoRank && (to_above[0] || from_above[1]);
+  const bool take_from_below = below != Communicator::kNoRank && (from_below[0] || to_below[1]);
   const std::size_t bytes = std::size_t(halo) * layer_bytes(layout_.size());
   send_.resize(bytes);
   receive_.resize(bytes);
   // Downwards: my lowest owned layers become the halo above the rank below.
-  if (below != Communicator::kNoRank) read_layers(slab_range_.z0, slab_range_.z0 + halo, send_);
-  comm_.send_receive(below, below != Communicator::kNoRank ? std::span<const std::uint8_t>(send_) : std::span<const std::uint8_t>{},
-                     above, above != Communicator::kNoRank ? std::span<std::uint8_t>(receive_) : std::span<std::uint8_t>{});
-  if (above != Communicator::kNoRank) write_halo(slab_range_.z1, receive_);
+  if (send_down) read_layers(s.z0, s.z0 + halo, send_);
+  comm_.send_receive(send_down ? below : Communicator::kNoRank, send_down ? std::span<const std::uint8_t>(send_) : std::span<const std::uint8_t>{},
+                     take_from_above ? above : Communicator::kNoRank,
+                     take_from_above ? std::span<std::uint8_t>(receive_) : std::span<std::uint8_t>{});
+  if (take_from_above) write_halo(s.z1, receive_);
   // Upwards: my highest owned layers become the halo below the rank above.
-  if (above != Communicator::kNoRank) read_layers(slab_range_.z1 - halo, slab_range_.z1, send_);
-  comm_.send_receive(above, above != Communicator::kNoRank ? std::span<const std::uint8_t>(send_) : std::span<const std::uint8_t>{},
-                     below, below != Communicator::kNoRank ? std::span<std::uint8_t>(receive_) : std::span<std::uint8_t>{});
-  if (below != Communicator::kNoRank) write_halo(slab_range_.z0 - halo, receive_);
-  exchange_bytes_ += (below != Communicator::kNoRank ? bytes : 0) + (above != Communicator::kNoRank ? bytes : 0);
+  if (send_up) read_layers(s.z1 - halo, s.z1, send_);
+  comm_.send_receive(send_up ? above : Communicator::kNoRank, send_up ? std::span<const std::uint8_t>(send_) : std::span<const std::uint8_t>{},
+                     take_from_below ? below : Communicator::kNoRank,
+                     take_from_below ? std::span<std::uint8_t>(receive_) : std::span<std::uint8_t>{});
+  if (take_from_below) write_halo(s.z0 - halo, receive_);
+  exchange_bytes_ += (send_down ? bytes : 0) + (send_up ? bytes : 0);
+  exchange_version_ = slab_->change_version();
 }
 
 void DistributedWorld::step(int ticks) {

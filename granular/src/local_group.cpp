@@ -21,11 +21,12 @@ struct LocalGroup::Shared {
   std::string failure;                                        ///< why the group failed; empty while it has not
   std::vector<std::unique_ptr<RankCommunicator>> ranks;
 
+  // Posting never fails, even in a failed group: a rank that has an error of its own and tells the
+  // others (all_true) must get to throw it.
   void post(int from, int to, std::span<const std::uint8_t> bytes) {
     std::vector<std::uint8_t> message(bytes.begin(), bytes.end());
     {
       const std::lock_guard lock(mutex);
-      throw_if_failed();
       boxes[std::size_t(from) * std::size_t(size) + std::size_t(to)].push_back(std::move(message));
     }
     arrived.notify_all();
@@ -35,7 +36,7 @@ struct LocalGroup::Shared {
     std::unique_lock lock(mutex);
     auto& box = boxes[std::size_t(from) * std::size_t(size) + std::size_t(to)];
     arrived.wait(lock, [&] { return !box.empty() || !failure.empty(); });
-    throw_if_failed();
+    if (box.empty()) throw_if_failed();  // a message sent before the failure is still delivered
     std::vector<std::uint8_t> message = std::move(box.front());
     box.pop_front();
     lock.unlock();

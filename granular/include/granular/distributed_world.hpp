@@ -113,8 +113,10 @@ class DistributedWorld {
   // Sends the owned boundary layers to the neighbours and writes what they send over the halo.
   void exchange_halos();
   // Writes `bytes` (the whole grid's layers [z0, z0 + bytes / layer)) over this slab's copy, only the
-  // cells that differ, waking their bricks.
+  // cells that differ, waking their bricks (none when none differs).
   void write_halo(int z0, std::span<const std::uint8_t> bytes);
+  // True when a brick holding one of the whole grid's layers [z0, z1) changed since the last exchange.
+  bool changed_since_exchange(int z0, int z1) const;
   // Reads the whole grid's layers [z0, z1) (owned or halo) of this slab into `out`.
   void read_layers(int z0, int z1, std::span<std::uint8_t> out) const;
   // Calls fn(z0, z1, bytes) over the owned layers in chunks of at most 64 MiB.
@@ -132,6 +134,7 @@ class DistributedWorld {
   Slab slab_range_;
   std::unique_ptr<World> slab_;
   std::vector<std::uint8_t> send_, receive_, current_;  ///< exchange buffers, reused
+  std::uint64_t exchange_version_ = 0;  ///< the slab World's change_version() after the last exchange
   double exchange_seconds_ = 0;
   std::uint64_t exchange_bytes_ = 0;
 };
