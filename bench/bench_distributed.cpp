@@ -74,7 +74,7 @@ Options parse(int argc, char** argv) {
 /// One configuration's figures.
 struct Row {
   int ranks = 1;
-  double ms_per_tick = 0, exchange_ms_per_tick = 0, sent_mib_per_tick = 0;
+  double ms_per_tick = 0, exchange_ms_per_tick = 0, read_ms = 0, message_ms = 0, write_ms = 0, sent_mib_per_tick = 0;
   std::uint64_t hash = 0;
 };
 
@@ -108,12 +108,15 @@ int main(int argc, char** argv) try {
       w.step(o.warmup);
       (void)all_true(comm, true);  // every rank starts the timing together
       const auto start = std::chrono::steady_clock::now();
-      double exchange = 0;
-      std::uint64_t sent = 0;
+      HaloExchangeStats sum;
       for (int t = 0; t < o.ticks; ++t) {
         w.step(1);
-        exchange += w.last_exchange_seconds();
-        sent += w.last_exchange_bytes();
+        const HaloExchangeStats& e = w.last_exchange();
+        sum.seconds += e.seconds;
+        sum.read_seconds += e.read_seconds;
+        sum.message_seconds += e.message_seconds;
+        sum.write_seconds += e.write_seconds;
+        sum.bytes_sent += e.bytes_sent;
       }
       (void)all_true(comm, true);
       const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -121,21 +124,24 @@ int main(int argc, char** argv) try {
       if (comm.rank() == 0) {
         const std::lock_guard lock(m);
         r.ms_per_tick = seconds * 1e3 / o.ticks;
-        r.exchange_ms_per_tick = exchange * 1e3 / o.ticks;
-        r.sent_mib_per_tick = double(sent) / double(1 << 20) / o.ticks;
+        r.exchange_ms_per_tick = sum.seconds * 1e3 / o.ticks;
+        r.read_ms = sum.read_seconds * 1e3 / o.ticks;
+        r.message_ms = sum.message_seconds * 1e3 / o.ticks;
+        r.write_ms = sum.write_seconds * 1e3 / o.ticks;
+        r.sent_mib_per_tick = double(sum.bytes_sent) / double(1 << 20) / o.ticks;
         r.hash = hash;
       }
     });
     rows.push_back(r);
   }
-  std::printf("%6s %12s %14s %20s %18s %18s\n", "ranks", "ms/tick", "vs one World", "exchange ms/tick (r0)",
-              "sent MiB/tick (r0)", "hash");
+  std::printf("%6s %10s %13s %22s %18s %18s\n", "ranks", "ms/tick", "vs one World",
+              "exchange ms (r0): all", "read/message/write", "sent MiB (r0)");
   bool equal = true;
   for (const Row& r : rows) {
     equal = equal && r.hash == rows[0].hash;
-    std::printf("%6d %12.3f %14.3f %20.3f %18.2f %18s%s\n", r.ranks, r.ms_per_tick, r.ms_per_tick / rows[0].ms_per_tick,
-                r.exchange_ms_per_tick, r.sent_mib_per_tick, hex64(r.hash).c_str(),
-                r.hash == rows[0].hash ? "" : "  DIFFERS from one World");
+    std::printf("%6d %10.3f %13.3f %22.3f %6.2f/%5.2f/%5.2f %18.2f  hash %s%s\n", r.ranks, r.ms_per_tick,
+                r.ms_per_tick / rows[0].ms_per_tick, r.exchange_ms_per_tick, r.read_ms, r.message_ms, r.write_ms,
+                r.sent_mib_per_tick, hex64(r.hash).c_str(), r.hash == rows[0].hash ? "" : "  DIFFERS from one World");
   }
   return equal ? 0 : 1;
 } catch (const std::exception& e) {

@@ -309,12 +309,12 @@ TEST_CASE("distributed world: settled boundaries exchange nothing; a change at o
       std::vector<std::uint64_t> mine;
       for (int t = 0; t < 4; ++t) {
         w.step(1);
-        mine.push_back(w.last_exchange_bytes());
+        mine.push_back(w.last_exchange().bytes_sent);
       }
       w.paint(grains, Material::Granular);
       for (int t = 0; t < 40; ++t) {
         w.step(1);
-        mine.push_back(w.last_exchange_bytes());
+        mine.push_back(w.last_exchange().bytes_sent);
       }
       const std::uint64_t h = w.hash();
       if (comm.rank() == ranks - 1) {  // the top slab: its boundary below is crossed by the grains

@@ -143,10 +143,17 @@ void DistributedWorld::exchange_halos() {
     to_above[0] = changed_since_exchange(s.z1 - halo, s.z1);  // what I send up
     to_above[1] = changed_since_exchange(s.z1, s.z1 + halo);  // my halo above
   }
-  comm_.send_receive(below, below != Communicator::kNoRank ? std::span<const std::uint8_t>(to_below) : std::span<const std::uint8_t>{},
-                     above, above != Communicator::kNoRank ? std::span<std::uint8_t>(from_above) : std::span<std::uint8_t>{});
-  comm_.send_receive(above, above != Communicator::kNoRank ? std::span<const std::uint8_t>(to_above) : std::span<const std::uint8_t>{},
-                     below, below != Communicator::kNoRank ? std::span<std::uint8_t>(from_below) : std::span<std::uint8_t>{});
+  const auto timed = [](double& seconds, auto&& fn) {
+    const auto start = std::chrono::steady_clock::now();
+    fn();
+    seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
+  timed(exchange_.message_seconds, [&] {
+    comm_.send_receive(below, below != Communicator::kNoRank ? std::span<const std::uint8_t>(to_below) : std::span<const std::uint8_t>{},
+                       above, above != Communicator::kNoRank ? std::span<std::uint8_t>(from_above) : std::span<std::uint8_t>{});
+    comm_.send_receive(above, above != Communicator::kNoRank ? std::span<const std::uint8_t>(to_above) : std::span<const std::uint8_t>{},
+                       below, below != Communicator::kNoRank ? std::span<std::uint8_t>(from_below) : std::span<std::uint8_t>{});
+  });
   const bool send_down = below != Communicator::kNoRank && (to_below[0] || from_below[1]);
   const bool take_from_above = above != Communicator::kNoRank && (from_above[0] || to_above[1]);
   const bool send_up = above != Communicator::kNoRank && (to_above[0] || from_above[1]);
@@ -155,29 +162,34 @@ void DistributedWorld::exchange_halos() {
   send_.resize(bytes);
   receive_.resize(bytes);
   // Downwards: my lowest owned layers become the halo above the rank below.
-  if (send_down) read_layers(s.z0, s.z0 + halo, send_);
-  comm_.send_receive(send_down ? below : Communicator::kNoRank, send_down ? std::span<const std::uint8_t>(send_) : std::span<const std::uint8_t>{},
-                     take_from_above ? above : Communicator::kNoRank,
-                     take_from_above ? std::span<std::uint8_t>(receive_) : std::span<std::uint8_t>{});
-  if (take_from_above) write_halo(s.z1, receive_);
+  if (send_down) timed(exchange_.read_seconds, [&] { read_layers(s.z0, s.z0 + halo, send_); });
+  timed(exchange_.message_seconds, [&] {
+    comm_.send_receive(send_down ? below : Communicator::kNoRank,
+                       send_down ? std::span<const std::uint8_t>(send_) : std::span<const std::uint8_t>{},
+                       take_from_above ? above : Communicator::kNoRank,
+                       take_from_above ? std::span<std::uint8_t>(receive_) : std::span<std::uint8_t>{});
+  });
+  if (take_from_above) timed(exchange_.write_seconds, [&] { write_halo(s.z1, receive_); });
   // Upwards: my highest owned layers become the halo below the rank above.
-  if (send_up) read_layers(s.z1 - halo, s.z1, send_);
-  comm_.send_receive(send_up ? above : Communicator::kNoRank, send_up ? std::span<const std::uint8_t>(send_) : std::span<const std::uint8_t>{},
-                     take_from_below ? below : Communicator::kNoRank,
-                     take_from_below ? std::span<std::uint8_t>(receive_) : std::span<std::uint8_t>{});
-  if (take_from_below) write_halo(s.z0 - halo, receive_);
-  exchange_bytes_ += (send_down ? bytes : 0) + (send_up ? bytes : 0);
+  if (send_up) timed(exchange_.read_seconds, [&] { read_layers(s.z1 - halo, s.z1, send_); });
+  timed(exchange_.message_seconds, [&] {
+    comm_.send_receive(send_up ? above : Communicator::kNoRank,
+                       send_up ? std::span<const std::uint8_t>(send_) : std::span<const std::uint8_t>{},
+                       take_from_below ? below : Communicator::kNoRank,
+                       take_from_below ? std::span<std::uint8_t>(receive_) : std::span<std::uint8_t>{});
+  });
+  if (take_from_below) timed(exchange_.write_seconds, [&] { write_halo(s.z0 - halo, receive_); });
+  exchange_.bytes_sent += (send_down ? bytes : 0) + (send_up ? bytes : 0);
   exchange_version_ = slab_->change_version();
 }
 
 void DistributedWorld::step(int ticks) {
   if (ticks < 0) throw InvalidArgument("DistributedWorld::step: ticks = " + std::to_string(ticks) + "; use 0 or more");
-  exchange_seconds_ = 0;
-  exchange_bytes_ = 0;
+  exchange_ = HaloExchangeStats{};
   for (int t = 0; t < ticks; ++t) {
     const auto start = std::chrono::steady_clock::now();
     if (comm_.size() > 1) exchange_halos();
-    exchange_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    exchange_.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     slab_->step(1);
   }
 }

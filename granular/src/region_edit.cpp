@@ -1,5 +1,8 @@
 #include "region_edit.hpp"
 
+#include <algorithm>
+#include <cstring>
+
 #include "scratch_buffer.hpp"
 #include "sphere_runs.hpp"
 
@@ -52,15 +55,21 @@ void RegionEdit::for_each_row(Fn&& fn) const {
 }
 
 void RegionEdit::replace_bytes(std::span<const std::uint8_t> bytes) {
+  // A brick's part of a row at a time: compared (and copied when it differs) as one block of bytes.
   std::uint8_t* const cells = cells_.data();
   std::uint8_t* const flags = flags_.data();
   std::size_t i = 0;
   for_each_row([&](int y, int z, int first, int last) {
     const Row r = row(y, z);
-    for (int x = first; x < last; ++x, ++i) {
-      if (cells[r.cell(x)] == bytes[i]) continue;
-      cells[r.cell(x)] = bytes[i];
-      flags[r.flag(x)] = 1;
+    for (int x = first; x < last;) {
+      const int end = std::min(last, (x / kBrickSize + 1) * kBrickSize);
+      const std::size_t n = std::size_t(end - x);
+      if (std::memcmp(cells + r.cell(x), bytes.data() + i, n) != 0) {
+        std::memcpy(cells + r.cell(x), bytes.data() + i, n);
+        flags[r.flag(x)] = 1;
+      }
+      i += n;
+      x = end;
     }
   });
 }

@@ -33,6 +33,15 @@
 
 namespace granular {
 
+/// What a rank's halo exchanges cost (DistributedWorld::last_exchange).
+struct HaloExchangeStats {
+  double seconds = 0;          ///< in all
+  double read_seconds = 0;     ///< reading the layers to send out of the slab's World (its backend)
+  double message_seconds = 0;  ///< in the Communicator: moving bytes, and waiting for the neighbours
+  double write_seconds = 0;    ///< writing the layers received over the halo (compare, write, wake)
+  std::uint64_t bytes_sent = 0;  ///< layers sent to the neighbours
+};
+
 /// One rank's share of a world split into z-slabs.
 class DistributedWorld {
  public:
@@ -69,10 +78,8 @@ class DistributedWorld {
   /// This rank's World: its kept layers (owned and halo) at domain origin (0, 0, slab_range().local_z0).
   /// Its halo is up to date right before a tick; read only the owned layers between ticks.
   const World& slab() const { return *slab_; }
-  /// Seconds spent bringing halos up to date (reads, messages, writes) in the last step().
-  double last_exchange_seconds() const { return exchange_seconds_; }
-  /// Bytes this rank sent to its neighbours in the last step().
-  std::uint64_t last_exchange_bytes() const { return exchange_bytes_; }
+  /// What bringing the halos up to date cost this rank in the last step().
+  const HaloExchangeStats& last_exchange() const { return exchange_; }
 
   /// The whole world's hash (World::hash of one World of the whole grid), on every rank. Collective.
   std::uint64_t hash();
@@ -135,8 +142,7 @@ class DistributedWorld {
   std::unique_ptr<World> slab_;
   std::vector<std::uint8_t> send_, receive_, current_;  ///< exchange buffers, reused
   std::uint64_t exchange_version_ = 0;  ///< the slab World's change_version() after the last exchange
-  double exchange_seconds_ = 0;
-  std::uint64_t exchange_bytes_ = 0;
+  HaloExchangeStats exchange_;
 };
 
 }  // namespace granular
