@@ -1,12 +1,14 @@
 /// @file main.cpp
 /// `granular`: the headless command-line front end of the granular module. Every failure, a bad
-/// command line included, is one `error:` line on stderr and exit status 1; --help exits 0.
+/// command line included, is one `error:` line on stderr and exit status 1; --help exits 0. Under
+/// mpirun only rank 0 prints the line (distributed_run.hpp), and every rank exits 1.
 
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <new>
 
 #include "accuracy_command.hpp"
+#include "distributed_run.hpp"
 #include "export_command.hpp"
 #include "granular/errors.hpp"
 #include "lut_command.hpp"
@@ -27,16 +29,17 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == static_cast<int>(CLI::ExitCodes::Success)) return app.exit(e);  // --help
-    std::fprintf(stderr, "error: %s (see granular --help)\n", e.what());
+    if (granular::cli::prints_errors()) std::fprintf(stderr, "error: %s (see granular --help)\n", e.what());
     return 1;
   } catch (const granular::Error& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
+    if (granular::cli::prints_errors()) std::fprintf(stderr, "error: %s\n", e.what());
     return 1;
   } catch (const std::bad_alloc&) {
-    std::fprintf(stderr, "error: out of memory (an allocation failed outside the checked grid allocations)\n");
+    if (granular::cli::prints_errors())
+      std::fprintf(stderr, "error: out of memory (an allocation failed outside the checked grid allocations)\n");
     return 1;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
+    if (granular::cli::prints_errors()) std::fprintf(stderr, "error: %s\n", e.what());
     return 1;
   }
   return 0;

@@ -1,7 +1,6 @@
 #include "scene_runner.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <climits>
 #include <cstdio>
 
@@ -10,7 +9,6 @@
 #include "granular/grid_io.hpp"
 #include "granular/world_snapshot.hpp"
 #include "number_option.hpp"
-#include "progress_bar.hpp"
 
 namespace granular::cli {
 
@@ -49,8 +47,9 @@ void add_ticks_option(CLI::App& command, std::uint64_t& ticks, const std::string
   add_number_option(command, "-t,--ticks", ticks, {0, kMaxTicks, ""}, description);
 }
 
-PreparedWorld prepare_world(const WorldOptions& o, double bytes_per_cell) {
-  WorldDef def;
+WorldSource load_world_source(const WorldOptions& o, double bytes_per_cell) {
+  WorldSource source;
+  WorldDef& def = source.def;
   def.rules = o.rules;
   def.seed = o.seed;
   def.threads = o.threads;
@@ -58,12 +57,11 @@ PreparedWorld prepare_world(const WorldOptions& o, double bytes_per_cell) {
   def.sparse = !o.dense;
   if (o.dense_fraction) def.cuda.dense_fraction = def.cuda.motion_dense_fraction = *o.dense_fraction;
   def.backend = o.backend == "cpu" ? BackendKind::Cpu : o.backend == "cuda" ? BackendKind::Cuda : BackendKind::Auto;
-  PreparedWorld p;
   const std::filesystem::path as_path(o.scene);
   if (is_snapshot_file(as_path)) {
     if (o.size != 0) throw InvalidArgument("--size applies to scenes, not to the snapshot " + o.scene);
-    p.scene_name = o.scene;
-    const WorldSnapshot snapshot = load_snapshot(as_path);
+    source.scene_name = o.scene;
+    WorldSnapshot snapshot = load_snapshot(as_path);
     if (o.rules_given && o.rules != snapshot.rules)
       throw InvalidArgument("--rules " + o.rules + ": the snapshot " + o.scene + " continues under its own rules, '" +
                             snapshot.rules + "' (omit --rules)");
@@ -73,28 +71,38 @@ PreparedWorld prepare_world(const WorldOptions& o, double bytes_per_cell) {
     def.rules = snapshot.rules;
     // The snapshot's cells are allocated already; the world's grid and its backend's copy are not.
     check_grid_size(snapshot.size, o.scene, bytes_per_cell, kWorldOverheadBytes);
-    p.snapshot_tick = snapshot.tick;
-    p.world = std::make_unique<World>(def, snapshot);
+    source.snapshot_tick = snapshot.tick;
+    source.snapshot = std::move(snapshot);
   } else if (is_grid_file(as_path)) {
     if (o.size != 0) throw InvalidArgument("--size applies to scenes, not to the grid file " + o.scene);
-    p.scene_name = o.scene;
-    std::vector<std::string> notices;
-    const Grid grid = load_grid(as_path, &notices);
-    for (const auto& notice : notices) std::fprintf(stderr, "notice: %s\n", notice.c_str());
+    source.scene_name = o.scene;
+    source.grid = load_grid(as_path, &source.notices);
     // The file's grid is allocated already: what is left to allocate is the rest of the need.
-    check_grid_size(grid.size(), o.scene, bytes_per_cell - 1.0, kWorldOverheadBytes);
-    p.world = std::make_unique<World>(def, grid);
+    check_grid_size(source.grid.size(), o.scene, bytes_per_cell - 1.0, kWorldOverheadBytes);
   } else {
     const Scene scene = load_scene(find_scene(o.scene));
     const int n = o.size != 0 ? o.size : scene.default_n;
     const std::string what = "scene '" + scene.name + "' at N=" + std::to_string(n);
     if (n >= scene.min_n) check_grid_size(scene_size(scene, n), what, bytes_per_cell, kWorldOverheadBytes);
     SceneInstance instance = instantiate(scene, n);
-    p.scene_name = scene.name;
-    p.n = instance.n;
-    p.emitters = std::move(instance.emitters);
-    p.world = std::make_unique<World>(def, instance.grid);
+    source.scene_name = scene.name;
+    source.n = instance.n;
+    source.emitters = std::move(instance.emitters);
+    source.grid = std::move(instance.grid);
   }
+  return source;
+}
+
+PreparedWorld prepare_world(const WorldOptions& o, double bytes_per_cell) {
+  WorldSource source = load_world_source(o, bytes_per_cell);
+  for (const auto& notice : source.notices) std::fprintf(stderr, "notice: %s\n", notice.c_str());
+  PreparedWorld p;
+  p.scene_name = std::move(source.scene_name);
+  p.n = source.n;
+  p.snapshot_tick = source.snapshot_tick;
+  p.emitters = std::move(source.emitters);
+  p.world = source.snapshot ? std::make_unique<World>(source.def, *source.snapshot)
+                            : std::make_unique<World>(source.def, source.grid);
   for (const auto& notice : p.world->notices()) std::fprintf(stderr, "notice: %s\n", notice.c_str());
   return p;
 }
@@ -106,24 +114,10 @@ int tick_chunk(std::uint64_t total, std::uint64_t done, bool per_tick) {
 }
 
 double run_ticks(PreparedWorld& p, std::uint64_t ticks, bool progress) {
-  ProgressBar bar("ticks", ticks, progress);
-  double seconds = 0;
-  for (std::uint64_t done = 0; done < ticks;) {
-    const int n = tick_chunk(ticks, done, !p.emitters.empty());
-    if (!p.emitters.empty()) {
-      const MaterialCounts poured = run_emitters(*p.world, p.emitters);
-      for (int m = 0; m < kMaterialCount; ++m) p.poured[m] += poured[m];
-    }
-    const auto start = std::chrono::steady_clock::now();
-    p.world->step(n);
-    seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return step_world(*p.world, p.emitters, ticks, progress, p.poured, [&p] {
     p.brick_ticks += p.world->activity().brick_ticks;
     p.cell_ticks += p.world->activity().cell_ticks;
-    done += std::uint64_t(n);
-    bar.update(done);
-  }
-  bar.finish();
-  return seconds;
+  });
 }
 
 }  // namespace granular::cli

@@ -1,9 +1,10 @@
 #pragma once
 /// @file scene_runner.hpp
-/// What `run` and `export` share: the world options, building the world from a scene or grid file,
-/// and running ticks with the scene's emitters and a progress bar.
+/// What `run` and `export` share: the world options, reading a scene, grid file or snapshot and
+/// building the world from it, and running ticks with the scene's emitters and a progress bar.
 
 #include <CLI/CLI.hpp>
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -12,6 +13,8 @@
 
 #include "granular/scene.hpp"
 #include "granular/world.hpp"
+#include "granular/world_snapshot.hpp"
+#include "progress_bar.hpp"
 
 namespace granular::cli {
 
@@ -54,6 +57,26 @@ void add_world_options(CLI::App& command, WorldOptions& options);
 /// Registers `-t,--ticks` (0..kMaxTicks) on a subcommand.
 void add_ticks_option(CLI::App& command, std::uint64_t& ticks, const std::string& description);
 
+/// What a world is made from: a scene's grid and emitters, a grid file's cells, or a snapshot to
+/// continue, with the definition the options give.
+struct WorldSource {
+  std::string scene_name;                      ///< scene name, grid file or snapshot
+  std::optional<int> n;                        ///< the size parameter used; none for a grid file or snapshot
+  std::optional<std::uint64_t> snapshot_tick;  ///< the tick a snapshot continues from; none for the rest
+  std::vector<Emitter> emitters;               ///< the scene's emitters, in cells
+  WorldDef def;                                ///< rules, seed, backend, threads... (a snapshot's own rules)
+  Grid grid;                                   ///< the starting cells of a scene or grid file
+  std::optional<WorldSnapshot> snapshot;       ///< or the snapshot to continue
+  std::vector<std::string> notices;            ///< what reading the file noticed (a lossy .vox), to print
+};
+
+/// Reads what the options name (throws granular::Error on bad input). Before any grid is allocated,
+/// the grid's size is checked against the memory this process may allocate at `bytes_per_cell`
+/// (kRunBytesPerCell, kExportBytesPerCell) plus kWorldOverheadBytes, and a failed allocation is an
+/// OutOfMemory naming the size. A snapshot continues under its own rules and seed: --rules or
+/// --seed naming others is an InvalidArgument, as is --size.
+WorldSource load_world_source(const WorldOptions& options, double bytes_per_cell);
+
 /// A world made from the options, with the scene's emitters.
 struct PreparedWorld {
   std::string scene_name;                ///< scene name, grid file or snapshot
@@ -66,11 +89,8 @@ struct PreparedWorld {
   std::uint64_t cell_ticks = 0;          ///< cells in stepped bricks, summed likewise
 };
 
-/// Builds the world (throws granular::Error on bad input) and prints its notices to stderr.
-/// Before any grid is allocated, the grid's size is checked against the memory this process may
-/// allocate at `bytes_per_cell` (kRunBytesPerCell, kExportBytesPerCell) plus kWorldOverheadBytes,
-/// and a failed allocation is an OutOfMemory naming the size. A snapshot continues under its own
-/// rules and seed: --rules or --seed naming others is an InvalidArgument, as is --size.
+/// Builds the world from load_world_source(options, bytes_per_cell) and prints the file's and the
+/// world's notices to stderr.
 PreparedWorld prepare_world(const WorldOptions& options, double bytes_per_cell);
 
 /// The ticks of the next World::step call when `done` of `total` ticks are done: 1 when
@@ -78,8 +98,34 @@ PreparedWorld prepare_world(const WorldOptions& options, double bytes_per_cell);
 /// vanishes), never more than what is left nor more than an int holds; 0 when done == total.
 int tick_chunk(std::uint64_t total, std::uint64_t done, bool per_tick);
 
-/// Runs `ticks` ticks (feeding emitters before each tick when the scene has any), drawing a
-/// progress bar when `progress`; returns the wall seconds spent stepping.
+/// Runs `ticks` ticks of `world` (a World, or one rank's DistributedWorld: then every rank calls it
+/// alike) in steps of tick_chunk ticks, the scene's `emitters` pouring before each tick (what they
+/// pour is added to `poured`), calling `after_step()` after each step, and drawing a progress bar
+/// when `progress`; returns the wall seconds spent stepping.
+template <class W, class AfterStep>
+double step_world(W& world, const std::vector<Emitter>& emitters, std::uint64_t ticks, bool progress,
+                  MaterialCounts& poured, AfterStep&& after_step) {
+  ProgressBar bar("ticks", ticks, progress);
+  double seconds = 0;
+  for (std::uint64_t done = 0; done < ticks;) {
+    const int n = tick_chunk(ticks, done, !emitters.empty());
+    if (!emitters.empty()) {
+      const MaterialCounts p = run_emitters(world, emitters);
+      for (int m = 0; m < kMaterialCount; ++m) poured[m] += p[m];
+    }
+    const auto start = std::chrono::steady_clock::now();
+    world.step(n);
+    seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    after_step();
+    done += std::uint64_t(n);
+    bar.update(done);
+  }
+  bar.finish();
+  return seconds;
+}
+
+/// Runs `ticks` ticks of a prepared world (step_world), counting its stepped bricks and cells;
+/// returns the wall seconds spent stepping.
 double run_ticks(PreparedWorld& prepared, std::uint64_t ticks, bool progress);
 
 }  // namespace granular::cli

@@ -1,5 +1,6 @@
 #include <string>
 
+#include "granular/distributed_world.hpp"
 #include "granular/errors.hpp"
 #include "granular/scene.hpp"
 #include "granular/world.hpp"
@@ -15,9 +16,9 @@ std::string emitter_name(std::size_t i, const Emitter& e) {
          std::to_string(e.center.y) + ", " + std::to_string(e.center.z) + "), radius " + std::to_string(e.radius) + ")";
 }
 
-}  // namespace
-
-MaterialCounts run_emitters(World& world, const std::vector<Emitter>& emitters) {
+/// run_emitters for a World or a DistributedWorld, which have the same tick(), size() and pour().
+template <class W>
+MaterialCounts run_emitters_of(W& world, const std::vector<Emitter>& emitters) {
   const std::uint64_t tick = world.tick();
   auto active = [tick](const Emitter& e) { return tick >= e.start && tick < e.stop; };
   for (std::size_t i = 0; i < emitters.size(); ++i)
@@ -34,6 +35,14 @@ MaterialCounts run_emitters(World& world, const std::vector<Emitter>& emitters) 
   for (const Emitter& e : emitters)
     if (active(e)) poured[to_cell(e.material)] += std::uint64_t(world.pour(e.center, e.radius, e.material, e.rate).cells_changed);
   return poured;
+}
+
+}  // namespace
+
+MaterialCounts run_emitters(World& world, const std::vector<Emitter>& emitters) { return run_emitters_of(world, emitters); }
+
+MaterialCounts run_emitters(DistributedWorld& world, const std::vector<Emitter>& emitters) {
+  return run_emitters_of(world, emitters);
 }
 
 MaterialCounts counts_after_pouring(MaterialCounts before, const MaterialCounts& poured) {

@@ -21,6 +21,7 @@
 namespace granular {
 
 class World;
+class DistributedWorld;
 
 /// Largest scene file load_scene reads, in bytes (the shipped ones are about 2 KB).
 inline constexpr std::uint64_t kMaxSceneFileBytes = std::uint64_t(16) << 20;
@@ -182,6 +183,10 @@ SceneInstance instantiate(const Scene& scene, int n = 0);
 /// a sphere that covers a cell of the grid): when one is invalid, InvalidArgument names it and the
 /// world is unchanged. Returns the cells poured, per material.
 MaterialCounts run_emitters(World& world, const std::vector<Emitter>& emitters);
+
+/// The same for a world split over ranks (distributed_world.hpp): the same cells as run_emitters on
+/// one World of the whole grid. Collective: every rank calls it with the same emitters.
+MaterialCounts run_emitters(DistributedWorld& world, const std::vector<Emitter>& emitters);
 
 /// The cells per material of a world that held `before` once emitters poured `poured` (run_emitters'
 /// results, summed): every poured cell was a void cell, and no step creates or destroys one.
