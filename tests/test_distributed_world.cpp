@@ -26,17 +26,6 @@ using namespace granular::test;
 
 namespace {
 
-/// A scene with every material moving: void, solid and the two static states of the game's own
-/// below a layer of loose sand, water, gas and gravel, half of it void.
-Grid mixed_grid(Int3 size, std::uint64_t seed) {
-  Grid g(size);
-  std::mt19937_64 rng(seed);
-  for (std::uint8_t& c : g.cells()) {
-    const int p = int(rng() % 100);
-    c = p < 50 ? 0 : p < 58 ? 1 : p < 60 ? std::uint8_t(6 + rng() % 2) : std::uint8_t(2 + rng() % 4);
-  }
-  return g;
-}
 
 /// What a run records after each checkpoint: the hash, and the tool reports' totals.
 struct Trace {
@@ -122,7 +111,7 @@ TEST_CASE("slab layout: even boundaries covering the grid, each slab at least it
 
 TEST_CASE("distributed world: 2 and 3 in-process ranks equal one World for every preset, all materials, odd sizes") {
   const Int3 size{21, 19, 77};
-  const Grid initial = mixed_grid(size, 11);
+  const Grid initial = mixed_material_grid(size, 11);
   for (const std::string& rules : rule_preset_names()) {
     for (const bool sparse : {true, false}) {
       if (!sparse && rules != "inertial-24" && rules != "paper") continue;
@@ -145,7 +134,7 @@ TEST_CASE("distributed world: 2 and 3 in-process ranks equal one World for every
 
 TEST_CASE("distributed world: dig, pour, paint and shake across slab boundaries equal one World's") {
   const Int3 size{23, 17, 61};
-  const Grid initial = mixed_grid(size, 3);
+  const Grid initial = mixed_material_grid(size, 3);
   for (const std::string rules : {"inertial-24", "isotropic"}) {
     CAPTURE(rules);
     const WorldDef def = test_def(size, rules.c_str(), 1, 9);
@@ -166,7 +155,7 @@ TEST_CASE("distributed world: dig, pour, paint and shake across slab boundaries 
 TEST_CASE("distributed world: a single World's snapshot continues split, and the split world's snapshot continues whole") {
   const Int3 size{19, 21, 64};
   const WorldDef def = test_def(size, "inertial-24", 1, 4);
-  World whole(def, mixed_grid(size, 8));
+  World whole(def, mixed_material_grid(size, 8));
   whole.step(5);
   const WorldSnapshot at5 = whole.capture();
   whole.step(7);
@@ -199,7 +188,7 @@ TEST_CASE("distributed world: a single World's snapshot continues split, and the
 
 TEST_CASE("distributed world: counts, bad input and a failing rank") {
   const Int3 size{16, 16, 40};
-  const Grid initial = mixed_grid(size, 2);
+  const Grid initial = mixed_material_grid(size, 2);
   const MaterialCounts expected = World(test_def(size, "paper", 1), initial).count();
   run_local_ranks(3, [&](Communicator& comm) {
     DistributedWorld w(test_def(size, "paper", 1), comm, initial);
@@ -239,7 +228,7 @@ TEST_CASE("distributed world: snapshot files, each slab a frame, read back split
   const std::filesystem::path dir = std::filesystem::temp_directory_path() / "granular_distributed_snapshot";
   std::filesystem::create_directories(dir);
   const std::filesystem::path whole_file = dir / "whole.gsnap", split_file = dir / "split.gsnap";
-  World whole(def, mixed_grid(size, 21));
+  World whole(def, mixed_material_grid(size, 21));
   whole.step(4);
   save_snapshot(whole.capture(), whole_file);
   whole.step(6);
@@ -340,7 +329,7 @@ TEST_CASE("distributed world: settled boundaries exchange nothing; a change at o
 
 TEST_CASE("distributed world: emitters pour the same cells as into one World, across slab boundaries") {
   const Int3 size{21, 19, 77};
-  const Grid initial = mixed_grid(size, 5);
+  const Grid initial = mixed_material_grid(size, 5);
   // Sand straddling the boundary of 3 ranks' first slabs, water inside one, gravel from a late start.
   const std::vector<Emitter> emitters{{{10.5, 9.5, 26.0}, 3.0, Material::Granular, 9, 0, 8},
                                       {{6.0, 12.0, 60.0}, 2.5, Material::Liquid, 5, 2, UINT64_MAX},

@@ -53,6 +53,18 @@ inline Grid random_grid_all_states(Int3 size, std::uint64_t seed) {
   return g;
 }
 
+/// A random grid with every material moving: half void, some solid and the two static states of a
+/// game's own, the rest sand, water, gas and gravel.
+inline Grid mixed_material_grid(Int3 size, std::uint64_t seed) {
+  Grid g(size);
+  std::mt19937_64 rng(seed);
+  for (std::uint8_t& c : g.cells()) {
+    const int p = int(rng() % 100);
+    c = p < 50 ? 0 : p < 58 ? 1 : p < 60 ? std::uint8_t(6 + rng() % 2) : std::uint8_t(2 + rng() % 4);
+  }
+  return g;
+}
+
 /// A random size with each extent in [lo, hi] (odd ones included).
 inline Int3 random_size(std::mt19937_64& rng, int lo, int hi) {
   std::uniform_int_distribution<int> d(lo, hi);

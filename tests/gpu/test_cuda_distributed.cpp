@@ -6,29 +6,20 @@
 #include <doctest/doctest.h>
 
 #include <mutex>
-#include <random>
 #include <string>
 
 #include "granular/distributed_world.hpp"
 #include "granular/local_group.hpp"
 #include "granular/rule_presets.hpp"
 #include "granular/world.hpp"
+#include "test_support.hpp"
 
 using namespace granular;
+using granular::test::mixed_material_grid;
 
 namespace {
 
-/// Half void, some solid and static cells, the rest sand, water, gas and gravel.
-Grid mixed_grid(Int3 size, std::uint64_t seed) {
-  Grid g(size);
-  std::mt19937_64 rng(seed);
-  for (std::uint8_t& c : g.cells()) {
-    const int p = int(rng() % 100);
-    c = p < 50 ? 0 : p < 58 ? 1 : p < 60 ? std::uint8_t(6 + rng() % 2) : std::uint8_t(2 + rng() % 4);
-  }
-  return g;
-}
-
+/// A definition on `backend`, 2 threads, seed 13.
 WorldDef def_of(Int3 size, const std::string& rules, BackendKind backend) {
   WorldDef def;
   def.size = size;
@@ -58,7 +49,7 @@ std::vector<std::uint64_t> session(W& w, Int3 size, int rounds) {
 
 TEST_CASE("cuda distributed: 2 and 3 in-process ranks on the GPU equal a CPU World, every preset, all materials") {
   const Int3 size{45, 37, 151};
-  const Grid initial = mixed_grid(size, 5);
+  const Grid initial = mixed_material_grid(size, 5);
   for (const std::string& rules : rule_preset_names()) {
     World cpu(def_of(size, rules, BackendKind::Cpu), initial);
     const std::vector<std::uint64_t> expected = session(cpu, size, 4);
