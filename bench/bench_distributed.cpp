@@ -3,7 +3,7 @@
 /// the bowl scene stepped by one World and by 2, 3, ... ranks of a LocalGroup, each slab on the
 /// chosen backend (several slabs then share the one GPU or the CPU's threads), in one process.
 /// Per rank count: ms per tick, its ratio to one World, the ms per tick rank 0 spent exchanging
-/// halos and the bytes it sent; the hash after the run must equal one World's (exit status 1 if
+/// halos and the bytes it sent, then each rank's stepping and exchange; the hash after the run must equal one World's (exit status 1 if
 /// not). On one device this measures the decomposition's overhead (halo exchange through host
 /// memory and the halo's redundant layers), not scaling: that needs one device per rank.
 ///
@@ -76,6 +76,7 @@ struct Row {
   int ranks = 1;
   double ms_per_tick = 0, exchange_ms_per_tick = 0, read_ms = 0, message_ms = 0, write_ms = 0, sent_mib_per_tick = 0;
   std::uint64_t hash = 0;
+  std::vector<std::string> per_rank;  ///< each rank's step and exchange, one line each
 };
 
 }  // namespace
@@ -109,9 +110,12 @@ int main(int argc, char** argv) try {
       (void)all_true(comm, true);  // every rank starts the timing together
       const auto start = std::chrono::steady_clock::now();
       HaloExchangeStats sum;
+      double stepping = 0;
       for (int t = 0; t < o.ticks; ++t) {
+        const auto tick_start = std::chrono::steady_clock::now();
         w.step(1);
         const HaloExchangeStats& e = w.last_exchange();
+        stepping += std::chrono::duration<double>(std::chrono::steady_clock::now() - tick_start).count() - e.seconds;
         sum.seconds += e.seconds;
         sum.read_seconds += e.read_seconds;
         sum.message_seconds += e.message_seconds;
@@ -121,6 +125,18 @@ int main(int argc, char** argv) try {
       (void)all_true(comm, true);
       const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       const std::uint64_t hash = w.hash();
+      {
+        const std::lock_guard lock(m);
+        char line[200];
+        std::snprintf(line, sizeof line,
+                      "         rank %d: layers %d..%d, step %.3f ms, exchange %.3f ms (read %.2f, message %.2f, write %.2f), "
+                      "sent %.2f MiB per tick\n",
+                      comm.rank(), w.slab_range().z0, w.slab_range().z1, stepping * 1e3 / o.ticks, sum.seconds * 1e3 / o.ticks,
+                      sum.read_seconds * 1e3 / o.ticks, sum.message_seconds * 1e3 / o.ticks,
+                      sum.write_seconds * 1e3 / o.ticks, double(sum.bytes_sent) / double(1 << 20) / o.ticks);
+        r.per_rank.resize(std::size_t(ranks));
+        r.per_rank[std::size_t(comm.rank())] = line;
+      }
       if (comm.rank() == 0) {
         const std::lock_guard lock(m);
         r.ms_per_tick = seconds * 1e3 / o.ticks;
@@ -142,6 +158,7 @@ int main(int argc, char** argv) try {
     std::printf("%6d %10.3f %13.3f %22.3f %6.2f/%5.2f/%5.2f %18.2f  hash %s%s\n", r.ranks, r.ms_per_tick,
                 r.ms_per_tick / rows[0].ms_per_tick, r.exchange_ms_per_tick, r.read_ms, r.message_ms, r.write_ms,
                 r.sent_mib_per_tick, hex64(r.hash).c_str(), r.hash == rows[0].hash ? "" : "  DIFFERS from one World");
+    for (const std::string& line : r.per_rank) std::fputs(line.c_str(), stdout);
   }
   return equal ? 0 : 1;
 } catch (const std::exception& e) {

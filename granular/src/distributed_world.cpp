@@ -159,26 +159,26 @@ void DistributedWorld::exchange_halos() {
   const bool send_up = above != Communicator::kNoRank && (to_above[0] || from_above[1]);
   const bool take_from_below = below != Communicator::kNoRank && (from_below[0] || to_below[1]);
   const std::size_t bytes = std::size_t(halo) * layer_bytes(layout_.size());
-  send_.resize(bytes);
-  receive_.resize(bytes);
-  // Downwards: my lowest owned layers become the halo above the rank below.
-  if (send_down) timed(exchange_.read_seconds, [&] { read_layers(s.z0, s.z0 + halo, send_); });
-  timed(exchange_.message_seconds, [&] {
-    comm_.send_receive(send_down ? below : Communicator::kNoRank,
-                       send_down ? std::span<const std::uint8_t>(send_) : std::span<const std::uint8_t>{},
-                       take_from_above ? above : Communicator::kNoRank,
-                       take_from_above ? std::span<std::uint8_t>(receive_) : std::span<std::uint8_t>{});
+  // Both boundaries' layers are read and sent before either halo is written, so no rank's write
+  // waits for another's.
+  send_down_.resize(send_down ? bytes : 0);
+  send_up_.resize(send_up ? bytes : 0);
+  from_above_.resize(take_from_above ? bytes : 0);
+  from_below_.resize(take_from_below ? bytes : 0);
+  timed(exchange_.read_seconds, [&] {
+    if (send_down) read_layers(s.z0, s.z0 + halo, send_down_);
+    if (send_up) read_layers(s.z1 - halo, s.z1, send_up_);
   });
-  if (take_from_above) timed(exchange_.write_seconds, [&] { write_halo(s.z1, receive_); });
-  // Upwards: my highest owned layers become the halo below the rank above.
-  if (send_up) timed(exchange_.read_seconds, [&] { read_layers(s.z1 - halo, s.z1, send_); });
   timed(exchange_.message_seconds, [&] {
-    comm_.send_receive(send_up ? above : Communicator::kNoRank,
-                       send_up ? std::span<const std::uint8_t>(send_) : std::span<const std::uint8_t>{},
-                       take_from_below ? below : Communicator::kNoRank,
-                       take_from_below ? std::span<std::uint8_t>(receive_) : std::span<std::uint8_t>{});
+    comm_.send_receive(send_down ? below : Communicator::kNoRank, send_down_, take_from_above ? above : Communicator::kNoRank,
+                       from_above_);
+    comm_.send_receive(send_up ? above : Communicator::kNoRank, send_up_, take_from_below ? below : Communicator::kNoRank,
+                       from_below_);
   });
-  if (take_from_below) timed(exchange_.write_seconds, [&] { write_halo(s.z0 - halo, receive_); });
+  timed(exchange_.write_seconds, [&] {
+    if (take_from_above) write_halo(s.z1, from_above_);
+    if (take_from_below) write_halo(s.z0 - halo, from_below_);
+  });
   exchange_.bytes_sent += (send_down ? bytes : 0) + (send_up ? bytes : 0);
   exchange_version_ = slab_->change_version();
 }

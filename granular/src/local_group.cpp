@@ -19,12 +19,14 @@ struct LocalGroup::Shared {
   std::condition_variable arrived;
   std::vector<std::deque<std::vector<std::uint8_t>>> boxes;  ///< [from * size + to]
   std::string failure;                                        ///< why the group failed; empty while it has not
+  std::vector<std::vector<std::uint8_t>> spare;                ///< delivered messages' buffers, for reuse
   std::vector<std::unique_ptr<RankCommunicator>> ranks;
 
   // Posting never fails, even in a failed group: a rank that has an error of its own and tells the
   // others (all_true) must get to throw it.
   void post(int from, int to, std::span<const std::uint8_t> bytes) {
-    std::vector<std::uint8_t> message(bytes.begin(), bytes.end());
+    std::vector<std::uint8_t> message = spare_buffer();
+    message.assign(bytes.begin(), bytes.end());
     {
       const std::lock_guard lock(mutex);
       boxes[std::size_t(from) * std::size_t(size) + std::size_t(to)].push_back(std::move(message));
@@ -45,6 +47,17 @@ struct LocalGroup::Shared {
                               " bytes from rank " + std::to_string(from) + " and got " + std::to_string(message.size()) +
                               " (the ranks called different operations)");
     std::copy(message.begin(), message.end(), out.begin());
+    const std::lock_guard relock(mutex);
+    spare.push_back(std::move(message));
+  }
+
+  // A message buffer delivered before, whose memory a new message reuses (a halo is megabytes).
+  std::vector<std::uint8_t> spare_buffer() {
+    const std::lock_guard lock(mutex);
+    if (spare.empty()) return {};
+    std::vector<std::uint8_t> b = std::move(spare.back());
+    spare.pop_back();
+    return b;
   }
 
   void throw_if_failed() const {

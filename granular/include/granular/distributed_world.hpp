@@ -140,7 +140,7 @@ class DistributedWorld {
   SlabLayout layout_;
   Slab slab_range_;
   std::unique_ptr<World> slab_;
-  std::vector<std::uint8_t> send_, receive_, current_;  ///< exchange buffers, reused
+  std::vector<std::uint8_t> send_down_, send_up_, from_above_, from_below_;  ///< exchange buffers, reused
   std::uint64_t exchange_version_ = 0;  ///< the slab World's change_version() after the last exchange
   HaloExchangeStats exchange_;
 };
