@@ -39,7 +39,7 @@ TestReport run_hysteresis_test(const SuiteOptions& options);
 TestReport run_dug_slope_test(const SuiteOptions& options);
 
 /// 6. Silo discharge: a cylindrical silo (radius 1.5 D + 6 quick, + 8 full) with a flat bottom and
-/// a centred round orifice of diameter D, filled 3.5 silo diameters high; grains that leave are
+/// a centred round orifice of diameter D, filled 5 silo diameters high; grains that leave are
 /// removed below and counted. Steady flow rate W(D) while the fill height falls from 3 to 2 silo
 /// diameters, the fit W = C (D - k)^n (Beverloo: n = 5/2), and W against the fill height; then
 /// the shipped hourglass scene (quick N = 64, full 192): W against the fraction emptied, constant

@@ -33,14 +33,7 @@ SlabLayout make_layout(const WorldDef& def, const Communicator& comm, Int3 size)
 
 /// `s` without its cells.
 WorldSnapshot snapshot_part(const WorldSnapshot& s) {
-  WorldSnapshot part;
-  part.size = s.size;
-  part.tick = s.tick;
-  part.seed = s.seed;
-  part.tool_calls = s.tool_calls;
-  part.rules = s.rules;
-  part.rule_fingerprint = s.rule_fingerprint;
-  return part;
+  return WorldSnapshot{s.size, {}, s.tick, s.seed, s.tool_calls, s.rules, s.rule_fingerprint};
 }
 
 /// The cells of the layers a slab keeps, out of the whole grid's `cells`.
@@ -297,14 +290,8 @@ WorldSnapshot DistributedWorld::capture(int root) {
 }
 
 WorldSnapshot DistributedWorld::meta() const {
-  WorldSnapshot s;
-  s.size = layout_.size();
-  s.tick = slab_->tick();
-  s.seed = slab_->def().seed;
-  s.tool_calls = slab_->tool_calls();
-  s.rules = slab_->rules().name;
-  s.rule_fingerprint = slab_->rule_fingerprint_;
-  return s;
+  return WorldSnapshot{layout_.size(), {},         slab_->tick(), slab_->def().seed, slab_->tool_calls(),
+                       slab_->rules().name, slab_->rule_fingerprint_};
 }
 
 template <class Local>
