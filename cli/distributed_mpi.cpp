@@ -19,12 +19,31 @@ namespace {
 /// How long a failed rank waits for the others to meet it before it ends them all.
 constexpr double kPatienceSeconds = 20.0;
 
+/// This rank's part of run_distributed: throws the failure every rank agreed on.
+void run_distributed_rank(const RunOptions& o, MpiCommunicator& comm);
+
 }  // namespace
 
 void run_distributed(const RunOptions& o) {
   MpiSession session;
   MpiCommunicator comm;
   set_process_rank(comm.rank());
+  try {
+    run_distributed_rank(o, comm);
+  } catch (...) {
+    // Every rank holds the agreed failure. Rank 0 prints it while every rank is still in the job,
+    // and the others wait for that: a rank that ended first with status 1 would make the launcher
+    // stop the rest, rank 0's line unprinted.
+    if (comm.rank() == 0) std::fprintf(stderr, "error: %s\n", error_text(std::current_exception()).c_str());
+    std::fflush(nullptr);
+    (void)comm.barrier_within(kPatienceSeconds);
+    throw ErrorReported{1};
+  }
+}
+
+namespace {
+
+void run_distributed_rank(const RunOptions& o, MpiCommunicator& comm) {
   // Alone: the scene (every rank reads it) and the file to save to (rank 0 writes it), checked
   // before any tick runs. No rank waits for another here, so all of them meet below.
   WorldSource source;
@@ -56,5 +75,7 @@ void run_distributed(const RunOptions& o) {
   }
   agree_on_failure(comm, failure);
 }
+
+}  // namespace
 
 }  // namespace granular::cli

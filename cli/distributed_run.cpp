@@ -97,8 +97,7 @@ void run_split_rank(const RunOptions& o, const WorldSource& source, Communicator
   split.exchange_seconds = gather_seconds(comm, exchange_seconds);
   split.exchange_bytes = all_sum(comm, exchange_bytes);
   if (!o.save.empty()) {
-    const WorldSnapshot snapshot = w.capture(0);
-    if (root) save_snapshot(snapshot, o.save);
+    w.save(o.save);  // each rank compresses its slab; rank 0 writes the file
     r.saved = o.save;
   }
   if (!root) return;
@@ -141,6 +140,18 @@ void agree_on_failure(Communicator& comm, std::exception_ptr failure) {
   const std::string what(bytes.begin() + 1, bytes.end());
   if (bytes[0] == 1) throw CommunicatorError("rank " + std::to_string(chosen) + ": " + what);
   throw Error("rank " + std::to_string(chosen) + ": " + what);
+}
+
+std::string error_text(std::exception_ptr failure) {
+  try {
+    std::rethrow_exception(failure);
+  } catch (const std::bad_alloc&) {
+    return "out of memory (an allocation failed outside the checked grid allocations)";
+  } catch (const std::exception& e) {
+    return e.what();
+  } catch (...) {
+    return "an exception that is not a std::exception";
+  }
 }
 
 void set_process_rank(int rank) { process_rank = rank; }

@@ -9,6 +9,7 @@
 
 #include <CLI/CLI.hpp>
 #include <exception>
+#include <string>
 
 #include "granular/communicator.hpp"
 #include "run_command.hpp"
@@ -33,6 +34,16 @@ void run_split_rank(const RunOptions& options, const WorldSource& source, Commun
 /// CommunicatorError (a rank that stopped because another failed), else the lowest rank's; the
 /// rank that failed so rethrows its own exception, the others an Error "rank R: what".
 void agree_on_failure(Communicator& comm, std::exception_ptr failure);
+
+/// The `error:` line's text for a failure (granular::Error and other exceptions: their message; a
+/// failed allocation: that it was one).
+std::string error_text(std::exception_ptr failure);
+
+/// Thrown once a failure is printed (or left to rank 0 to print): main exits with `status` and
+/// prints nothing more.
+struct ErrorReported {
+  int status = 1;  ///< the exit status
+};
 
 /// Records this process's MPI rank once MPI runs: only rank 0 prints errors (prints_errors).
 void set_process_rank(int rank);

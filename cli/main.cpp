@@ -5,7 +5,6 @@
 
 #include <CLI/CLI.hpp>
 #include <cstdio>
-#include <new>
 
 #include "accuracy_command.hpp"
 #include "distributed_run.hpp"
@@ -31,15 +30,11 @@ int main(int argc, char** argv) {
     if (e.get_exit_code() == static_cast<int>(CLI::ExitCodes::Success)) return app.exit(e);  // --help
     if (granular::cli::prints_errors()) std::fprintf(stderr, "error: %s (see granular --help)\n", e.what());
     return 1;
-  } catch (const granular::Error& e) {
-    if (granular::cli::prints_errors()) std::fprintf(stderr, "error: %s\n", e.what());
-    return 1;
-  } catch (const std::bad_alloc&) {
+  } catch (const granular::cli::ErrorReported& reported) {
+    return reported.status;
+  } catch (...) {
     if (granular::cli::prints_errors())
-      std::fprintf(stderr, "error: out of memory (an allocation failed outside the checked grid allocations)\n");
-    return 1;
-  } catch (const std::exception& e) {
-    if (granular::cli::prints_errors()) std::fprintf(stderr, "error: %s\n", e.what());
+      std::fprintf(stderr, "error: %s\n", granular::cli::error_text(std::current_exception()).c_str());
     return 1;
   }
   return 0;
