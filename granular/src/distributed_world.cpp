@@ -245,10 +245,16 @@ std::uint64_t DistributedWorld::hash() {
 }
 
 MaterialCounts DistributedWorld::count() {
-  MaterialCounts mine{};
-  for_each_owned_chunk([&](int, int, std::span<const std::uint8_t> bytes) {
-    for (const std::uint8_t b : bytes) ++mine[cell_material(b)];
-  });
+  // The slab World's own count (a device reduction on a GPU) less its halos' cells, which are read:
+  // the halo layers, not the owned ones, come through host memory.
+  MaterialCounts mine = slab_->count();
+  std::vector<std::uint8_t> halo;
+  for (const auto& [z0, z1] : {std::pair{slab_range_.local_z0, slab_range_.z0}, std::pair{slab_range_.z1, slab_range_.local_z1}}) {
+    halo.resize(std::size_t(z1 - z0) * layer_bytes(layout_.size()));
+    if (halo.empty()) continue;
+    read_layers(z0, z1, halo);
+    for (const std::uint8_t b : halo) --mine[cell_material(b)];
+  }
   const std::vector<std::uint64_t> sum = all_sum(comm_, mine);
   MaterialCounts out{};
   std::copy(sum.begin(), sum.end(), out.begin());

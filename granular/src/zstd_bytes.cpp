@@ -123,6 +123,12 @@ std::uint64_t zstd_decompress_range(std::istream& in, std::uint64_t packed, bool
   std::vector<std::uint8_t> input(1 << 20), output(ZSTD_DStreamOutSize());
   std::uint64_t read = 0, produced = 0;
   std::size_t frames_ended = 0, last = 1;  // last: what the last call returned (0: a frame ended)
+  // Keeps the part of the `bytes` just decompressed into `output` that lies in the kept range.
+  const auto keep_output = [&](std::size_t bytes) {
+    const std::uint64_t from = std::max(produced, keep_at), to = std::min(produced + bytes, keep_at + keep.size());
+    if (from < to) std::copy_n(output.data() + (from - produced), to - from, keep.data() + (from - keep_at));
+    produced += bytes;
+  };
   try {
     while (read < packed) {
       const std::size_t n = std::size_t(std::min<std::uint64_t>(input.size(), packed - read));
@@ -137,10 +143,7 @@ std::uint64_t zstd_decompress_range(std::istream& in, std::uint64_t packed, bool
         last = ZSTD_decompressStream(d, &dst, &src);
         if (ZSTD_isError(last)) throw ParseError(what + ": the zstd data is damaged: " + ZSTD_getErrorName(last));
         if (last == 0) ++frames_ended;
-        // The part of this output inside the kept range.
-        const std::uint64_t from = std::max(produced, keep_at), to = std::min(produced + dst.pos, keep_at + keep.size());
-        if (from < to) std::copy_n(output.data() + (from - produced), to - from, keep.data() + (from - keep_at));
-        produced += dst.pos;
+        keep_output(dst.pos);
       }
     }
     // Flush what the last input left in the decoder.
@@ -149,9 +152,7 @@ std::uint64_t zstd_decompress_range(std::istream& in, std::uint64_t packed, bool
       last = ZSTD_decompressStream(d, &dst, &none);
       if (ZSTD_isError(last)) throw ParseError(what + ": the zstd data is damaged: " + ZSTD_getErrorName(last));
       if (dst.pos == 0 && last != 0) throw ParseError(what + ": the zstd data is cut short inside a frame");
-      const std::uint64_t from = std::max(produced, keep_at), to = std::min(produced + dst.pos, keep_at + keep.size());
-      if (from < to) std::copy_n(output.data() + (from - produced), to - from, keep.data() + (from - keep_at));
-      produced += dst.pos;
+      keep_output(dst.pos);
       if (last == 0) ++frames_ended;
     }
   } catch (...) {
