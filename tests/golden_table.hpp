@@ -12,7 +12,7 @@
 ///
 /// Besides the shipped scenes (sand and solid only), one scene of every material, built here
 /// (all_materials_pool, tests/reference/material_scenes.hpp), is pinned under the default rules
-/// (inertial-24) and under isotropic: its values were taken where the plain per-block loop reaches the
+/// (inertial-24), under its columns lever (inertial-24-columns) and under isotropic: its values were taken where the plain per-block loop reaches the
 /// same hash (test_golden.cpp checks that on every run).
 
 #include <cstdint>
@@ -64,8 +64,13 @@ inline constexpr GoldenCase kGoldenCases[] = {
     {"inertial-24", "hourglass", 48, 64, 0xb08b704bab29288full},
     {"inertial-24", "silo", 32, 64, 0xf6a204e1d1dff6a1ull},
     {"inertial-24", "column", 32, 64, 0x859b206d9050e052ull},
+    {"inertial-24-columns", "bowl", 32, 64, 0xfc11ee72071660adull},
+    {"inertial-24-columns", "hourglass", 48, 64, 0xa6cc5cf07de05663ull},
+    {"inertial-24-columns", "silo", 32, 64, 0x85e391cf34a7223cull},
+    {"inertial-24-columns", "column", 32, 64, 0xf3b8bd34da7544ebull},
     {"isotropic", kAllMaterialsScene, 32, 64, 0x1c7ef40c215698ddull},
     {"inertial-24", kAllMaterialsScene, 32, 64, 0x2e00f47e4960e98eull},
+    {"inertial-24-columns", kAllMaterialsScene, 32, 64, 0xbc4aa19320f5bd2bull},
 };
 
 /// The initial grid of a golden case: its shipped scene built at its N (the scene of every material

@@ -50,7 +50,11 @@ TEST_CASE("rule set: a preset is a value whose material table a game may change"
   const RuleSet inertial = preset("inertial-24");
   CHECK(inertial.motion.substeps == 24);
   CHECK(inertial.materials[2].grain.roll_cost == 160);
-  CHECK(rule_preset_names().size() == 5);
+  CHECK_FALSE(inertial.motion.columns);
+  const RuleSet columns = preset("inertial-24-columns");
+  CHECK(columns.motion.columns);
+  CHECK(columns.motion.substeps == 24);
+  CHECK(rule_preset_names().size() == 6);
   for (const auto& name : rule_preset_names()) CHECK(preset(name).name == name);
 }
 

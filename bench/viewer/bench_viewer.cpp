@@ -59,6 +59,7 @@ int main(int argc, char** argv) {
   app.add_option("--scene", choice.scene, "scene");
   app.add_option("--size", choice.size, "scene size parameter N");
   app.add_option("--backend", choice.backend, "auto, cpu or cuda");
+  app.add_option("--rules", choice.rules, "rule-set preset (default: the library's, " + choice.rules + ")");
   app.add_option("--threads", choice.threads, "CPU threads (0: all)");
   app.add_option("--width", width, "image width");
   app.add_option("--height", height, "image height");
@@ -189,8 +190,9 @@ int main(int argc, char** argv) {
     }
     const std::string rate = real_time ? "real time (at most " + std::to_string(ticks) + " ticks/frame)"
                                        : std::to_string(ticks) + " ticks/frame";
-    std::printf("device %s, backend %s, cells %s, scene %s N=%d, %dx%d, %s, %d frames after tick %llu\n",
-                context.device_name().c_str(), backend.c_str(), cells_path.c_str(), choice.scene.c_str(), choice.size, width,
+    std::printf("device %s, backend %s, cells %s, rules %s, scene %s N=%d, %dx%d, %s, %d frames after tick %llu\n",
+                context.device_name().c_str(), backend.c_str(), cells_path.c_str(), choice.rules.c_str(), choice.scene.c_str(),
+                choice.size, width,
                 height, rate.c_str(), frames, static_cast<unsigned long long>(skip_ticks));
     std::printf("%-9s %8s %9s %8s %9s %10s %9s %8s %9s %7s\n", "renderer", "fps", "frame_ms", "sim_ms", "record_ms",
                 "upload_ms", "build_ms", "draw_ms", "rebuilt", "ticks");
@@ -202,11 +204,11 @@ int main(int argc, char** argv) {
       std::ofstream out(csv, std::ios::app);
       if (!out) throw std::runtime_error("cannot write " + csv);
       if (fresh)
-        out << "device,backend,cells,scene,n,width,height,ticks_per_frame,skip_ticks,frames,renderer,fps,frame_ms,sim_ms,record_ms,gpu_upload_ms,"
+        out << "device,backend,cells,rules,scene,n,width,height,ticks_per_frame,skip_ticks,frames,renderer,fps,frame_ms,sim_ms,record_ms,gpu_upload_ms,"
                "gpu_build_ms,gpu_draw_ms,bricks_rebuilt_per_frame,ticks_stepped_per_frame\n";
       for (const Row& r : rows)
-        out << '"' << context.device_name() << "\",\"" << backend << "\"," << cells_path << ',' << choice.scene << ',' << choice.size << ',' << width
-            << ',' << height << ',' << ticks << ',' << skip_ticks << ',' << frames << ',' << r.renderer << ',' << r.fps << ',' << r.frame_ms << ','
+        out << '"' << context.device_name() << "\",\"" << backend << "\"," << cells_path << ',' << choice.rules << ',' << choice.scene << ',' << choice.size << ','
+            << width << ',' << height << ',' << ticks << ',' << skip_ticks << ',' << frames << ',' << r.renderer << ',' << r.fps << ',' << r.frame_ms << ','
             << r.sim_ms << ',' << r.record_ms << ',' << r.upload_ms << ',' << r.build_ms << ',' << r.draw_ms << ','
             << r.bricks_rebuilt << ',' << r.ticks_per_frame << '\n';
     }

@@ -45,9 +45,10 @@ struct PresetEntry {
   bool random_symmetry;
   bool random_axis_order;
   int substeps;  ///< MotionParams::substeps (1: no motion model)
+  bool columns = false;  ///< MotionParams::columns
 };
 
-constexpr std::array<PresetEntry, 5> kPresets = {{
+constexpr std::array<PresetEntry, 6> kPresets = {{
     {"paper", "gravity then flow, fixed preference order (the paper's rules)", 1, false, false, 1},
     {"isotropic",
      "the paper's rules under a random horizontal symmetry per block and tick and a random offset order per cycle", 2,
@@ -60,6 +61,9 @@ constexpr std::array<PresetEntry, 5> kPresets = {{
     {"inertial-24",
      "inertial with 24 sub-steps per tick: a top speed of 23 cells per tick instead of 15, for 1.5 times the cost", 1,
      true, true, 24},
+    {"inertial-24-columns",
+     "inertial-24 with grains in free fall falling as columns: a released block falls as one train of grains", 1, true,
+     true, 24, true},
 }};
 
 RuleSet make_preset(const PresetEntry& e) {
@@ -70,6 +74,7 @@ RuleSet make_preset(const PresetEntry& e) {
   r.random_symmetry = e.random_symmetry;
   r.random_axis_order = e.random_axis_order;
   r.motion.substeps = e.substeps;
+  r.motion.columns = e.columns;
   r.materials = default_materials(r.motion.enabled() ? kInertialGrain : GrainMotion{});
   r.transition = r.motion.enabled() ? &motion_transition : &paper_transition;
   r.device_rule = r.motion.enabled() ? "motion" : "paper";

@@ -90,13 +90,15 @@ void check_cells(std::span<const std::uint8_t> cells, Int3 size, const char* wha
 
 /// For each of the 256 cell bytes, what keeps a world under `rules` from holding it ("" when
 /// nothing): the motion state (bits 3..7) belongs to granular and liquid cells under a motion model,
-/// at a level up to MotionParams::max_level().
+/// at a level up to MotionParams::max_level(), and to wakes under MotionParams::columns.
 std::array<std::string, 256> cell_byte_problems(const RuleSet& rules) {
   const StepMaterials mats = step_materials(rules.materials);
   std::array<std::string, 256> problems;
   for (unsigned b = 0; b < 256; ++b) {
     const std::uint8_t m = cell_material(std::uint8_t(b));
     if ((b >> kMotionShift) == 0) continue;
+    if (rules.motion.columns && is_wake(std::uint8_t(b)) && cell_motion(std::uint8_t(b)) <= rules.motion.max_level())
+      continue;
     if (!rules.motion.enabled())
       problems[b] = "a motion state, but rules '" + rules.name + "' have no motion model";
     else if (!mats.is_faller(m))

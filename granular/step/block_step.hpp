@@ -128,8 +128,11 @@ struct MotionRule {
   static constexpr std::uint64_t kCellMask = ~std::uint64_t(0);
 
   /// A block of 8 equal faller bytes (granular or liquid) may change (sub-step 0 sets the phases of its
-  /// two layers apart); one of any other material never does (a gas has no denser fluid to pass).
-  constexpr bool steps_uniform(std::uint32_t byte) const { return sub.materials.is_faller(byte & kMaterialMask); }
+  /// two layers apart), and so may one of wakes (they are cleared); one of any other material never
+  /// does (a gas has no denser fluid to pass).
+  constexpr bool steps_uniform(std::uint32_t byte) const {
+    return sub.materials.is_faller(byte & kMaterialMask) || is_wake(std::uint8_t(byte));
+  }
 
   /// Bricks keep a reach (brick_reach.hpp): a sub-step leaves out a brick near which nothing can move.
   static constexpr bool kReach = true;
@@ -152,9 +155,12 @@ struct MotionRule {
   constexpr bool reach_restarts() const { return sub.substep == 0; }
 
   /// The block's bytes after the sub-step. After sub-step 1 only a top-layer grain at a motion level
-  /// of 2 or more takes part (motion_window), so a block without one is left at once.
+  /// of 2 or more takes part (motion_window), or one over a wake, so a block without either is left
+  /// at once.
   constexpr std::uint64_t step(std::uint64_t bytes, int x0, int y0, int z0) const {
-    if (sub.substep >= 2 && ((bytes >> 32) & 0x70707070u) == 0) return bytes;
+    if (sub.substep >= 2 && ((bytes >> 32) & 0x70707070u) == 0 &&
+        (!sub.columns || motion::wake_bytes(bytes & 0xFFFFFFFFull) == 0))
+      return bytes;
     return motion::step_block<ByteOpsOf<Platform>>(bytes, sub, x0, y0, z0,
                                                    [this](std::uint32_t k) { return Platform::load(table + k); });
   }

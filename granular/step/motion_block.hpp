@@ -8,6 +8,9 @@
 /// t uses the partition offset motion_offset(t, s): z flips every sub-step, and the sub-step in
 /// which grains at rest take part (s = t & 1) walks all 8 offsets over 8 ticks, as the one-step
 /// cycle does. Per block:
+///  0. Under MotionParams::columns, each wake in the bottom layer (the void a grain falling straight
+///     down left in the last sub-step) is cleared, and the faller above it takes part in this sub-step
+///     whatever its window, at the wake's level if that is higher than its own.
 ///  1. Each cell gets a code for the table from its material's behaviour (StepMaterials): void 0
 ///     (void and every gas), obstacle 1 (every static material), grain 2 (every granular and liquid
 ///     one: a faller). A faller in the top layer that is outside its window this sub-step (it is too slow
@@ -20,7 +23,8 @@
 ///     keys, mapped back to the block's own frame as a byte gather, with where each top cell went).
 ///  3. The 8 bytes are permuted with their motion levels, and each grain that took part updates
 ///     its level: one that fell straight down gains 1 in the first sub-step of its window when
-///     nothing is beside it in the top layer (gravity accelerates free grains, not a dense flow);
+///     nothing is beside it in the top layer (gravity accelerates free grains, not a dense flow),
+///     under MotionParams::columns when every grain of the top layer fell (a falling layer);
 ///     one that toppled down a step gains 1 with chance topple_gain / 256; one that was blocked
 ///     from below loses 1 with chance roll_cost / 256 if it rolled, kStuckCost / 256 if its block
 ///     had no room. So a moving grain runs on down slopes steeper than the balance of gains and
@@ -30,6 +34,8 @@
 ///     movers are the fallers that took part and stayed, and in sub-steps 0 and 1 the bottom-layer
 ///     gases (a gas rises at most 2 cells per tick and has no motion state); its draws come from
 ///     block_random(seed ^ fluid::kDrawSalt, t * substeps + s, x0, y0, z0).
+///  5. Under MotionParams::columns, each top cell whose grain fell straight down and that holds a
+///     plain void now becomes a wake: kWakeBit and the grain's level, for the next sub-step.
 /// A grain's window is motion_window(level) sub-steps from its phase: in sub-step 0 every grain
 /// notes its layer (top: phase 0, bottom: phase 1, where it is top one sub-step later), so a grain
 /// starting from rest falls 1, 4, 9, ... cells after 1, 2, 3 ticks whichever layer it starts in,
@@ -174,6 +180,7 @@ struct SubStep {
   std::uint64_t tick = 0;       ///< the tick
   int substep = 0;              ///< this sub-step, 0 .. substeps - 1
   int substeps = 2;             ///< MotionParams::substeps (the highest level follows from it)
+  bool columns = false;         ///< MotionParams::columns: grains in free fall fall as columns
   bool random_symmetry = false; ///< draw a horizontal symmetry per block
   StepMaterials materials;      ///< the rule set's material table (codes, grains, grain motion)
 
@@ -185,13 +192,12 @@ struct SubStep {
   std::uint64_t origin = 0;
 };
 
-/// The SubStep of sub-step `substep` of tick `tick` for a rule set's motion model.
 /// The SubStep of sub-step `substep` of tick `tick` for a rule set's motion model, in a world whose
 /// domain origin packs to `origin` (block_position_offset).
 constexpr SubStep sub_step(const MotionParams& motion, const StepMaterials& materials, std::uint64_t seed,
                            std::uint64_t tick, int substep, bool random_symmetry, std::uint64_t origin = 0) {
-  return SubStep{seed,      tick, substep, motion.substeps, random_symmetry, materials, block_seed_key(seed),
-                 block_seed_key(seed ^ fluid::kDrawSalt), origin};
+  return SubStep{seed,      tick, substep, motion.substeps, motion.columns, random_symmetry, materials,
+                 block_seed_key(seed), block_seed_key(seed ^ fluid::kDrawSalt), origin};
 }
 
 /// The phase bits of a block whose cells are all grains, as sub-step 0 sets them, at partition z
@@ -224,15 +230,23 @@ constexpr BlockKey rest_key(std::uint64_t bytes, int offset_z, const StepMateria
   return key;
 }
 
+/// 0x80 in each byte of `bytes` that is a wake (kWakeBit on a void: MotionParams::columns).
+constexpr std::uint64_t wake_bytes(std::uint64_t bytes) {
+  const std::uint64_t solid = ((bytes & (kEveryByte * kMaterialMask)) + kEveryByte * 0x7Fu) & (kEveryByte * 0x80u);
+  return bytes & (kEveryByte * kWakeBit) & ~solid;
+}
+
 /// The largest, over a block's 8 bytes, of 2 L + start for a faller at motion level L whose window
 /// starts at sub-step `start` (its phase bit): step_block lets such a faller take part in a sub-step
 /// s >= 2 only when s + 2 <= 2 L + start, so no cell of a block whose value is below s + 2 takes part
 /// in sub-step s, and the block stays as it is. Bytes without motion state (bits 3..7 zero: void,
-/// gases, static materials) add 0.
+/// gases, static materials) add 0; a wake adds 31, since the faller above it takes part in the
+/// next sub-step whatever its window (so the bricks around a moving column stay in the tick).
 constexpr std::uint32_t reach_of(std::uint64_t bytes) {
-  // Per byte 2 L + start (below 32), then the largest byte by halving: a >= b where the borrow-free
-  // (a | 0x80) - b keeps its 0x80 bit.
+  // Per byte 2 L + start (below 32), a wake 31, then the largest byte by halving: a >= b where the
+  // borrow-free (a | 0x80) - b keeps its 0x80 bit.
   std::uint64_t r = ((bytes >> 2) & (kEveryByte * 0x1Eu)) | ((bytes >> 7) & kEveryByte);
+  r |= (wake_bytes(bytes) >> 7) * 0x1Fu;
   for (int shift = 32; shift >= 8; shift /= 2) {
     const std::uint64_t other = r >> shift;
     const std::uint64_t keep = ((((r | (kEveryByte * 0x80u)) - other) >> 7) & kEveryByte) * 0xFFu;
@@ -251,6 +265,16 @@ constexpr std::uint64_t rest_block(const StepMaterials& materials, int offset_z)
   return 0;
 }
 
+/// `bytes` with the wakes of `wakes` (byte k: the wake top cell 4 + k left, 0 if none) written into the
+/// top cells they name that hold a plain void (a cell something else moved into keeps it).
+constexpr std::uint64_t leave_wakes(std::uint64_t bytes, std::uint32_t wakes) {
+  for (int k = 0; k < 4; ++k) {
+    const std::uint32_t wake = (wakes >> (8 * k)) & 0xFFu;
+    if (wake != 0 && ((bytes >> (32 + 8 * k)) & 0xFFu) == 0) bytes |= std::uint64_t(wake) << (32 + 8 * k);
+  }
+  return bytes;
+}
+
 /// The block's 8 bytes (cell i in byte i) after sub-step `m` (see the file comment). `load(k)`
 /// reads entry k of the motion entries (kMotionEntries; a plain read on the CPU, a read-only cache
 /// load on a GPU); ByteOps does the per-cell lookups and the byte gather (PortableByteOps, or a
@@ -262,6 +286,26 @@ constexpr std::uint64_t step_block(std::uint64_t bytes, const SubStep& m, int x0
   const int s = m.substep;
   const std::uint64_t props = ByteOps::lookup(mats.cell_props, bytes);  // byte i: material i's cell_props
   const std::uint64_t fallers = (props >> 2) & kEveryByte;              // 1 in each faller's byte
+  // Wakes (MotionParams::columns): a sub-step only ever finds them in its blocks' bottom layer, where
+  // the last one left them. Each is cleared; the faller above it follows (1 in byte k of `follow` for
+  // top cell 4 + k) and takes the wake's level if it is higher.
+  std::uint32_t follow = 0;
+  if (m.columns) {
+    const std::uint32_t wakes = std::uint32_t(wake_bytes(bytes));
+    if (wakes != 0) {
+      const std::uint32_t bottom = std::uint32_t(bytes);
+      follow = (wakes >> 7) & std::uint32_t(fallers >> 32);
+      bytes &= ~std::uint64_t((wakes >> 7) * 0xFFu);
+      for (int k = 0; k < 4; ++k) {
+        if (((follow >> (8 * k)) & 1u) == 0) continue;
+        const std::uint32_t wake_level = (bottom >> (8 * k + kMotionShift)) & kMotionLevelMask;
+        const std::uint64_t top_byte = (bytes >> (32 + 8 * k)) & 0xFFu;
+        if (((top_byte >> kMotionShift) & kMotionLevelMask) < wake_level)
+          bytes = (bytes & ~(std::uint64_t(kMotionLevelMask << kMotionShift) << (32 + 8 * k))) |
+                  (std::uint64_t(wake_level << kMotionShift) << (32 + 8 * k));
+      }
+    }
+  }
   if (s == 0) bytes = (bytes & ~(fallers << 7)) | ((fallers << 7) & rest_phase_bits(0));
   // Which cells take part (1 in their byte): top-layer fallers inside their window, and in sub-steps 0
   // and 1 bottom-layer gases. Only they ever start a move or change, so a block without one is left as
@@ -275,7 +319,7 @@ constexpr std::uint64_t step_block(std::uint64_t bytes, const SubStep& m, int x0
     const std::uint32_t start = (top >> 7) & 0x01010101u;
     const std::uint32_t reach = ((top >> 2) & 0x1E1E1E1Eu) | start;  // 2 L + start, at most 31 per byte
     const std::uint32_t late = ((reach + 0x01010101u * std::uint32_t(0x80 - (s + 2))) >> 7) & 0x01010101u;
-    part &= late | (s == 1 ? start : 0u);
+    part &= late | (s == 1 ? start : 0u) | follow;
   }
   const std::uint32_t gases = s < 2 && mats.gases != 0 ? std::uint32_t(props >> 3) & 0x01010101u : 0u;
   if ((part | gases) == 0) return bytes;
@@ -301,18 +345,24 @@ constexpr std::uint64_t step_block(std::uint64_t bytes, const SubStep& m, int x0
   occupied = (occupied | (occupied >> 1)) & 0x01010101u;
   occupied = (occupied | (occupied >> 7) | (occupied >> 14) | (occupied >> 21)) & 15u;
   const int max_level = MotionParams{.substeps = m.substeps}.max_level();
+  auto move_of = [&](int k) { return ((entry >> (3 + 8 * k)) & 1u) | ((entry >> (6 + 8 * k)) & 2u); };
+  // The top cells that fell straight down (bit k for cell 4 + k).
+  std::uint32_t fell = 0;
+  for (int k = 0; k < 4; ++k) fell |= (move_of(k) == kFell ? 1u : 0u) << k;
   std::uint32_t new_top = top;
+  std::uint32_t wakes_left = 0;  // byte k: the wake top cell 4 + k leaves if it fell, else 0
   for (int k = 0; k < 4; ++k) {
     if (((part >> (8 * k)) & 1u) == 0) continue;
     const std::uint32_t byte = (top >> (8 * k)) & 0xFFu;
     const std::uint32_t material = byte & kMaterialMask, phase = byte & kMotionPhaseBit;
     int level = int((byte >> kMotionShift) & kMotionLevelMask);
-    const std::uint32_t move = ((entry >> (3 + 8 * k)) & 1u) | ((entry >> (6 + 8 * k)) & 2u);
+    const std::uint32_t move = move_of(k);
     const int draw = int((random >> (40 + 6 * k)) & 63u) * 4;
     if (move == kFell) {
-      // Gravity accelerates a grain in free fall (nothing beside it in the top layer), in the first
-      // sub-step of its window.
-      if (s == (phase ? 1 : 0) && (occupied & ~(1u << k)) == 0) ++level;
+      // Gravity accelerates a grain in free fall, in the first sub-step of its window: one with nothing
+      // beside it in the top layer, or under MotionParams::columns one whose top layer all fell.
+      const std::uint32_t others = occupied & ~(1u << k);
+      if (s == (phase ? 1 : 0) && (others & ~(m.columns ? fell : 0u)) == 0) ++level;
     } else if (move == kToppled) {
       if (draw < int(mats.topple_gain[material])) ++level;
     } else if (level > 0 && draw < (move == kRolled ? int(mats.roll_cost[material]) : kStuckCost)) {
@@ -321,10 +371,11 @@ constexpr std::uint64_t step_block(std::uint64_t bytes, const SubStep& m, int x0
     if (move >= kFell && level > max_level) level = max_level;
     const std::uint32_t updated = material | (std::uint32_t(level) << kMotionShift) | phase;
     new_top = (new_top & ~(0xFFu << (8 * k))) | (updated << (8 * k));
+    if (move == kFell) wakes_left |= (kWakeBit | (std::uint32_t(level) << kMotionShift)) << (8 * k);
   }
   const std::uint64_t out = ByteOps::gather((bytes & 0xFFFFFFFFull) | (std::uint64_t(new_top) << 32), entry & 0x77777777u);
   // The fluid pass, on a block holding a liquid, a gas or two granular materials.
-  if (!mats.fluid_pass_applies(present_materials<ByteOps>(bytes))) return out;
+  if (!mats.fluid_pass_applies(present_materials<ByteOps>(bytes))) return m.columns ? leave_wakes(out, wakes_left) : out;
   // Its movers: the cells that took part and kept their place (nibble p of the entry is p).
   std::uint32_t stayed = (entry & 0x77777777u) ^ kStillEntry;
   stayed = ~(stayed | (stayed >> 1) | (stayed >> 2)) & 0x11111111u;
@@ -334,7 +385,8 @@ constexpr std::uint64_t step_block(std::uint64_t bytes, const SubStep& m, int x0
   std::uint32_t took_part = (part << 4) | gases;  // 1 in byte k for cell 4 + k, in byte j for cell j
   took_part = (took_part | (took_part >> 7) | (took_part >> 14) | (took_part >> 21)) & 0xFFu;
   const std::uint64_t draws = block_random_keyed(m.draw_key, m.step(), x0, y0, z0, m.origin);
-  return fluid::fluid_pass<true>(out, took_part & stayed, symmetry, draws, mats);
+  const std::uint64_t passed = fluid::fluid_pass<true>(out, took_part & stayed, symmetry, draws, mats);
+  return m.columns ? leave_wakes(passed, wakes_left) : passed;
 }
 
 }  // namespace granular::motion

@@ -134,6 +134,19 @@ bool alone_in_top_layer(const PlainRules& r, const BlockCells& cells, int i) {
 /// pass (fluid_block.hpp).
 BlockCells motion_block(const PlainRules& r, BlockCells cells, const BlockAt& b) {
   const int s = b.substep;
+  // Columns: a wake (a void with the wake bit) under a faller makes it a follower at the wake's level
+  // if that is higher; every wake is cleared.
+  bool follower[8] = {};
+  if (r.columns)
+    for (int i = 0; i < 4; ++i) {
+      if ((cells[i] & kMaterialMask) != 0 || (cells[i] & kWakeBit) == 0) continue;
+      const int wake_level = cell_motion(cells[i]);
+      cells[i] = 0;
+      if (!is_faller(r, cells[i + 4])) continue;
+      follower[i + 4] = true;
+      if (cell_motion(cells[i + 4]) < wake_level)
+        cells[i + 4] = std::uint8_t((cells[i + 4] & ~(kMotionLevelMask << kMotionShift)) | (wake_level << kMotionShift));
+    }
   // Sub-step 0: every faller notes its layer as its phase (top: 0, bottom: the phase bit).
   if (s == 0)
     for (int i = 0; i < 8; ++i)
@@ -160,7 +173,7 @@ BlockCells motion_block(const PlainRules& r, BlockCells cells, const BlockAt& b)
     if (code[i] != kCodeGrain) continue;
     const int level = cell_motion(cells[i]);
     const int window_start = (cells[i] & kMotionPhaseBit) ? 1 : 0;
-    const bool in_window = s >= window_start && s < window_start + motion_window(level);
+    const bool in_window = (s >= window_start && s < window_start + motion_window(level)) || follower[i];
     if (!in_window) {
       code[i] = kCodeObstacle;  // too slow to move in this sub-step
     } else {
@@ -168,7 +181,7 @@ BlockCells motion_block(const PlainRules& r, BlockCells cells, const BlockAt& b)
       if (level > 0 && roll_draw(i) < r.materials[cells[i] & kMaterialMask].roll_chance) code[i] = kCodeRoller;
     }
   }
-  if (!any_moving && !any_gas_turn) return cells;
+  if (!any_moving && !any_gas_turn) return cells;  // its wakes cleared
 
   const int symmetry = r.random_symmetry ? int(random & 7u) : 0;
   const auto map = horizontal_symmetry(symmetry);
@@ -185,7 +198,16 @@ BlockCells motion_block(const PlainRules& r, BlockCells cells, const BlockAt& b)
   }
 
   const int max_level = MotionParams{.substeps = r.substeps}.max_level();
+  // A top-layer grain "falls as part of its layer" when every other non-void top cell fell straight
+  // down too (columns), else only when it is alone in the top layer.
+  auto fell_straight = [&](int j) { return destination_of[j] < 4 && (destination_of[j] & 3) == (j & 3); };
+  auto layer_fell = [&](int i) {
+    for (int j = 4; j < 8; ++j)
+      if (j != i && flow_code(r, cells[j]) != kCodeVoid && !(moving[j] && fell_straight(j))) return false;
+    return true;
+  };
   BlockCells out{};
+  std::array<std::uint8_t, 8> wake_left{};  // per top cell: the wake it leaves (0: none)
   std::array<bool, 8> mover{};  // who may start a move in the fluid pass: took part and stayed
   for (int i = 0; i < 8; ++i) {
     std::uint8_t cell = cells[i];
@@ -197,7 +219,7 @@ BlockCells motion_block(const PlainRules& r, BlockCells cells, const BlockAt& b)
       if (to < 4) {
         const bool straight_down = (to & 3) == (i & 3);
         if (straight_down) {
-          if (s == (phase ? 1 : 0) && alone_in_top_layer(r, cells, i)) ++level;
+          if (s == (phase ? 1 : 0) && (r.columns ? layer_fell(i) : alone_in_top_layer(r, cells, i))) ++level;
         } else if (level_draw(i) < mat.topple_gain) {
           ++level;
         }
@@ -206,12 +228,16 @@ BlockCells motion_block(const PlainRules& r, BlockCells cells, const BlockAt& b)
         --level;
       }
       cell = std::uint8_t((cell & kMaterialMask) | (level << kMotionShift) | phase);
+      if (r.columns && fell_straight(i)) wake_left[i] = std::uint8_t(kWakeBit | (level << kMotionShift));
     }
     out[to] = cell;
     if (to == i && (moving[i] || gas_turn[i])) mover[i] = true;
   }
   const std::uint64_t draws = block_random(r.seed ^ kPlainFluidDrawSalt, step, b.x0, b.y0, b.z0);
-  return plain_fluid_pass(r, out, mover, symmetry, draws, true);
+  BlockCells after = plain_fluid_pass(r, out, mover, symmetry, draws, true);
+  for (int i = 4; i < 8; ++i)
+    if (wake_left[i] != 0 && after[i] == 0) after[i] = wake_left[i];
+  return after;
 }
 
 /// The partition offset of sub-step `substep` of `tick` with the motion model: z flips every
@@ -399,6 +425,7 @@ PlainRules plain_rules(const RuleSet& rules, const Lut& lut, std::uint64_t seed)
   plain.random_symmetry = rules.random_symmetry;
   plain.random_axis_order = rules.random_axis_order;
   plain.substeps = rules.motion.substeps;
+  plain.columns = rules.motion.columns;
   bool have_static = false, have_granular = false, have_liquid = false;
   for (int s = 0; s < kMaterialCount; ++s) {
     const MaterialDef& d = rules.materials[std::size_t(s)];

@@ -44,6 +44,7 @@ struct PlainRules {
   bool random_symmetry = false;    ///< draw a horizontal symmetry per block (RuleSet::random_symmetry)
   bool random_axis_order = false;  ///< draw the offset order per cycle (RuleSet::random_axis_order)
   int substeps = 1;                ///< Margolus sub-steps per tick; above 1 the motion model is on
+  bool columns = false;            ///< MotionParams::columns: wakes, followers, falling layers accelerate
   std::array<PlainMaterial, kMaterialCount> materials{};  ///< per state
   /// Without a motion model the Lut is indexed by materials: the state it is asked for in place of
   /// each gravity-and-flow code 0, 1, 2 (void, the first static and the first granular material),

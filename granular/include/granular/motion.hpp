@@ -3,7 +3,7 @@
 /// The motion model: inertia and rolling for grains, carried in each cell's high bits.
 ///
 /// A cell is one byte: bits 0..2 hold its material; for a grain, bits 3..6 hold its motion level and
-/// bit 7 its phase (0 for every other material). The level is a fall speed: a grain at level v may
+/// bit 7 its phase (0 for every other material, but for a void that is a wake: kWakeBit). The level is a fall speed: a grain at level v may
 /// move in a window of motion_window(v) of the tick's Margolus sub-steps, so it falls up to that
 /// many cells per tick; the phase says whether that window starts at sub-step 0 or 1 (the grain's
 /// layer in its block at sub-step 0, noted then).
@@ -28,6 +28,13 @@ inline constexpr std::uint8_t kMotionPhaseBit = 0x80;
 struct MotionParams {
   int substeps = 1;  ///< Margolus sub-steps per tick (1: no motion model; else a multiple of 8 up to 32,
                      ///< so that sparse stepping's 8-step cycles fit in whole ticks)
+  /// Grains in free fall fall as columns (a motion model's lever): the void a grain falling straight
+  /// down leaves is a *wake* for one sub-step (kWakeBit and the grain's level), and the faller above a
+  /// wake falls after it in the next sub-step, whatever its window, taking the wake's level if it is
+  /// higher; a top layer whose every grain falls straight down accelerates (without the lever, only a
+  /// grain alone in its block's top layer does). So a released block falls as a train of grains that
+  /// all move as far per tick as its front.
+  bool columns = false;
   /// True when the rule set uses the motion model.
   constexpr bool enabled() const { return substeps > 1; }
   /// The highest motion level: a grain at it falls motion_window(max_level()) <= substeps - 1 cells
@@ -43,6 +50,13 @@ struct GrainMotion {
   int roll_chance = 0;  ///< chance that a moving grain blocked from below is offered a roll to a level
                         ///< neighbour cell (0: never rolls)
 };
+
+/// The bit that, on a void cell (material 0), marks a wake (MotionParams::columns): the void a grain
+/// falling straight down left in the last sub-step, with that grain's level in the motion level bits.
+inline constexpr std::uint8_t kWakeBit = 0x80;
+
+/// True when `cell` is a wake (MotionParams::columns).
+constexpr bool is_wake(std::uint8_t cell) { return (cell & kMaterialMask) == 0 && (cell & kWakeBit) != 0; }
 
 /// The sub-steps a grain at motion level `level` takes part in: 1 at rest and at level 1, then
 /// 3, 5, 7, ... so that a grain falling from rest covers 1, 4, 9, ... cells after 1, 2, 3 ticks.

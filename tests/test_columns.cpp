@@ -1,0 +1,163 @@
+/// @file test_columns.cpp
+/// The motion model's columns lever (MotionParams::columns, preset inertial-24-columns): a released
+/// block falls in free-fall time as one train of grains, wakes never outlive their sub-step, a settled
+/// world under the lever sleeps, and worlds, snapshots and rule sets hold or refuse wake bytes as the
+/// lever says. (The plain loop and the golden pins cover the lever cell for cell: test_plain_step.cpp,
+/// test_golden.cpp.)
+
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "granular/errors.hpp"
+#include "granular/motion.hpp"
+#include "granular/rule_presets.hpp"
+#include "granular/scene.hpp"
+#include "granular/world.hpp"
+#include "granular/world_snapshot.hpp"
+#include "test_support.hpp"
+
+using namespace granular;
+using granular::test::check_has;
+using granular::test::error_of;
+using granular::test::test_def;
+
+namespace {
+
+WorldDef with_sparse(WorldDef def, bool sparse) {
+  def.sparse = sparse;
+  return def;
+}
+
+/// How a released cube of sand fell: ticks until its mean height dropped two side lengths, and its
+/// packing then (grains in its footprint between its 5th and 95th percentile layers over those cells).
+struct Fall {
+  int ticks = 0;
+  double packing = 0;
+};
+
+Fall drop_block(const char* rules, int side) {
+  const int margin = 4, clearance = 12 * side;
+  const Int3 size{side + 2 * margin, side + 2 * margin, clearance + side + 4};
+  World world(test_def(size, rules, 2, 5));
+  world.paint(Box{{margin, margin, clearance}, {margin + side, margin + side, clearance + side}}, Material::Granular);
+  auto layers = [&] {
+    std::vector<double> grains(std::size_t(size.z), 0);
+    const std::vector<std::uint8_t> cells = world.read_region(Box{{0, 0, 0}, size});
+    for (std::size_t i = 0; i < cells.size(); ++i)
+      if (cells[i] == to_cell(Material::Granular)) grains[i / std::size_t(size.x * size.y)] += 1;
+    return grains;
+  };
+  auto centre = [](const std::vector<double>& g) {
+    double sum = 0, n = 0;
+    for (std::size_t z = 0; z < g.size(); ++z) sum += g[z] * (double(z) + 0.5), n += g[z];
+    return sum / n;
+  };
+  const double start = centre(layers());
+  Fall f;
+  std::vector<double> g = layers();
+  while (start - centre(g) < 2.0 * side && f.ticks < 400) {
+    world.step(1);
+    ++f.ticks;
+    g = layers();
+  }
+  const double total = double(side) * side * side;
+  int lo = 0, hi = 0;
+  double below = 0;
+  for (int z = 0; z < size.z; ++z) {
+    below += g[std::size_t(z)];
+    if (below < 0.05 * total) lo = z + 1;
+    if (below < 0.95 * total) hi = z + 1;
+  }
+  double in = 0;
+  for (int z = lo; z <= hi; ++z) in += g[std::size_t(z)];
+  f.packing = in / (double(side) * side * (hi - lo + 1));
+  return f;
+}
+
+/// True when some cell byte of `world` is a wake.
+bool holds_wake(const World& world) {
+  for (const std::uint8_t c : world.capture().cells)
+    if (is_wake(c)) return true;
+  return false;
+}
+
+}  // namespace
+
+TEST_CASE("columns: a released block falls two of its heights in free-fall time and stays a block") {
+  const int side = 16;
+  const double g = 2.0;  // cells per tick^2 under the 24-sub-step presets (motion.hpp)
+  const double free_fall = std::sqrt(2 * 2.0 * side / g);
+  const Fall with = drop_block("inertial-24-columns", side);
+  const Fall without = drop_block("inertial-24", side);
+  CAPTURE(with.ticks);
+  CAPTURE(with.packing);
+  CAPTURE(without.ticks);
+  CAPTURE(without.packing);
+  // Each tick of the lever's fall is a free-fall tick: at most one tick more than g t^2 / 2 needs.
+  CHECK(with.ticks <= int(std::ceil(free_fall)) + 1);
+  // Without the lever the block peels off layer by layer: several times slower, and spread thin.
+  CHECK(without.ticks >= 3 * with.ticks);
+  CHECK(with.packing >= 0.4);
+  CHECK(with.packing >= 3 * without.packing);
+}
+
+TEST_CASE("columns: the bowl falls, settles and sleeps; sparse equals dense and no wake outlives its sub-step") {
+  const SceneInstance scene = instantiate(load_scene(find_scene("bowl")), 40);
+  World dense(with_sparse(test_def(scene.grid.size(), "inertial-24-columns", 2, 9), false), scene.grid);
+  World sparse(with_sparse(test_def(scene.grid.size(), "inertial-24-columns", 2, 9), true), scene.grid);
+  const MaterialCounts counts = dense.count();
+  bool saw_wake = false;
+  for (int call = 0; call < 40; ++call) {
+    const int ticks = 1 + call % 7;  // odd and even calls, across cycles
+    dense.step(ticks);
+    sparse.step(ticks);
+    REQUIRE(sparse.hash() == dense.hash());
+    saw_wake = saw_wake || holds_wake(dense);
+  }
+  CHECK(saw_wake);  // the lever was at work
+  sparse.step(3000);
+  dense.step(3000);
+  CHECK(sparse.hash() == dense.hash());
+  CHECK(dense.count() == counts);
+  CHECK_FALSE(holds_wake(dense));
+  sparse.step(16);
+  CHECK(sparse.activity().active_bricks == 0);  // a settled world under the lever costs nothing
+}
+
+TEST_CASE("columns: a snapshot taken while wakes are in the cells continues as the world that never stopped") {
+  const SceneInstance scene = instantiate(load_scene(find_scene("bowl")), 32);
+  const WorldDef def = test_def(scene.grid.size(), "inertial-24-columns", 2, 3);
+  World original(def, scene.grid);
+  WorldSnapshot captured;
+  for (int tick = 0; tick < 60; ++tick) {
+    original.step(1);
+    captured = original.capture();
+    if (std::any_of(captured.cells.begin(), captured.cells.end(), [](std::uint8_t c) { return is_wake(c); }))
+      break;
+  }
+  REQUIRE(std::any_of(captured.cells.begin(), captured.cells.end(), [](std::uint8_t c) { return is_wake(c); }));
+  World continued(def, captured);
+  CHECK(continued.hash() == original.hash());
+  original.step(30);
+  continued.step(30);
+  CHECK(continued.hash() == original.hash());
+
+  // A wake is a byte only the lever's rules hold.
+  WorldDef other = def;
+  other.rules = "inertial-24";
+  captured.rules = "inertial-24";
+  captured.rule_fingerprint = rule_fingerprint(preset("inertial-24"));
+  check_has(error_of<InvalidArgument>([&] { World w(other, captured); }), {"holds the byte", "neither granular nor liquid"});
+}
+
+TEST_CASE("columns: the lever needs a motion model; its rule sets fingerprint apart") {
+  RuleSet rules = preset("inertial-24");
+  const std::uint64_t off = rule_fingerprint(rules);
+  rules.motion.columns = true;
+  CHECK(rule_fingerprint(rules) != off);
+  RuleSet one_step = preset("isotropic");
+  one_step.motion.columns = true;
+  check_has(error_of<RuleError>([&] { validate_rule_set(one_step); }), {"RuleSet::motion.columns = true", "substeps = 1"});
+}
