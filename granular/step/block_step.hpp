@@ -111,8 +111,8 @@ struct OneStepRule {
   }
 };
 
-/// One sub-step of a rule set's motion model.
-template <class Platform>
+/// One sub-step of a rule set's motion model; `kColumns` is its MotionParams::columns.
+template <class Platform, bool kColumns>
 struct MotionRule {
   const motion::MotionEntry* table;///< the motion entries (motion_table.hpp)
   const std::uint64_t* inert;   ///< inert-key bits (sparse stepping)
@@ -131,7 +131,7 @@ struct MotionRule {
   /// two layers apart), and so may one of wakes (they are cleared); one of any other material never
   /// does (a gas has no denser fluid to pass).
   constexpr bool steps_uniform(std::uint32_t byte) const {
-    return sub.materials.is_faller(byte & kMaterialMask) || is_wake(std::uint8_t(byte));
+    return sub.materials.is_faller(byte & kMaterialMask) || (kColumns && is_wake(std::uint8_t(byte)));
   }
 
   /// Bricks keep a reach (brick_reach.hpp): a sub-step leaves out a brick near which nothing can move.
@@ -141,7 +141,7 @@ struct MotionRule {
   /// (motion::reach_of): every block in sub-steps 0 and 1, where every brick is stepped, and later a
   /// block that changed (a faller that did not move, and whose level did not change, is counted already).
   constexpr std::uint32_t reach_added(std::uint64_t before, std::uint64_t after) const {
-    return sub.substep < 2 || before != after ? motion::reach_of(after) : 0u;
+    return sub.substep < 2 || before != after ? motion::reach_of(after, kColumns) : 0u;
   }
 
   /// True in a sub-step where a brick may be idle (from sub-step 2 on: every brick steps in 0 and 1).
@@ -159,10 +159,10 @@ struct MotionRule {
   /// at once.
   constexpr std::uint64_t step(std::uint64_t bytes, int x0, int y0, int z0) const {
     if (sub.substep >= 2 && ((bytes >> 32) & 0x70707070u) == 0 &&
-        (!sub.columns || motion::wake_bytes(bytes & 0xFFFFFFFFull) == 0))
+        (!kColumns || motion::wake_bytes(bytes & 0xFFFFFFFFull) == 0))
       return bytes;
-    return motion::step_block<ByteOpsOf<Platform>>(bytes, sub, x0, y0, z0,
-                                                   [this](std::uint32_t k) { return Platform::load(table + k); });
+    return motion::step_block_as<kColumns, ByteOpsOf<Platform>>(bytes, sub, x0, y0, z0,
+                                                             [this](std::uint32_t k) { return Platform::load(table + k); });
   }
 
   /// True when the block stays as it is in every sub-step whatever the draws (motion::rest_key, and
@@ -215,8 +215,10 @@ constexpr Rule make_rule(const StepRules& r, std::uint64_t n) {
 /// caller's path per Rule type.
 template <class Platform, class Fn>
 constexpr void with_rule_type(const StepRules& r, Fn&& fn) {
-  if (r.motion.enabled())
-    fn(static_cast<MotionRule<Platform>*>(nullptr));
+  if (r.motion.enabled() && r.motion.columns)
+    fn(static_cast<MotionRule<Platform, true>*>(nullptr));
+  else if (r.motion.enabled())
+    fn(static_cast<MotionRule<Platform, false>*>(nullptr));
   else if (r.random_symmetry)
     fn(static_cast<OneStepRule<true, Platform>*>(nullptr));
   else

@@ -240,13 +240,14 @@ constexpr std::uint64_t wake_bytes(std::uint64_t bytes) {
 /// starts at sub-step `start` (its phase bit): step_block lets such a faller take part in a sub-step
 /// s >= 2 only when s + 2 <= 2 L + start, so no cell of a block whose value is below s + 2 takes part
 /// in sub-step s, and the block stays as it is. Bytes without motion state (bits 3..7 zero: void,
-/// gases, static materials) add 0; a wake adds 31, since the faller above it takes part in the
-/// next sub-step whatever its window (so the bricks around a moving column stay in the tick).
-constexpr std::uint32_t reach_of(std::uint64_t bytes) {
+/// gases, static materials) add 0. Under MotionParams::columns a wake adds 31 (with_wakes): the
+/// faller above it takes part in the next sub-step whatever its window, so the bricks around a
+/// moving column stay in the tick.
+constexpr std::uint32_t reach_of(std::uint64_t bytes, bool with_wakes = false) {
   // Per byte 2 L + start (below 32), a wake 31, then the largest byte by halving: a >= b where the
   // borrow-free (a | 0x80) - b keeps its 0x80 bit.
   std::uint64_t r = ((bytes >> 2) & (kEveryByte * 0x1Eu)) | ((bytes >> 7) & kEveryByte);
-  r |= (wake_bytes(bytes) >> 7) * 0x1Fu;
+  if (with_wakes) r |= (wake_bytes(bytes) >> 7) * 0x1Fu;
   for (int shift = 32; shift >= 8; shift /= 2) {
     const std::uint64_t other = r >> shift;
     const std::uint64_t keep = ((((r | (kEveryByte * 0x80u)) - other) >> 7) & kEveryByte) * 0xFFu;
@@ -280,8 +281,10 @@ constexpr std::uint64_t leave_wakes(std::uint64_t bytes, std::uint32_t wakes) {
 /// load on a GPU); ByteOps does the per-cell lookups and the byte gather (PortableByteOps, or a
 /// Platform's own). The cells are worked on as words of 8 bytes, 4 at a time per layer where the
 /// step's conditions allow it, which is what keeps a block's instructions few on a GPU.
-template <class ByteOps = PortableByteOps, class Load>
-constexpr std::uint64_t step_block(std::uint64_t bytes, const SubStep& m, int x0, int y0, int z0, Load load) {
+/// `kColumns` must be m.columns: the lever is compiled in or out, so a kernel without it keeps its
+/// registers and instructions (step_block picks it at run time, for callers that do not care).
+template <bool kColumns, class ByteOps = PortableByteOps, class Load>
+constexpr std::uint64_t step_block_as(std::uint64_t bytes, const SubStep& m, int x0, int y0, int z0, Load load) {
   const StepMaterials& mats = m.materials;
   const int s = m.substep;
   const std::uint64_t props = ByteOps::lookup(mats.cell_props, bytes);  // byte i: material i's cell_props
@@ -290,7 +293,7 @@ constexpr std::uint64_t step_block(std::uint64_t bytes, const SubStep& m, int x0
   // the last one left them. Each is cleared; the faller above it follows (1 in byte k of `follow` for
   // top cell 4 + k) and takes the wake's level if it is higher.
   std::uint32_t follow = 0;
-  if (m.columns) {
+  if constexpr (kColumns) {
     const std::uint32_t wakes = std::uint32_t(wake_bytes(bytes));
     if (wakes != 0) {
       const std::uint32_t bottom = std::uint32_t(bytes);
@@ -346,9 +349,10 @@ constexpr std::uint64_t step_block(std::uint64_t bytes, const SubStep& m, int x0
   occupied = (occupied | (occupied >> 7) | (occupied >> 14) | (occupied >> 21)) & 15u;
   const int max_level = MotionParams{.substeps = m.substeps}.max_level();
   auto move_of = [&](int k) { return ((entry >> (3 + 8 * k)) & 1u) | ((entry >> (6 + 8 * k)) & 2u); };
-  // The top cells that fell straight down (bit k for cell 4 + k).
+  // Under MotionParams::columns, the top cells that fell straight down (bit k for cell 4 + k).
   std::uint32_t fell = 0;
-  for (int k = 0; k < 4; ++k) fell |= (move_of(k) == kFell ? 1u : 0u) << k;
+  if constexpr (kColumns)
+    for (int k = 0; k < 4; ++k) fell |= (move_of(k) == kFell ? 1u : 0u) << k;
   std::uint32_t new_top = top;
   std::uint32_t wakes_left = 0;  // byte k: the wake top cell 4 + k leaves if it fell, else 0
   for (int k = 0; k < 4; ++k) {
@@ -362,7 +366,7 @@ constexpr std::uint64_t step_block(std::uint64_t bytes, const SubStep& m, int x0
       // Gravity accelerates a grain in free fall, in the first sub-step of its window: one with nothing
       // beside it in the top layer, or under MotionParams::columns one whose top layer all fell.
       const std::uint32_t others = occupied & ~(1u << k);
-      if (s == (phase ? 1 : 0) && (others & ~(m.columns ? fell : 0u)) == 0) ++level;
+      if (s == (phase ? 1 : 0) && (others & ~fell) == 0) ++level;
     } else if (move == kToppled) {
       if (draw < int(mats.topple_gain[material])) ++level;
     } else if (level > 0 && draw < (move == kRolled ? int(mats.roll_cost[material]) : kStuckCost)) {
@@ -371,11 +375,11 @@ constexpr std::uint64_t step_block(std::uint64_t bytes, const SubStep& m, int x0
     if (move >= kFell && level > max_level) level = max_level;
     const std::uint32_t updated = material | (std::uint32_t(level) << kMotionShift) | phase;
     new_top = (new_top & ~(0xFFu << (8 * k))) | (updated << (8 * k));
-    if (move == kFell) wakes_left |= (kWakeBit | (std::uint32_t(level) << kMotionShift)) << (8 * k);
+    if (kColumns && move == kFell) wakes_left |= (kWakeBit | (std::uint32_t(level) << kMotionShift)) << (8 * k);
   }
   const std::uint64_t out = ByteOps::gather((bytes & 0xFFFFFFFFull) | (std::uint64_t(new_top) << 32), entry & 0x77777777u);
   // The fluid pass, on a block holding a liquid, a gas or two granular materials.
-  if (!mats.fluid_pass_applies(present_materials<ByteOps>(bytes))) return m.columns ? leave_wakes(out, wakes_left) : out;
+  if (!mats.fluid_pass_applies(present_materials<ByteOps>(bytes))) return kColumns ? leave_wakes(out, wakes_left) : out;
   // Its movers: the cells that took part and kept their place (nibble p of the entry is p).
   std::uint32_t stayed = (entry & 0x77777777u) ^ kStillEntry;
   stayed = ~(stayed | (stayed >> 1) | (stayed >> 2)) & 0x11111111u;
@@ -386,7 +390,14 @@ constexpr std::uint64_t step_block(std::uint64_t bytes, const SubStep& m, int x0
   took_part = (took_part | (took_part >> 7) | (took_part >> 14) | (took_part >> 21)) & 0xFFu;
   const std::uint64_t draws = block_random_keyed(m.draw_key, m.step(), x0, y0, z0, m.origin);
   const std::uint64_t passed = fluid::fluid_pass<true>(out, took_part & stayed, symmetry, draws, mats);
-  return m.columns ? leave_wakes(passed, wakes_left) : passed;
+  return kColumns ? leave_wakes(passed, wakes_left) : passed;
+}
+
+/// step_block_as with the lever chosen by m.columns.
+template <class ByteOps = PortableByteOps, class Load>
+constexpr std::uint64_t step_block(std::uint64_t bytes, const SubStep& m, int x0, int y0, int z0, Load load) {
+  return m.columns ? step_block_as<true, ByteOps>(bytes, m, x0, y0, z0, load)
+                   : step_block_as<false, ByteOps>(bytes, m, x0, y0, z0, load);
 }
 
 }  // namespace granular::motion
