@@ -241,11 +241,19 @@ def plot_test(name, configurations, out_dir):
             ax.ticklabel_format(useOffset=False, axis="y")
         else:
             ax.ticklabel_format(useOffset=False, axis="y")
-        ax.legend(fontsize=6)
+    # The legends go below the axes, in two columns: with every configuration a legend outgrows its
+    # panel. The figure grows by the tallest legend; the axes keep their size.
+    entries = max(len(ax.get_legend_handles_labels()[1]) for ax in axes[0])
+    rows = (entries + 1) // 2
+    axes_h, legend_h = 3.0, 0.12 * rows + 0.5
+    fig.set_size_inches(5.2 * len(panels), axes_h + legend_h + 0.6)
+    height = axes_h + legend_h + 0.6
+    fig.subplots_adjust(left=0.06, right=0.98, wspace=0.3, top=1 - 0.45 / height, bottom=(legend_h + 0.15) / height)
+    for ax in axes[0]:
+        ax.legend(fontsize=6, loc="upper center", bbox_to_anchor=(0.5, -0.5 / axes_h), ncol=2, frameon=False)
     fig.suptitle(title, fontsize=10)
-    fig.tight_layout()
     path = os.path.join(out_dir, f"accuracy_{name}.png")
-    fig.savefig(path, dpi=72)
+    fig.savefig(path, dpi=72, bbox_inches="tight")
     plt.close(fig)
     return path
 
