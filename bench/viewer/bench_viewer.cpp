@@ -192,8 +192,7 @@ int main(int argc, char** argv) {
                                        : std::to_string(ticks) + " ticks/frame";
     std::printf("device %s, backend %s, cells %s, rules %s, scene %s N=%d, %dx%d, %s, %d frames after tick %llu\n",
                 context.device_name().c_str(), backend.c_str(), cells_path.c_str(), choice.rules.c_str(), choice.scene.c_str(),
-                choice.size, width,
-                height, rate.c_str(), frames, static_cast<unsigned long long>(skip_ticks));
+                choice.size, width, height, rate.c_str(), frames, static_cast<unsigned long long>(skip_ticks));
     std::printf("%-9s %8s %9s %8s %9s %10s %9s %8s %9s %7s\n", "renderer", "fps", "frame_ms", "sim_ms", "record_ms",
                 "upload_ms", "build_ms", "draw_ms", "rebuilt", "ticks");
     for (const Row& r : rows)

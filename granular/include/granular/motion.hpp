@@ -3,10 +3,10 @@
 /// The motion model: inertia and rolling for grains, carried in each cell's high bits.
 ///
 /// A cell is one byte: bits 0..2 hold its material; for a grain, bits 3..6 hold its motion level and
-/// bit 7 its phase (0 for every other material, but for a void that is a wake: kWakeBit). The level is a fall speed: a grain at level v may
-/// move in a window of motion_window(v) of the tick's Margolus sub-steps, so it falls up to that
-/// many cells per tick; the phase says whether that window starts at sub-step 0 or 1 (the grain's
-/// layer in its block at sub-step 0, noted then).
+/// bit 7 its phase (0 for every other material, but for a void that is a wake: kWakeBit). The level
+/// is a fall speed: a grain at level v may move in a window of motion_window(v) of the tick's
+/// Margolus sub-steps, so it falls up to that many cells per tick; the phase says whether that window
+/// starts at sub-step 0 or 1 (the grain's layer in its block at sub-step 0, noted then).
 /// Every block transition is a permutation, so a grain's level travels with it. World::read_region,
 /// snapshot() and count() report materials only; World::hash() covers the whole byte.
 
