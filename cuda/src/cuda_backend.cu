@@ -27,6 +27,7 @@
 #include "block_walk.cuh"
 #include "pair_kernel.cuh"
 #include "pinned_counters.cuh"
+#include "rule_launch.cuh"
 #include "reduce_kernels.cuh"
 #include "sparse_kernel.cuh"
 #include "step/block_step.hpp"
@@ -317,7 +318,7 @@ class CudaBackend final : public Backend {
     // list from there.
     std::uint64_t resident = 1;
     with_rule_type<cuda::DevicePlatform>(step_rules_, [&](auto* tag) {
-      resident = cuda::sparse_resident_blocks<std::remove_pointer_t<decltype(tag)>>(device_.sm_count);
+      resident = cuda::RuleLaunch<std::remove_pointer_t<decltype(tag)>>::sparse_resident(device_.sm_count);
     });
     sparse_grid_ = unsigned(std::max<std::uint64_t>(1, std::min<std::uint64_t>(resident, total_bricks_)));
   }
@@ -364,6 +365,8 @@ class CudaBackend final : public Backend {
     const std::uint64_t last_tick = first_tick + std::uint64_t(ticks) - 1;
     const cuda::SparseParams sp = sparse_ ? sparse_params() : cuda::SparseParams{};
     const cuda::ActivityRecord record{bricks_, dirty_.data(), changed_.data()};
+    // Recording ticks note the sparse flags into `record`; the other modes note nothing.
+    const cuda::ActivityRecord* notes = mode == Mode::Recording ? &record : nullptr;
     if (mode != Mode::Dense) reset_counters();
     // Recording counts the awake list per run of ticks: `uncounted` ticks began since the last count.
     unsigned uncounted = 0;
@@ -391,7 +394,8 @@ class CudaBackend final : public Backend {
       const bool tick_start = n % substeps == 0;
       if (mode == Mode::Sparse) {
         cuda::with_device_step(step_rules_, n, [&](const auto& rule) {
-          cuda::launch_sparse(g, rule, sp, tick_start, tick_start && tick == last_tick, sparse_grid_, s);
+          cuda::RuleLaunch<std::decay_t<decltype(rule)>>::sparse(g, rule, sp, tick_start, tick_start && tick == last_tick,
+                                                                  sparse_grid_, s);
         });
         if ((n & 7u) == 7u) cuda::launch_end_cycle(sp, s);
         ++n;
@@ -401,17 +405,11 @@ class CudaBackend final : public Backend {
                         !(mode == Mode::Recording && (n & 7u) == 7u) && halo_ready();
       if (fuse) {
         cuda::with_device_step_pair(step_rules_, n, [&](const auto& a, const auto& b) {
-          if (mode == Mode::Recording)
-            cuda::launch_pair<cuda::OwnerNotes>(g, a, b, pair, static_cast<std::uint8_t*>(halo), record, s);
-          else
-            cuda::launch_pair<cuda::NoNotes>(g, a, b, pair, static_cast<std::uint8_t*>(halo), {}, s);
+          cuda::RuleLaunch<std::decay_t<decltype(a)>>::pair(g, a, b, pair, static_cast<std::uint8_t*>(halo), notes, s);
         });
       } else {
         cuda::with_device_step(step_rules_, n, [&](const auto& rule) {
-          if (mode == Mode::Recording)
-            cuda::launch_dense<cuda::OwnerNotes>(g, rule, shape_, record, s);
-          else
-            cuda::launch_dense<cuda::NoNotes>(g, rule, shape_, {}, s);
+          cuda::RuleLaunch<std::decay_t<decltype(rule)>>::dense(g, rule, shape_, notes, s);
         });
       }
       const std::uint64_t done = fuse ? 2 : 1;

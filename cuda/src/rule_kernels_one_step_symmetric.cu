@@ -1,0 +1,5 @@
+// The step kernels of the one-step rules with random symmetry: RuleLaunch (rule_launch.cuh)
+// instantiated for its Rule type.
+#include "rule_kernels.cuh"
+
+template struct granular::cuda::RuleLaunch<granular::OneStepRule<true, granular::cuda::DevicePlatform>>;
