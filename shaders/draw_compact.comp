@@ -1,12 +1,20 @@
 #version 460
-// Compacts a brick renderer's indirect draw commands to the bricks that draw something, in brick
-// order, so the draw pass issues one command per such brick instead of one per brick of the grid
-// (most bricks are empty or hidden air, and an empty command still costs the GPU's command
-// processor). The commands are two lists of pc.bricks.w commands each (opaque, then translucent);
-// workgroup g covers 256 commands of list g / G (G workgroups a list). Pass pc.grid.w == 0 counts
-// each workgroup's drawing commands; pass 1 writes them at their place in the compacted lists (the
-// sum of the workgroups before it in the list, then the exclusive scan within the workgroup), and
-// the last workgroup of a list writes the list's count for vkCmdDrawIndirectCount.
+// Compacts a brick renderer's indirect draw commands to the bricks that draw something, so the
+// draw pass issues one command per such brick instead of one per brick of the grid (most bricks are
+// empty or hidden air, and an empty command still costs the GPU's command processor), in an order
+// taken from the eye: the opaque list front to back, so the depth test rejects what nearer bricks
+// already cover before it is shaded; the translucent list back to front, so blending composes in
+// depth order. The commands are two lists of pc.bricks.w commands each (opaque, then translucent),
+// pc.bricks.xyz bricks per axis, pc.eye the eye in cells. Workgroup g covers 256 ranks of list
+// g / G (G workgroups a list). Pass pc.grid.w == 0 counts each workgroup's drawing commands; pass 1
+// writes them at their place in the compacted lists (the sum of the workgroups before it in the
+// list, then the exclusive scan within the workgroup), and the last workgroup of a list writes the
+// list's count for vkCmdDrawIndirectCount.
+//
+// The order: on each axis the bricks go by their distance (in bricks) from the eye's brick, and a
+// brick's rank is lexicographic in those distances (z, then y, then x). A brick that covers part of
+// another from the eye lies between them, so on every axis it is no farther from the eye's brick,
+// and it ranks first.
 layout(local_size_x = 256) in;
 #include "view.glsl"
 layout(std430, set = 0, binding = 0) readonly buffer Draws { uvec4 draws[]; };
@@ -17,14 +25,43 @@ layout(std430, set = 0, binding = 3) writeonly buffer DrawCounts { uint draw_cou
 shared uint scan[256];
 shared uint partial[256];
 
+/// The index on an axis of n bricks of the k-th brick by distance from brick e (e may lie outside
+/// 0..n-1, the eye being outside the grid): e, then alternately below and above it, then the rest of
+/// the longer side.
+int nearest_first(int k, int e, int n) {
+  if (e < 0) return k;
+  if (e >= n) return n - 1 - k;
+  const int both = min(e, n - 1 - e);
+  if (k <= 2 * both) return (k & 1) == 1 ? e - (k + 1) / 2 : e + k / 2;
+  const int beyond = k - both;
+  return e > n - 1 - e ? e - beyond : e + beyond;
+}
+
+/// Cells per brick edge (cells.glsl's kBrickSize; that file needs the cells, which this pass does
+/// not read).
+const float kBrickEdge = 16.0;
+
+/// The brick of rank `rank` front to back from the eye.
+uint brick_of_rank(uint rank) {
+  const ivec3 n = pc.bricks.xyz;
+  const ivec3 e = clamp(ivec3(floor(pc.eye.xyz / kBrickEdge)), ivec3(-1), n);
+  const int r = int(rank);
+  const int x = nearest_first(r % n.x, e.x, n.x);
+  const int y = nearest_first((r / n.x) % n.y, e.y, n.y);
+  const int z = nearest_first(r / (n.x * n.y), e.z, n.z);
+  return uint(x + n.x * (y + n.y * z));
+}
+
 void main() {
   const uint bricks = uint(pc.bricks.w);
   const uint groups = (bricks + 255u) / 256u;
   const uint list = gl_WorkGroupID.x / groups, group = gl_WorkGroupID.x % groups;
   const uint local = gl_LocalInvocationIndex;
-  const uint index = group * 256u + local;
-  const uint command = list * bricks + index;
-  const bool draws_something = index < bricks && draws[command].x > 0u && draws[command].y > 0u;
+  const uint rank = group * 256u + local;
+  // The translucent list is the opaque order reversed.
+  const uint brick = rank < bricks ? brick_of_rank(list == 0u ? rank : bricks - 1u - rank) : 0u;
+  const uint command = list * bricks + brick;
+  const bool draws_something = rank < bricks && draws[command].x > 0u && draws[command].y > 0u;
   scan[local] = draws_something ? 1u : 0u;
   barrier();
   // Inclusive scan of the flags (Hillis-Steele).

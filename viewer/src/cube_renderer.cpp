@@ -64,7 +64,10 @@ CubeRenderer::~CubeRenderer() = default;
 std::uint64_t CubeRenderer::prepare(VkCommandBuffer commands, const FrameView& view,
                                     std::span<const std::uint32_t> changed_bricks) {
   const std::uint32_t bricks = rebuild_.upload(view.slot, changed_bricks);
-  if (bricks == 0) return 0;
+  if (bricks == 0) {
+    compaction_.record(commands, view.raster, false);
+    return 0;
+  }
   // The previous frame's draw reads the instances and commands being rewritten.
   memory_barrier(commands, VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT,
                  VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT,
@@ -75,7 +78,7 @@ std::uint64_t CubeRenderer::prepare(VkCommandBuffer commands, const FrameView& v
   memory_barrier(commands, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                  VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT,
                  VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
-  compaction_.record(commands);
+  compaction_.record(commands, view.raster, true);
   return bricks;
 }
 

@@ -1,6 +1,8 @@
 #include "draw_compaction.hpp"
 
-#include "view_constants.hpp"
+#include <cmath>
+
+#include "granular/activity.hpp"
 #include "vulkan_context.hpp"
 
 namespace viewer {
@@ -32,8 +34,17 @@ DrawCompaction::DrawCompaction(const VulkanContext& context, const GpuBuffer& dr
   context.run_once([&](VkCommandBuffer commands) { vkCmdFillBuffer(commands, draw_counts_.buffer(), 0, VK_WHOLE_SIZE, 0); });
 }
 
-void DrawCompaction::record(VkCommandBuffer commands) const {
-  ViewConstants constants;
+void DrawCompaction::record(VkCommandBuffer commands, const ViewConstants& view, bool rebuilt) {
+  const std::array<int, 3> eye_brick{int(std::floor(view.eye.x / granular::kBrickSize)),
+                                     int(std::floor(view.eye.y / granular::kBrickSize)),
+                                     int(std::floor(view.eye.z / granular::kBrickSize))};
+  if (compacted_ && !rebuilt && eye_brick == eye_brick_) return;
+  eye_brick_ = eye_brick;
+  compacted_ = true;
+  // Earlier frames' draws read the compacted lists being rewritten.
+  memory_barrier(commands, VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT, VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT,
+                 VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+  ViewConstants constants = view;
   constants.bricks.w = int(bricks_);
   pass_.bind(commands, VK_PIPELINE_BIND_POINT_COMPUTE, sets_.set(0));
   for (int pass = 0; pass < 2; ++pass) {

@@ -2,29 +2,35 @@
 /// @file draw_compaction.hpp
 /// The indirect draws of a brick-based renderer (cubes, marching cubes) compacted to the bricks
 /// that draw something (shaders/draw_compact.comp): the draw pass then issues one command per such
-/// brick with vkCmdDrawIndirectCount, not one per brick of the grid, most of which are empty.
+/// brick with vkCmdDrawIndirectCount, not one per brick of the grid, most of which are empty. The
+/// opaque list goes front to back from the eye (the depth test then rejects covered surfaces before
+/// they are shaded), the translucent list back to front.
 
 #include <vulkan/vulkan.h>
 
+#include <array>
 #include <cstdint>
 
 #include "gpu_buffer.hpp"
 #include "pipeline_builder.hpp"
+#include "view_constants.hpp"
 
 namespace viewer {
 
 class VulkanContext;
 
 /// Compacts `draws` (2 x bricks VkDrawIndirectCommand: the opaque list, then the translucent one)
-/// into lists of the commands that draw something, in brick order.
+/// into lists of the commands that draw something, ordered from the eye.
 class DrawCompaction {
  public:
   /// Compaction of `draws` (which must outlive it), written by a build pass for `bricks` bricks.
   DrawCompaction(const VulkanContext& context, const GpuBuffer& draws, std::uint32_t bricks);
 
-  /// Records the compaction: after the build pass's writes to the draws are made visible to
-  /// compute shaders, and before the draw pass (this adds the barrier to indirect reads).
-  void record(VkCommandBuffer commands) const;
+  /// Records the compaction for `view`'s eye when the build pass rewrote draws (`rebuilt`) or the
+  /// eye moved to another brick since the last one; otherwise the lists stand. After the build
+  /// pass's writes to the draws are made visible to compute shaders, and before the draw pass (this
+  /// adds the barriers: earlier draws' indirect reads before its writes, its writes before the next).
+  void record(VkCommandBuffer commands, const ViewConstants& view, bool rebuilt);
 
   /// Draws list `list` (0 opaque, 1 translucent) with the bound graphics pipeline.
   void draw(VkCommandBuffer commands, int list) const;
@@ -32,6 +38,8 @@ class DrawCompaction {
  private:
   std::uint32_t bricks_;
   std::uint32_t groups_;  ///< workgroups a list
+  std::array<int, 3> eye_brick_{};  ///< the eye's brick at the last compaction
+  bool compacted_ = false;          ///< whether a compaction was recorded
   GpuBuffer compact_;     ///< the compacted lists, each at the place of its full list
   GpuBuffer group_counts_;
   GpuBuffer draw_counts_;  ///< the two lists' lengths

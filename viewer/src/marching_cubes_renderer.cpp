@@ -88,7 +88,10 @@ MarchingCubesRenderer::~MarchingCubesRenderer() = default;
 std::uint64_t MarchingCubesRenderer::prepare(VkCommandBuffer commands, const FrameView& view,
                                              std::span<const std::uint32_t> changed_bricks) {
   const std::uint32_t bricks = rebuild_.upload(view.slot, changed_bricks);
-  if (bricks == 0) return 0;
+  if (bricks == 0) {
+    compaction_.record(commands, view.raster, false);
+    return 0;
+  }
   memory_barrier(commands, VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT,
                  VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT,
                  VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
@@ -100,7 +103,7 @@ std::uint64_t MarchingCubesRenderer::prepare(VkCommandBuffer commands, const Fra
   memory_barrier(commands, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                  VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT,
                  VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
-  compaction_.record(commands);
+  compaction_.record(commands, view.raster, true);
   return bricks;
 }
 
