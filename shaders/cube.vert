@@ -1,12 +1,15 @@
 #version 460
-// Instanced cubes, draw pass: 18 vertices per instance, two triangles for each of the three faces
-// that can face the camera (on each axis, the side towards the eye); faces not showing collapse to
-// nothing. Per-vertex ambient occlusion from the three cells around each face corner (cells of the
-// face's own see-through rank or above occlude; cells the section removed and static ones under
-// x-ray do not). The opaque and
-// the translucent pass draw the same way from their own instances (cube_build.comp); cells on the
-// side the section removes collapse, and under x-ray the opaque pass leaves the static materials to
-// the x-ray pass, which draws the opaque instances again, only those, translucent (see_inside.glsl).
+// Instanced cubes, draw pass (cube_build.comp writes the instances). A run instance is one quad, 6
+// vertices: the run's face, stretched over its cells along the face's run axis; it
+// collapses when the face points away from the eye. A cell instance is 18 vertices, two triangles
+// for each of the three faces that can face the camera (on each axis, the side towards the eye);
+// faces not showing collapse. Ambient occlusion per vertex from the three cells around each face
+// corner (cells of the face's own see-through rank or above occlude; cells the section removed and
+// static ones under x-ray do not); an open run (nothing around it shades it) reads none. The opaque
+// and the translucent pass draw the same way from their own instances; cells on the side the
+// section removes collapse (a run crossing the plane is cut at it), and under x-ray the opaque pass
+// leaves the static materials to the x-ray pass, which draws the opaque instances again, only
+// those, translucent (see_inside.glsl). The colour is the fragment's (cube.frag), per cell.
 #extension GL_EXT_shader_8bit_storage : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int8 : require
 #include "view.glsl"
@@ -17,27 +20,60 @@ layout(std430, set = 0, binding = 2) readonly buffer Instances { uint instances[
 #include "materials.glsl"
 #include "see_inside.glsl"
 
-layout(location = 0) out vec4 out_color;  // rgb: base colour; a: coverage (surface_alpha)
+layout(location = 0) flat out uint out_material;
 layout(location = 1) out vec3 out_normal;
 layout(location = 2) out float out_occlusion;
 layout(location = 3) out vec3 out_position;
 layout(location = 4) flat out uint out_look;
 
+const uint kRunInstance = 0x80000000u;
 const ivec2 kCorners[6] = ivec2[](ivec2(0, 0), ivec2(1, 0), ivec2(1, 1), ivec2(0, 0), ivec2(1, 1), ivec2(0, 1));
+
+// The axis a face of axis `axis` runs along (cube_build.comp has the same).
+int run_axis(int axis) { return axis == 0 ? 1 : 0; }
+
+void collapse() {
+  gl_Position = vec4(2.0, 2.0, 2.0, 1.0);
+  out_look = kLookVoid;
+}
 
 void main() {
   uint brick = uint(gl_InstanceIndex) / kBrickCells;
   uint instance = instances[gl_InstanceIndex];
   uint local = instance & 4095u;
   ivec3 p = brick_origin(brick) + ivec3(int(local & 15u), int((local >> 4) & 15u), int(local >> 8));
-  int axis = gl_VertexIndex / 6;
-  bool positive = pc.eye[axis] > float(p[axis]) + 0.5;
-  uint face = uint(axis) * 2u + (positive ? 1u : 0u);
   uint material = (instance >> 12) & 7u;
   uint look = seen_look(material);
-  out_look = kLookVoid;
-  if ((instance & (1u << (16u + face))) == 0u || section_removes(p) || !drawn_in_pass(look)) {
-    gl_Position = vec4(2.0, 2.0, 2.0, 1.0);
+  int axis;
+  bool positive;
+  int first = 0, last = 1;  // the quad's extent along the face's run axis, from p
+  bool open_face = false;
+  if ((instance & kRunInstance) != 0u) {
+    uint face = (instance >> 15) & 7u;
+    axis = int(face >> 1u);
+    positive = (face & 1u) != 0u;
+    last = int((instance >> 18) & 15u) + 1;
+    open_face = (instance & (1u << 22u)) != 0u;
+    if (positive != (pc.eye[axis] > float(p[axis]) + 0.5)) {
+      collapse();
+      return;
+    }
+    int along = run_axis(axis);
+    if (section_axis() == along) {
+      int plane = section_plane() - p[along];
+      if (section_keeps_high()) first = max(first, plane);
+      else last = min(last, plane);
+    } else if (section_removes(p)) {
+      first = last;
+    }
+  } else {
+    axis = gl_VertexIndex / 6;
+    positive = pc.eye[axis] > float(p[axis]) + 0.5;
+    uint face = uint(axis) * 2u + (positive ? 1u : 0u);
+    if ((instance & (1u << (16u + face))) == 0u || section_removes(p)) first = last;
+  }
+  if (first >= last || !drawn_in_pass(look)) {
+    collapse();
     return;
   }
   uint rank = see_through_rank(look_of(material));
@@ -46,21 +82,26 @@ void main() {
   int u_axis = (axis + 1) % 3, v_axis = (axis + 2) % 3;
   ivec2 corner = kCorners[gl_VertexIndex % 6];
   if (!positive) corner = corner.yx;
+  // The quad spans first..last along the run axis (0..1 for a cell) and 0..1 along the other.
+  int along = run_axis(axis);
   ivec3 offset = ivec3(0);
   offset[axis] = positive ? 1 : 0;
-  offset[u_axis] = corner.x;
-  offset[v_axis] = corner.y;
-  ivec3 du = ivec3(0), dv = ivec3(0);
-  du[u_axis] = corner.x == 1 ? 1 : -1;
-  dv[v_axis] = corner.y == 1 ? 1 : -1;
-  ivec3 front = p + n;
-  uint side1 = see_through_rank(seen_look(visible_cell_at(front + du))) >= rank ? 1u : 0u;
-  uint side2 = see_through_rank(seen_look(visible_cell_at(front + dv))) >= rank ? 1u : 0u;
-  uint diagonal = see_through_rank(seen_look(visible_cell_at(front + du + dv))) >= rank ? 1u : 0u;
-  float open = (side1 == 1u && side2 == 1u) ? 0.0 : float(3u - side1 - side2 - diagonal);
+  offset[u_axis] = corner.x == 1 ? (u_axis == along ? last : 1) : (u_axis == along ? first : 0);
+  offset[v_axis] = corner.y == 1 ? (v_axis == along ? last : 1) : (v_axis == along ? first : 0);
+  float open = 3.0;
+  if (!open_face) {
+    ivec3 du = ivec3(0), dv = ivec3(0);
+    du[u_axis] = corner.x == 1 ? 1 : -1;
+    dv[v_axis] = corner.y == 1 ? 1 : -1;
+    ivec3 front = p + n;
+    uint side1 = see_through_rank(seen_look(visible_cell_at(front + du))) >= rank ? 1u : 0u;
+    uint side2 = see_through_rank(seen_look(visible_cell_at(front + dv))) >= rank ? 1u : 0u;
+    uint diagonal = see_through_rank(seen_look(visible_cell_at(front + du + dv))) >= rank ? 1u : 0u;
+    open = (side1 == 1u && side2 == 1u) ? 0.0 : float(3u - side1 - side2 - diagonal);
+  }
   vec3 position = vec3(p + offset);
   gl_Position = pc.matrix * vec4(position, 1.0);
-  out_color = vec4(material_color(material, p), seen_alpha(look));
+  out_material = material;
   out_normal = vec3(n);
   out_occlusion = 0.55 + 0.15 * open;
   out_position = position;

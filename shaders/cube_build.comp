@@ -1,11 +1,23 @@
 #version 460
-// Instanced cubes, build pass: for each brick of the list, writes one instance per non-void cell
-// with a face showing (materials.glsl's face_shows: towards void, a translucent neighbour in front
-// of a denser look, or another translucent material; under x-ray also towards a static material:
-// see_inside.glsl's seen_face_shows) into the brick's slot (4096 instances):
-// opaque instances from the slot's start, translucent ones (liquid, gas) from its end. Then it writes the brick's two indirect draw
-// commands: draws[brick] for the opaque instances, draws[bricks in the grid + brick] for the
-// translucent ones. Instance: bits 0-11 cell in brick, 12-14 material, 16-21 showing faces.
+// Instanced cubes, build pass: for each brick of the list, writes the brick's instances into its
+// slot (4096 instances): opaque ones from the slot's start, translucent ones (liquid, gas) from its
+// end, and then its two indirect draw commands: draws[brick] for the opaque instances,
+// draws[bricks in the grid + brick] for the translucent ones.
+//
+// A non-void cell's face shows (materials.glsl's face_shows: towards void, a translucent neighbour
+// in front of a denser look, or another translucent material; under x-ray also towards a static
+// material: see_inside.glsl's seen_face_shows). A showing face is *open* when none of the eight
+// cells around the cell in front of it shades its corners (cube.vert's ambient occlusion: a cell of
+// the face's own see-through rank or above). The brick is drawn one of two ways:
+// - runs (6 vertices an instance): along each row of the brick on the face's run axis (x, or y for
+//   the x faces: horizontal, so the sides of thin horizontal layers merge as well as their tops),
+//   consecutive open faces of one direction and one material merge into one quad; a face that is
+//   not open is a run of its own. Instance: bits 0-11 the run's first cell in the
+//   brick, 12-14 material, 15-17 face (axis * 2 + 1 for the positive side), 18-21 length - 1,
+//   22 open, 31 set.
+// - cells (18 vertices an instance, the three faces that can face the camera), when the brick has
+//   more runs than its slot holds (a brick of scattered cells). Instance: bits 0-11 cell in brick,
+//   12-14 material, 16-21 showing faces, 31 clear.
 #extension GL_EXT_shader_8bit_storage : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int8 : require
 layout(local_size_x = 256) in;
@@ -19,42 +31,136 @@ layout(std430, set = 0, binding = 3) writeonly buffer Draws { uint draws[]; };
 #include "materials.glsl"
 #include "see_inside.glsl"
 
+const uint kRunInstance = 0x80000000u;
+
+// Per cell of the brick: bits 0-5 showing faces, 6-8 material, 9-14 open faces.
+shared uint cell_faces[kBrickCells];
 shared uint opaque_count;
 shared uint translucent_count;
+shared uint run_count;
 
 bool shows_towards(uint material, ivec3 neighbour) { return seen_face_shows(material, cell_at(neighbour)); }
+
+// True when no cell around the cell in front of face `face` of p (the eight of the face's plane)
+// has see-through rank `rank` or above: all four corners of the face are unshaded.
+bool face_open(ivec3 p, uint face, uint rank) {
+  int axis = int(face >> 1u);
+  int u = (axis + 1) % 3, v = (axis + 2) % 3;
+  ivec3 front = p;
+  front[axis] += (face & 1u) != 0u ? 1 : -1;
+  for (int a = -1; a <= 1; ++a)
+    for (int b = -1; b <= 1; ++b) {
+      if (a == 0 && b == 0) continue;
+      ivec3 q = front;
+      q[u] += a;
+      q[v] += b;
+      if (see_through_rank(seen_look(cell_at(q))) >= rank) return false;
+    }
+  return true;
+}
+
+// The axis a face of axis `axis` runs along (cube.vert has the same).
+int run_axis(int axis) { return axis == 0 ? 1 : 0; }
+
+// The cell in brick of step k along row `row` of face `face`'s runs: the row's position on the
+// face's axis is row & 15, on its other in-plane axis row >> 4, and k runs along its run axis.
+uint row_cell(uint face, uint row, uint k) {
+  int axis = int(face >> 1u);
+  int along = run_axis(axis);
+  ivec3 l = ivec3(0);
+  l[axis] = int(row & 15u);
+  l[3 - axis - along] = int(row >> 4u);
+  l[along] = int(k);
+  return uint(l.x) | (uint(l.y) << 4u) | (uint(l.z) << 8u);
+}
+
+// The slot in the brick for an instance of `material`'s next instance.
+uint take_slot(uint material) {
+  return is_translucent(look_of(material)) ? kBrickCells - 1u - atomicAdd(translucent_count, 1u)
+                                           : atomicAdd(opaque_count, 1u);
+}
+
+// Walks the runs of face `face` along row `row`; writes each when `write`. Returns their number.
+uint walk_runs(uint brick, uint face, uint row, bool write) {
+  uint runs = 0u;
+  uint k = 0u;
+  const uint shows = 1u << face, open = 1u << (9u + face);
+  while (k < 16u) {
+    uint first = row_cell(face, row, k);
+    uint info = cell_faces[first];
+    if ((info & shows) == 0u) {
+      ++k;
+      continue;
+    }
+    uint material = (info >> 6u) & 7u;
+    uint run_length = 1u;
+    if ((info & open) != 0u)
+      while (k + run_length < 16u) {
+        uint next = cell_faces[row_cell(face, row, k + run_length)];
+        if ((next & shows) == 0u || (next & open) == 0u || ((next >> 6u) & 7u) != material) break;
+        ++run_length;
+      }
+    if (write)
+      instances[brick * kBrickCells + take_slot(material)] = first | (material << 12u) | (face << 15u) |
+                                                            ((run_length - 1u) << 18u) | ((info & open) != 0u ? 1u << 22u : 0u) |
+                                                            kRunInstance;
+    ++runs;
+    k += run_length;
+  }
+  return runs;
+}
 
 void main() {
   uint brick = brick_list[gl_WorkGroupID.x];
   if (gl_LocalInvocationIndex == 0u) {
     opaque_count = 0u;
     translucent_count = 0u;
+    run_count = 0u;
   }
-  barrier();
   ivec3 origin = brick_origin(brick);
   for (uint i = gl_LocalInvocationIndex; i < kBrickCells; i += 256u) {
-    ivec3 local = ivec3(int(i & 15u), int((i >> 4) & 15u), int(i >> 8));
-    ivec3 p = origin + local;
-    if (!inside_grid(p)) continue;
-    uint material = material_of(cells[cell_index(p)]);
-    uint look = look_of(material);
-    if (look == kLookVoid) continue;
-    uint faces = (shows_towards(material, p + ivec3(-1, 0, 0)) ? 1u : 0u) | (shows_towards(material, p + ivec3(1, 0, 0)) ? 2u : 0u) |
-                 (shows_towards(material, p + ivec3(0, -1, 0)) ? 4u : 0u) | (shows_towards(material, p + ivec3(0, 1, 0)) ? 8u : 0u) |
-                 (shows_towards(material, p + ivec3(0, 0, -1)) ? 16u : 0u) | (shows_towards(material, p + ivec3(0, 0, 1)) ? 32u : 0u);
-    if (faces == 0u) continue;
-    uint slot = is_translucent(look) ? kBrickCells - 1u - atomicAdd(translucent_count, 1u) : atomicAdd(opaque_count, 1u);
-    instances[brick * kBrickCells + slot] = i | (material << 12) | (faces << 16);
+    ivec3 p = origin + ivec3(int(i & 15u), int((i >> 4) & 15u), int(i >> 8));
+    uint info = 0u;
+    uint material = inside_grid(p) ? material_of(cells[cell_index(p)]) : 0u;
+    if (look_of(material) != kLookVoid) {
+      uint faces = (shows_towards(material, p + ivec3(-1, 0, 0)) ? 1u : 0u) | (shows_towards(material, p + ivec3(1, 0, 0)) ? 2u : 0u) |
+                   (shows_towards(material, p + ivec3(0, -1, 0)) ? 4u : 0u) | (shows_towards(material, p + ivec3(0, 1, 0)) ? 8u : 0u) |
+                   (shows_towards(material, p + ivec3(0, 0, -1)) ? 16u : 0u) | (shows_towards(material, p + ivec3(0, 0, 1)) ? 32u : 0u);
+      uint rank = see_through_rank(look_of(material));
+      uint open = 0u;
+      for (uint face = 0u; face < 6u; ++face)
+        if ((faces & (1u << face)) != 0u && face_open(p, face, rank)) open |= 1u << face;
+      if (faces != 0u) info = faces | (material << 6u) | (open << 9u);
+    }
+    cell_faces[i] = info;
+  }
+  barrier();
+  // 6 faces x 256 rows: count the runs, then write them if the slot holds them all.
+  uint runs = 0u;
+  for (uint task = gl_LocalInvocationIndex; task < 6u * 256u; task += 256u) runs += walk_runs(brick, task >> 8u, task & 255u, false);
+  atomicAdd(run_count, runs);
+  barrier();
+  const bool as_runs = run_count <= kBrickCells;
+  if (as_runs) {
+    for (uint task = gl_LocalInvocationIndex; task < 6u * 256u; task += 256u) walk_runs(brick, task >> 8u, task & 255u, true);
+  } else {
+    for (uint i = gl_LocalInvocationIndex; i < kBrickCells; i += 256u) {
+      uint info = cell_faces[i];
+      if (info == 0u) continue;
+      uint material = (info >> 6u) & 7u;
+      instances[brick * kBrickCells + take_slot(material)] = i | (material << 12u) | ((info & 63u) << 16u);
+    }
   }
   barrier();
   if (gl_LocalInvocationIndex == 0u) {
     uint grid_bricks = uint(pc.bricks.x * pc.bricks.y * pc.bricks.z);
     uint opaque = brick * 4u, translucent = (grid_bricks + brick) * 4u;
-    draws[opaque + 0u] = 18u;  // three camera-facing faces (cube.vert)
+    uint vertices = as_runs ? 6u : 18u;  // cube.vert: one face a run; three camera-facing faces a cell
+    draws[opaque + 0u] = vertices;
     draws[opaque + 1u] = opaque_count;
     draws[opaque + 2u] = 0u;
     draws[opaque + 3u] = brick * kBrickCells;
-    draws[translucent + 0u] = 18u;
+    draws[translucent + 0u] = vertices;
     draws[translucent + 1u] = translucent_count;
     draws[translucent + 2u] = 0u;
     draws[translucent + 3u] = brick * kBrickCells + kBrickCells - translucent_count;
