@@ -33,20 +33,40 @@ layout(std430, set = 0, binding = 3) writeonly buffer Draws { uint draws[]; };
 
 const uint kRunInstance = 0x80000000u;
 
-// Per cell of the brick: bits 0-5 showing faces, 6-8 material, 9-14 open faces.
-shared uint cell_faces[kBrickCells];
+const int kTile = 18;  // cells -1..16 around the brick
+const uint kTileCells = uint(kTile * kTile * kTile);
+
+// The materials of the brick's cells and a border of one, 4 cells a word.
+shared uint tile[(kTileCells + 3u) / 4u];
+// Per cell of the brick, 2 cells a word: bits 0-5 showing faces, 6-8 material, 9-14 open faces.
+shared uint cell_faces[kBrickCells / 2u];
+// Per material m, bit n: a face of m towards n shows (seen_face_shows); n shades m's faces (its
+// seen look's see-through rank is at least m's).
+shared uint shows_towards_material[8];
+shared uint shaded_by_material[8];
 shared uint opaque_count;
 shared uint translucent_count;
 shared uint run_count;
+shared uint face_count;       // showing faces of the brick: an upper bound of its runs
+shared uint face_directions;  // bit f: some cell of the brick shows face f
 
-bool shows_towards(uint material, ivec3 neighbour) { return seen_face_shows(material, cell_at(neighbour)); }
+// The material of the cell at `local` (-1..16 on each axis) from the tile.
+uint tile_material(ivec3 local) {
+  uint i = uint((local.x + 1) + kTile * ((local.y + 1) + kTile * (local.z + 1)));
+  return (tile[i >> 2u] >> ((i & 3u) * 8u)) & 7u;
+}
 
-// True when no cell around the cell in front of face `face` of p (the eight of the face's plane)
-// has see-through rank `rank` or above: all four corners of the face are unshaded.
-bool face_open(ivec3 p, uint face, uint rank) {
+uint face_info(uint cell) { return (cell_faces[cell >> 1u] >> ((cell & 1u) * 16u)) & 0xFFFFu; }
+
+bool shows_towards(uint material, ivec3 neighbour) { return ((shows_towards_material[material] >> tile_material(neighbour)) & 1u) != 0u; }
+
+// True when no cell around the cell in front of face `face` of `local` (the eight of the face's
+// plane) shades a face of `material`: all four corners of the face are unshaded.
+bool face_open(ivec3 local, uint face, uint material) {
+  uint shaded = shaded_by_material[material];
   int axis = int(face >> 1u);
   int u = (axis + 1) % 3, v = (axis + 2) % 3;
-  ivec3 front = p;
+  ivec3 front = local;
   front[axis] += (face & 1u) != 0u ? 1 : -1;
   for (int a = -1; a <= 1; ++a)
     for (int b = -1; b <= 1; ++b) {
@@ -54,9 +74,24 @@ bool face_open(ivec3 p, uint face, uint rank) {
       ivec3 q = front;
       q[u] += a;
       q[v] += b;
-      if (see_through_rank(seen_look(cell_at(q))) >= rank) return false;
+      if (((shaded >> tile_material(q)) & 1u) != 0u) return false;
     }
   return true;
+}
+
+// The faces of the cell at `local` in the brick: bits 0-5 showing faces, 6-8 material, 9-14 open
+// faces; 0 for void or a cell with no face showing.
+uint cell_face_info(ivec3 local) {
+  uint material = tile_material(local);
+  if (look_of(material) == kLookVoid) return 0u;
+  uint faces = (shows_towards(material, local + ivec3(-1, 0, 0)) ? 1u : 0u) | (shows_towards(material, local + ivec3(1, 0, 0)) ? 2u : 0u) |
+               (shows_towards(material, local + ivec3(0, -1, 0)) ? 4u : 0u) | (shows_towards(material, local + ivec3(0, 1, 0)) ? 8u : 0u) |
+               (shows_towards(material, local + ivec3(0, 0, -1)) ? 16u : 0u) | (shows_towards(material, local + ivec3(0, 0, 1)) ? 32u : 0u);
+  if (faces == 0u) return 0u;
+  uint open = 0u;
+  for (uint face = 0u; face < 6u; ++face)
+    if ((faces & (1u << face)) != 0u && face_open(local, face, material)) open |= 1u << face;
+  return faces | (material << 6u) | (open << 9u);
 }
 
 // The axis a face of axis `axis` runs along (cube.vert has the same).
@@ -87,7 +122,7 @@ uint walk_runs(uint brick, uint face, uint row, bool write) {
   const uint shows = 1u << face, open = 1u << (9u + face);
   while (k < 16u) {
     uint first = row_cell(face, row, k);
-    uint info = cell_faces[first];
+    uint info = face_info(first);
     if ((info & shows) == 0u) {
       ++k;
       continue;
@@ -96,7 +131,7 @@ uint walk_runs(uint brick, uint face, uint row, bool write) {
     uint run_length = 1u;
     if ((info & open) != 0u)
       while (k + run_length < 16u) {
-        uint next = cell_faces[row_cell(face, row, k + run_length)];
+        uint next = face_info(row_cell(face, row, k + run_length));
         if ((next & shows) == 0u || (next & open) == 0u || ((next >> 6u) & 7u) != material) break;
         ++run_length;
       }
@@ -116,36 +151,60 @@ void main() {
     opaque_count = 0u;
     translucent_count = 0u;
     run_count = 0u;
+    face_count = 0u;
+    face_directions = 0u;
+  }
+  if (gl_LocalInvocationIndex < 8u) {
+    uint m = gl_LocalInvocationIndex, rank = see_through_rank(look_of(m));
+    uint shows = 0u, shaded = 0u;
+    for (uint n = 0u; n < 8u; ++n) {
+      if (seen_face_shows(m, n)) shows |= 1u << n;
+      if (see_through_rank(seen_look(n)) >= rank) shaded |= 1u << n;
+    }
+    shows_towards_material[m] = shows;
+    shaded_by_material[m] = shaded;
   }
   ivec3 origin = brick_origin(brick);
-  for (uint i = gl_LocalInvocationIndex; i < kBrickCells; i += 256u) {
-    ivec3 p = origin + ivec3(int(i & 15u), int((i >> 4) & 15u), int(i >> 8));
-    uint info = 0u;
-    uint material = inside_grid(p) ? material_of(cells[cell_index(p)]) : 0u;
-    if (look_of(material) != kLookVoid) {
-      uint faces = (shows_towards(material, p + ivec3(-1, 0, 0)) ? 1u : 0u) | (shows_towards(material, p + ivec3(1, 0, 0)) ? 2u : 0u) |
-                   (shows_towards(material, p + ivec3(0, -1, 0)) ? 4u : 0u) | (shows_towards(material, p + ivec3(0, 1, 0)) ? 8u : 0u) |
-                   (shows_towards(material, p + ivec3(0, 0, -1)) ? 16u : 0u) | (shows_towards(material, p + ivec3(0, 0, 1)) ? 32u : 0u);
-      uint rank = see_through_rank(look_of(material));
-      uint open = 0u;
-      for (uint face = 0u; face < 6u; ++face)
-        if ((faces & (1u << face)) != 0u && face_open(p, face, rank)) open |= 1u << face;
-      if (faces != 0u) info = faces | (material << 6u) | (open << 9u);
+  for (uint w = gl_LocalInvocationIndex; w < (kTileCells + 3u) / 4u; w += 256u) {
+    uint word = 0u;
+    for (uint b = 0u; b < 4u; ++b) {
+      uint i = w * 4u + b;
+      if (i >= kTileCells) break;
+      ivec3 t = ivec3(int(i % uint(kTile)), int((i / uint(kTile)) % uint(kTile)), int(i / uint(kTile * kTile)));
+      word |= cell_at(origin + t - 1) << (b * 8u);
     }
-    cell_faces[i] = info;
+    tile[w] = word;
   }
   barrier();
-  // 6 faces x 256 rows: count the runs, then write them if the slot holds them all.
-  uint runs = 0u;
-  for (uint task = gl_LocalInvocationIndex; task < 6u * 256u; task += 256u) runs += walk_runs(brick, task >> 8u, task & 255u, false);
-  atomicAdd(run_count, runs);
+  uint faces = 0u, directions = 0u;
+  for (uint pair = gl_LocalInvocationIndex; pair < kBrickCells / 2u; pair += 256u) {
+    uint i = pair * 2u;
+    ivec3 local = ivec3(int(i & 15u), int((i >> 4) & 15u), int(i >> 8));
+    uint first = cell_face_info(local), second = cell_face_info(local + ivec3(1, 0, 0));
+    cell_faces[pair] = first | (second << 16u);
+    faces += bitCount(first & 63u) + bitCount(second & 63u);
+    directions |= (first | second) & 63u;
+  }
+  atomicAdd(face_count, faces);
+  atomicOr(face_directions, directions);
   barrier();
-  const bool as_runs = run_count <= kBrickCells;
+  // The runs of the directions shown, 256 rows each. With more faces than the slot holds, count
+  // the runs first: written only if the slot holds them all.
+  bool as_runs = face_count <= kBrickCells;
+  if (!as_runs) {
+    uint runs = 0u;
+    for (uint task = gl_LocalInvocationIndex; task < 6u * 256u; task += 256u)
+      if ((face_directions & (1u << (task >> 8u))) != 0u) runs += walk_runs(brick, task >> 8u, task & 255u, false);
+    atomicAdd(run_count, runs);
+    barrier();
+    as_runs = run_count <= kBrickCells;
+  }
   if (as_runs) {
-    for (uint task = gl_LocalInvocationIndex; task < 6u * 256u; task += 256u) walk_runs(brick, task >> 8u, task & 255u, true);
+    for (uint task = gl_LocalInvocationIndex; task < 6u * 256u; task += 256u)
+      if ((face_directions & (1u << (task >> 8u))) != 0u) walk_runs(brick, task >> 8u, task & 255u, true);
   } else {
     for (uint i = gl_LocalInvocationIndex; i < kBrickCells; i += 256u) {
-      uint info = cell_faces[i];
+      uint info = face_info(i);
       if (info == 0u) continue;
       uint material = (info >> 6u) & 7u;
       instances[brick * kBrickCells + take_slot(material)] = i | (material << 12u) | ((info & 63u) << 16u);
