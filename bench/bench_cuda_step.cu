@@ -25,6 +25,7 @@
 #include <optional>
 #include <sstream>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "cuda_check.cuh"
@@ -38,6 +39,7 @@
 #include "block_walk.cuh"
 #include "granular/rule_presets.hpp"
 #include "pair_kernel.cuh"
+#include "rule_launch.cuh"
 #include "step/block_step.hpp"
 #include "step/step_materials.hpp"
 #include "table_kernels.cuh"
@@ -163,14 +165,16 @@ struct BenchStepper {
   cuda::DeviceCells grid;  ///< the cells
   StepRules rules;         ///< the tables and flags
 
-  /// Enqueues tick `tick` with the dense kernel.
+  /// Enqueues tick `tick` with the dense kernel (the backend's own, from granular_cuda).
   void step(std::uint64_t tick, const cuda::StepShape& shape, cudaStream_t stream) const {
-    cuda::with_device_step(rules, tick, [&](const auto& rule) { cuda::launch_dense<cuda::NoNotes>(grid, rule, shape, {}, stream); });
+    cuda::with_device_step(rules, tick, [&](const auto& rule) {
+      cuda::RuleLaunch<std::decay_t<decltype(rule)>>::dense(grid, rule, shape, nullptr, stream);
+    });
   }
-  /// Enqueues ticks `tick` (even) and `tick + 1` with the pair kernel.
+  /// Enqueues ticks `tick` (even) and `tick + 1` with the pair kernel (the backend's own).
   void pair(std::uint64_t tick, const cuda::PairShape& shape, std::uint8_t* halo, cudaStream_t stream) const {
     cuda::with_device_step_pair(rules, tick, [&](const auto& a, const auto& b) {
-      cuda::launch_pair<cuda::NoNotes>(grid, a, b, shape, halo, {}, stream);
+      cuda::RuleLaunch<std::decay_t<decltype(a)>>::pair(grid, a, b, shape, halo, nullptr, stream);
     });
   }
 };
