@@ -1,13 +1,13 @@
 #version 460
-// Instanced cubes, draw pass (cube_build.comp writes the instances). A run instance is one quad, 6
-// vertices: the run's face, stretched over its cells along the face's run axis; it
+// Instanced cubes, draw pass (cube_build.comp writes the instances). A quad instance is 6 vertices:
+// a rectangle of faces, stretched over its cells along the face's run axis and across it; it
 // collapses when the face points away from the eye. A cell instance is 18 vertices, two triangles
 // for each of the three faces that can face the camera (on each axis, the side towards the eye);
 // faces not showing collapse. Ambient occlusion per vertex from the three cells around each face
 // corner (cells of the face's own see-through rank or above occlude; cells the section removed and
-// static ones under x-ray do not); an open run (nothing around it shades it) reads none. The opaque
+// static ones under x-ray do not); an open quad (nothing around it shades it) reads none. The opaque
 // and the translucent pass draw the same way from their own instances; cells on the side the
-// section removes collapse (a run crossing the plane is cut at it), and under x-ray the opaque pass
+// section removes collapse (a quad crossing the plane is cut at it), and under x-ray the opaque pass
 // leaves the static materials to the x-ray pass, which draws the opaque instances again, only
 // those, translucent (see_inside.glsl). The colour is the fragment's (cube.frag), per cell.
 #extension GL_EXT_shader_8bit_storage : require
@@ -46,23 +46,28 @@ void main() {
   uint look = seen_look(material);
   int axis;
   bool positive;
-  int first = 0, last = 1;  // the quad's extent along the face's run axis, from p
+  // The quad's extent from p along the face's run axis (first..last) and across it (low..high).
+  int first = 0, last = 1, low = 0, high = 1;
   bool open_face = false;
   if ((instance & kRunInstance) != 0u) {
     uint face = (instance >> 15) & 7u;
     axis = int(face >> 1u);
     positive = (face & 1u) != 0u;
     last = int((instance >> 18) & 15u) + 1;
+    high = int((instance >> 23) & 15u) + 1;
     open_face = (instance & (1u << 22u)) != 0u;
     if (positive != (pc.eye[axis] > float(p[axis]) + 0.5)) {
       collapse();
       return;
     }
-    int along = run_axis(axis);
+    int along = run_axis(axis), across = 3 - axis - along;
+    int plane = section_plane();
     if (section_axis() == along) {
-      int plane = section_plane() - p[along];
-      if (section_keeps_high()) first = max(first, plane);
-      else last = min(last, plane);
+      if (section_keeps_high()) first = max(first, plane - p[along]);
+      else last = min(last, plane - p[along]);
+    } else if (section_axis() == across) {
+      if (section_keeps_high()) low = max(low, plane - p[across]);
+      else high = min(high, plane - p[across]);
     } else if (section_removes(p)) {
       first = last;
     }
@@ -72,7 +77,7 @@ void main() {
     uint face = uint(axis) * 2u + (positive ? 1u : 0u);
     if ((instance & (1u << (16u + face))) == 0u || section_removes(p)) first = last;
   }
-  if (first >= last || !drawn_in_pass(look)) {
+  if (first >= last || low >= high || !drawn_in_pass(look)) {
     collapse();
     return;
   }
@@ -82,12 +87,12 @@ void main() {
   int u_axis = (axis + 1) % 3, v_axis = (axis + 2) % 3;
   ivec2 corner = kCorners[gl_VertexIndex % 6];
   if (!positive) corner = corner.yx;
-  // The quad spans first..last along the run axis (0..1 for a cell) and 0..1 along the other.
+  // The quad spans first..last along the run axis and low..high across it (0..1 each for a cell).
   int along = run_axis(axis);
   ivec3 offset = ivec3(0);
   offset[axis] = positive ? 1 : 0;
-  offset[u_axis] = corner.x == 1 ? (u_axis == along ? last : 1) : (u_axis == along ? first : 0);
-  offset[v_axis] = corner.y == 1 ? (v_axis == along ? last : 1) : (v_axis == along ? first : 0);
+  offset[u_axis] = corner.x == 1 ? (u_axis == along ? last : high) : (u_axis == along ? first : low);
+  offset[v_axis] = corner.y == 1 ? (v_axis == along ? last : high) : (v_axis == along ? first : low);
   float open = 3.0;
   if (!open_face) {
     ivec3 du = ivec3(0), dv = ivec3(0);

@@ -9,14 +9,15 @@
 // material: see_inside.glsl's seen_face_shows). A showing face is *open* when none of the eight
 // cells around the cell in front of it shades its corners (cube.vert's ambient occlusion: a cell of
 // the face's own see-through rank or above). The brick is drawn one of two ways:
-// - runs (6 vertices an instance): along each row of the brick on the face's run axis (x, or y for
-//   the x faces: horizontal, so the sides of thin horizontal layers merge as well as their tops),
-//   consecutive open faces of one direction and one material merge into one quad; a face that is
-//   not open is a run of its own. Instance: bits 0-11 the run's first cell in the
-//   brick, 12-14 material, 15-17 face (axis * 2 + 1 for the positive side), 18-21 length - 1,
-//   22 open, 31 set.
+// - quads (6 vertices an instance): in each slice of the brick across a face direction, along
+//   each row on the face's run axis (x, or y for the x faces: horizontal, so the sides of thin
+//   horizontal layers merge as well as their tops), consecutive open faces of one material merge
+//   into a run, and a run grows across the rows after it while they hold the same run (a
+//   rectangle); a face that is not open is a quad of its own. Instance: bits 0-11 the quad's first
+//   cell in the brick, 12-14 material, 15-17 face (axis * 2 + 1 for the positive side), 18-21
+//   length along the run axis - 1, 22 open, 23-26 rows across - 1, 31 set.
 // - cells (18 vertices an instance, the three faces that can face the camera), when the brick has
-//   more runs than its slot holds (a brick of scattered cells). Instance: bits 0-11 cell in brick,
+//   more quads than its slot holds (a brick of scattered cells). Instance: bits 0-11 cell in brick,
 //   12-14 material, 16-21 showing faces, 31 clear.
 #extension GL_EXT_shader_8bit_storage : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int8 : require
@@ -46,7 +47,7 @@ shared uint shows_towards_material[8];
 shared uint shaded_by_material[8];
 shared uint opaque_count;
 shared uint translucent_count;
-shared uint run_count;
+shared uint quad_count;  // the brick's quads, counted when its faces outnumber the slot
 shared uint face_count;       // showing faces of the brick: an upper bound of its runs
 shared uint face_directions;  // bit f: some cell of the brick shows face f
 
@@ -115,11 +116,40 @@ uint take_slot(uint material) {
                                            : atomicAdd(opaque_count, 1u);
 }
 
-// Walks the runs of face `face` along row `row`; writes each when `write`. Returns their number.
-uint walk_runs(uint brick, uint face, uint row, bool write) {
-  uint runs = 0u;
-  uint k = 0u;
+// Counts one quad of face `face` and, when `write`, writes its instance: `run_length` cells from
+// cell `first` along the run axis, `rows` rows across.
+void emit_quad(uint brick, uint first, uint material, uint face, uint run_length, uint rows, bool open, bool write) {
+  if (write)
+    instances[brick * kBrickCells + take_slot(material)] = first | (material << 12u) | (face << 15u) | ((run_length - 1u) << 18u) |
+                                                          (open ? 1u << 22u : 0u) | ((rows - 1u) << 23u) | kRunInstance;
+}
+
+// Whether the cell at step k of row `row` of face `face`'s rows shows that face, open, in `material`.
+bool open_face_of(uint face, uint row, uint k, uint material) {
+  uint info = face_info(row_cell(face, row, k));
+  return (info & (1u << face)) != 0u && (info & (1u << (9u + face))) != 0u && ((info >> 6u) & 7u) == material;
+}
+
+// Whether row `row` of face `face`'s rows holds the open run of `material` over steps
+// k..k + run_length - 1: those faces open in that material, and the steps on either side not.
+bool holds_run(uint face, uint row, uint k, uint run_length, uint material) {
+  if (k > 0u && open_face_of(face, row, k - 1u, material)) return false;
+  if (k + run_length < 16u && open_face_of(face, row, k + run_length, material)) return false;
+  for (uint i = 0u; i < run_length; ++i)
+    if (!open_face_of(face, row, k + i, material)) return false;
+  return true;
+}
+
+// Walks the quads of face `face` that start in row `row` (bits 0-3 its position on the face's
+// axis, 4-7 across): along the run axis, consecutive open faces of one material merge into a run,
+// and a run that the row before does not hold grows across the rows after that hold it (a
+// rectangle; a run the row before holds belongs to that row's quad); a face that is not open is a
+// quad of its own. Writes each quad when `write`; returns their number.
+uint walk_row(uint brick, uint face, uint row, bool write) {
   const uint shows = 1u << face, open = 1u << (9u + face);
+  const uint slice = row & 15u, w = row >> 4u;
+  uint quads = 0u;
+  uint k = 0u;
   while (k < 16u) {
     uint first = row_cell(face, row, k);
     uint info = face_info(first);
@@ -128,21 +158,23 @@ uint walk_runs(uint brick, uint face, uint row, bool write) {
       continue;
     }
     uint material = (info >> 6u) & 7u;
+    bool is_open = (info & open) != 0u;
     uint run_length = 1u;
-    if ((info & open) != 0u)
-      while (k + run_length < 16u) {
-        uint next = face_info(row_cell(face, row, k + run_length));
-        if ((next & shows) == 0u || (next & open) == 0u || ((next >> 6u) & 7u) != material) break;
-        ++run_length;
-      }
-    if (write)
-      instances[brick * kBrickCells + take_slot(material)] = first | (material << 12u) | (face << 15u) |
-                                                            ((run_length - 1u) << 18u) | ((info & open) != 0u ? 1u << 22u : 0u) |
-                                                            kRunInstance;
-    ++runs;
+    if (is_open)
+      while (k + run_length < 16u && open_face_of(face, row, k + run_length, material)) ++run_length;
+    if (!is_open || w == 0u || !holds_run(face, slice | ((w - 1u) << 4u), k, run_length, material)) {
+      uint rows = 1u;
+      if (is_open)
+        while (w + rows < 16u && holds_run(face, slice | ((w + rows) << 4u), k, run_length, material)) ++rows;
+      if (write)
+        instances[brick * kBrickCells + take_slot(material)] = first | (material << 12u) | (face << 15u) |
+                                                              ((run_length - 1u) << 18u) | (is_open ? 1u << 22u : 0u) |
+                                                              ((rows - 1u) << 23u) | kRunInstance;
+      ++quads;
+    }
     k += run_length;
   }
-  return runs;
+  return quads;
 }
 
 void main() {
@@ -150,7 +182,7 @@ void main() {
   if (gl_LocalInvocationIndex == 0u) {
     opaque_count = 0u;
     translucent_count = 0u;
-    run_count = 0u;
+    quad_count = 0u;
     face_count = 0u;
     face_directions = 0u;
   }
@@ -188,20 +220,20 @@ void main() {
   atomicAdd(face_count, faces);
   atomicOr(face_directions, directions);
   barrier();
-  // The runs of the directions shown, 256 rows each. With more faces than the slot holds, count
-  // the runs first: written only if the slot holds them all.
-  bool as_runs = face_count <= kBrickCells;
-  if (!as_runs) {
-    uint runs = 0u;
+  // The quads of the directions shown, 256 rows each. With more faces than the slot holds, count
+  // the quads first: written only if the slot holds them all.
+  bool as_quads = face_count <= kBrickCells;
+  if (!as_quads) {
+    uint quads = 0u;
     for (uint task = gl_LocalInvocationIndex; task < 6u * 256u; task += 256u)
-      if ((face_directions & (1u << (task >> 8u))) != 0u) runs += walk_runs(brick, task >> 8u, task & 255u, false);
-    atomicAdd(run_count, runs);
+      if ((face_directions & (1u << (task >> 8u))) != 0u) quads += walk_row(brick, task >> 8u, task & 255u, false);
+    atomicAdd(quad_count, quads);
     barrier();
-    as_runs = run_count <= kBrickCells;
+    as_quads = quad_count <= kBrickCells;
   }
-  if (as_runs) {
+  if (as_quads) {
     for (uint task = gl_LocalInvocationIndex; task < 6u * 256u; task += 256u)
-      if ((face_directions & (1u << (task >> 8u))) != 0u) walk_runs(brick, task >> 8u, task & 255u, true);
+      if ((face_directions & (1u << (task >> 8u))) != 0u) walk_row(brick, task >> 8u, task & 255u, true);
   } else {
     for (uint i = gl_LocalInvocationIndex; i < kBrickCells; i += 256u) {
       uint info = face_info(i);
@@ -214,7 +246,7 @@ void main() {
   if (gl_LocalInvocationIndex == 0u) {
     uint grid_bricks = uint(pc.bricks.x * pc.bricks.y * pc.bricks.z);
     uint opaque = brick * 4u, translucent = (grid_bricks + brick) * 4u;
-    uint vertices = as_runs ? 6u : 18u;  // cube.vert: one face a run; three camera-facing faces a cell
+    uint vertices = as_quads ? 6u : 18u;  // cube.vert: one quad an instance; three camera-facing faces a cell
     draws[opaque + 0u] = vertices;
     draws[opaque + 1u] = opaque_count;
     draws[opaque + 2u] = 0u;

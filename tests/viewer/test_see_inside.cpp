@@ -165,11 +165,12 @@ TEST_CASE("see inside: through a section, the cubes and the ray march agree pixe
   check_cubes_match_raymarch(*world, {"x:0.5", "y:0.3", "z:0.6"}, 0.05);
 }
 
-TEST_CASE("see inside: a section cuts the cubes' merged face runs where it cuts the cells") {
-  // A flat sand bed and a sand block on it: long runs of open faces on every axis (cube_build.comp
-  // merges a row's open faces along the face's run axis: y for the x faces, x for the others).
-  // The x section cuts across the runs of the y and z faces, the y section across those of the x
-  // faces; the z section removes whole runs.
+TEST_CASE("see inside: a section cuts the cubes' merged face quads where it cuts the cells") {
+  // A flat sand bed and a sand block on it: large rectangles of open faces on every axis
+  // (cube_build.comp merges a row's open faces along the face's run axis, y for the x faces and x
+  // for the others, and equal runs of the rows after it across). The x and y sections cut
+  // rectangles along their run axis and across it; the z section cuts the x and y faces'
+  // rectangles across and removes whole z-face rectangles.
   const granular::Int3 size{48, 48, 48};
   granular::Grid grid(size);
   grid.fill(granular::Box{{0, 0, 0}, {48, 48, 10}}, granular::Material::Granular);
@@ -179,4 +180,20 @@ TEST_CASE("see inside: a section cuts the cubes' merged face runs where it cuts 
   def.threads = 2;
   granular::World world(def, grid);
   check_cubes_match_raymarch(world, {"x:0.5", "y:0.5", "z:0.4"}, 0.02);
+}
+
+TEST_CASE("see inside: bricks of scattered cells (more faces than a brick's slot) draw as cubes of cells") {
+  // A checkerboard of sand: every grain shows six faces and none is open, so each brick has more
+  // quads than its slot holds and cube_build.comp lists its cells instead.
+  const granular::Int3 size{48, 48, 48};
+  granular::Grid grid(size);
+  for (int z = 0; z < size.z; ++z)
+    for (int y = 0; y < size.y; ++y)
+      for (int x = 0; x < size.x; ++x)
+        if ((x + y + z) % 2 == 0) grid.set({x, y, z}, granular::Material::Granular);
+  granular::WorldDef def;
+  def.backend = granular::BackendKind::Cpu;
+  def.threads = 2;
+  granular::World world(def, grid);
+  check_cubes_match_raymarch(world, {"x:0.5", "z:0.6"}, 0.05);
 }
