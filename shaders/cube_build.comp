@@ -48,7 +48,7 @@ shared uint shaded_by_material[8];
 shared uint opaque_count;
 shared uint translucent_count;
 shared uint quad_count;  // the brick's quads, counted when its faces outnumber the slot
-shared uint face_count;       // showing faces of the brick: an upper bound of its runs
+shared uint face_count;       // showing faces of the brick: an upper bound of its quads
 shared uint face_directions;  // bit f: some cell of the brick shows face f
 
 // The material of the cell at `local` (-1..16 on each axis) from the tile.
@@ -116,12 +116,11 @@ uint take_slot(uint material) {
                                            : atomicAdd(opaque_count, 1u);
 }
 
-// Counts one quad of face `face` and, when `write`, writes its instance: `run_length` cells from
-// cell `first` along the run axis, `rows` rows across.
-void emit_quad(uint brick, uint first, uint material, uint face, uint run_length, uint rows, bool open, bool write) {
-  if (write)
-    instances[brick * kBrickCells + take_slot(material)] = first | (material << 12u) | (face << 15u) | ((run_length - 1u) << 18u) |
-                                                          (open ? 1u << 22u : 0u) | ((rows - 1u) << 23u) | kRunInstance;
+// Writes the instance of a quad of face `face`: `run_length` cells from cell `first` along the run
+// axis, `rows` rows across.
+void write_quad(uint brick, uint first, uint material, uint face, uint run_length, uint rows, bool open) {
+  instances[brick * kBrickCells + take_slot(material)] = first | (material << 12u) | (face << 15u) | ((run_length - 1u) << 18u) |
+                                                        (open ? 1u << 22u : 0u) | ((rows - 1u) << 23u) | kRunInstance;
 }
 
 // Whether the cell at step k of row `row` of face `face`'s rows shows that face, open, in `material`.
@@ -166,10 +165,7 @@ uint walk_row(uint brick, uint face, uint row, bool write) {
       uint rows = 1u;
       if (is_open)
         while (w + rows < 16u && holds_run(face, slice | ((w + rows) << 4u), k, run_length, material)) ++rows;
-      if (write)
-        instances[brick * kBrickCells + take_slot(material)] = first | (material << 12u) | (face << 15u) |
-                                                              ((run_length - 1u) << 18u) | (is_open ? 1u << 22u : 0u) |
-                                                              ((rows - 1u) << 23u) | kRunInstance;
+      if (write) write_quad(brick, first, material, face, run_length, rows, is_open);
       ++quads;
     }
     k += run_length;
