@@ -26,7 +26,7 @@ layout(location = 2) out float out_occlusion;
 layout(location = 3) out vec3 out_position;
 layout(location = 4) flat out uint out_look;
 
-const uint kRunInstance = 0x80000000u;
+const uint kQuadInstance = 0x80000000u;
 const ivec2 kCorners[6] = ivec2[](ivec2(0, 0), ivec2(1, 0), ivec2(1, 1), ivec2(0, 0), ivec2(1, 1), ivec2(0, 1));
 
 // The axis a face of axis `axis` runs along (cube_build.comp has the same).
@@ -49,7 +49,7 @@ void main() {
   // The quad's extent from p along the face's run axis (first..last) and across it (low..high).
   int first = 0, last = 1, low = 0, high = 1;
   bool open_face = false;
-  if ((instance & kRunInstance) != 0u) {
+  if ((instance & kQuadInstance) != 0u) {
     uint face = (instance >> 15) & 7u;
     axis = int(face >> 1u);
     positive = (face & 1u) != 0u;

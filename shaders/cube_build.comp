@@ -32,7 +32,7 @@ layout(std430, set = 0, binding = 3) writeonly buffer Draws { uint draws[]; };
 #include "materials.glsl"
 #include "see_inside.glsl"
 
-const uint kRunInstance = 0x80000000u;
+const uint kQuadInstance = 0x80000000u;
 
 const int kTile = 18;  // cells -1..16 around the brick
 const uint kTileCells = uint(kTile * kTile * kTile);
@@ -120,7 +120,7 @@ uint take_slot(uint material) {
 // axis, `rows` rows across.
 void write_quad(uint brick, uint first, uint material, uint face, uint run_length, uint rows, bool open) {
   instances[brick * kBrickCells + take_slot(material)] = first | (material << 12u) | (face << 15u) | ((run_length - 1u) << 18u) |
-                                                        (open ? 1u << 22u : 0u) | ((rows - 1u) << 23u) | kRunInstance;
+                                                        (open ? 1u << 22u : 0u) | ((rows - 1u) << 23u) | kQuadInstance;
 }
 
 // Whether the cell at step k of row `row` of face `face`'s rows shows that face, open, in `material`.
