@@ -3,9 +3,6 @@
 // before including this file, and includes view.glsl.
 #define CELLS_GLSL
 
-const int kBrickSize = 16;
-const uint kBrickCells = 4096u;
-
 bool inside_grid(ivec3 p) { return all(greaterThanEqual(p, ivec3(0))) && all(lessThan(p, pc.grid.xyz)); }
 
 uint cell_index(ivec3 p) { return uint(p.x) + uint(pc.grid.x) * (uint(p.y) + uint(pc.grid.y) * uint(p.z)); }

@@ -37,14 +37,10 @@ int nearest_first(int k, int e, int n) {
   return e > n - 1 - e ? e - beyond : e + beyond;
 }
 
-/// Cells per brick edge (cells.glsl's kBrickSize; that file needs the cells, which this pass does
-/// not read).
-const float kBrickEdge = 16.0;
-
 /// The brick of rank `rank` front to back from the eye.
 uint brick_of_rank(uint rank) {
   const ivec3 n = pc.bricks.xyz;
-  const ivec3 e = clamp(ivec3(floor(pc.eye.xyz / kBrickEdge)), ivec3(-1), n);
+  const ivec3 e = clamp(ivec3(floor(pc.eye.xyz / float(kBrickSize))), ivec3(-1), n);
   const int r = int(rank);
   const int x = nearest_first(r % n.x, e.x, n.x);
   const int y = nearest_first((r / n.x) % n.y, e.y, n.y);
