@@ -29,7 +29,7 @@ void main() {
   uvec2 vertex = vertices[gl_VertexIndex];
   uint bx = uint(pc.bricks.x), by = uint(pc.bricks.y);
   vec3 origin = vec3(float(brick % bx), float((brick / bx) % by), float(brick / (bx * by))) * 16.0;
-  vec3 local = vec3(float(vertex.x & 1023u), float((vertex.x >> 10) & 1023u), float((vertex.x >> 20) & 1023u)) / 50.0 - 1.0;
+  vec3 local = vec3(float(vertex.x & 1023u), float((vertex.x >> 10) & 1023u), float((vertex.x >> 20) & 1023u)) / 50.0 - 2.0;
   vec3 position = origin + local;
   uint material = vertex.y >> 28;
   uint look = seen_look(material);

@@ -9,7 +9,11 @@
 // the brick's slot, with normals from the density gradient and the material most frequent among the
 // layer's cells around it. The opaque layers' triangles (x-ray's static layer included) come first,
 // then the translucent layers'; the first and last bricks along an axis also mesh the cubes just
-// outside the grid, so the surfaces close at the grid's faces. Then the brick's two indirect draw
+// outside the grid, so the surfaces close at the grid's faces. A brick at level 1 (brick_levels,
+// viewer/src/brick_detail.hpp) meshes a cube per 2x2x2 cells: its cubes span the even lattice
+// points, with the same densities there, so its surfaces meet those of a level-0 neighbour on
+// their shared face at every even point; its opaque layers also mesh one cube more into each finer
+// neighbour, which covers the cracks between the two meshes. Then the brick's two indirect draw
 // commands are written: draws[brick] for the opaque triangles, draws[bricks in the grid + brick]
 // for the translucent ones.
 #extension GL_EXT_shader_8bit_storage : require
@@ -21,6 +25,7 @@ layout(std430, set = 0, binding = 1) readonly buffer BrickList { uint brick_list
 layout(std430, set = 0, binding = 2) writeonly buffer Vertices { uvec2 vertices[]; };
 layout(std430, set = 0, binding = 3) writeonly buffer Draws { uint draws[]; };
 layout(std430, set = 0, binding = 4) readonly buffer Cases { uint cases[]; };  // 256 x (count, 15 edges)
+layout(std430, set = 0, binding = 6) readonly buffer BrickLevels { uint8_t brick_levels[]; };  // 0 or 1 a brick
 #define MATERIALS_BINDING 5
 #include "cells.glsl"
 #include "materials.glsl"
@@ -29,10 +34,12 @@ layout(std430, set = 0, binding = 4) readonly buffer Cases { uint cases[]; };  /
 
 const int kTile = 21;  // cells -2..18 around the brick
 const uint kTileCells = uint(kTile * kTile * kTile);
-const float kPositionScale = 50.0;  // fixed point: (local + 1) * 50 fits 10 bits for local in [-1, 17]
+const float kPositionScale = 50.0;  // fixed point: (local + 2) * 50 fits 10 bits for local in [-2, 18]
 
 shared uint tile[(kTileCells + 3u) / 4u];
-shared uint layer_density[(kTileCells + 3u) / 4u];  // per lattice point -2..18: cells of the layer around it, 0..8
+shared uint layer_density[(kTileCells + 3u) / 4u];  // per lattice point: 4 x the layer's cells around it (count_layer)
+const int kFaceSide = 19;  // lattice points -1..17 along each axis of a brick's face
+shared uint face_means[kFaceSide * kFaceSide];  // match_coarse_faces
 shared uint triangle_count;
 shared uint tile_looks;  // bit l: some cell of the tile has look l
 
@@ -44,42 +51,120 @@ uint tile_byte(ivec3 local) {
   return (tile[i >> 2] >> ((i & 3u) * 8u)) & 255u;
 }
 
-// Counts, for every lattice point q in -2..18 (local), the cells of layer `look` among the 8 around
-// it (cells q - 1 .. q, clamped to the tile) into layer_density. Every invocation calls it.
-void count_layer(uint look) {
+const int kCoarsePoints = 11;  // the even lattice points -2, 0, .., 18 along an axis
+
+// The cells of layer `look` among the 8 around lattice point q (cells q - 1 .. q, clamped to the tile).
+uint cells_around(ivec3 q, uint look) {
+  uint sum = 0u;
+  for (int c = 0; c < 8; ++c)
+    sum += (tile_byte(clamp(q - 1 + ivec3(c & 1, (c >> 1) & 1, (c >> 2) & 1), ivec3(-2), ivec3(kTile - 3))) >> 3) == look ? 1u : 0u;
+  return sum;
+}
+
+// Counts the cells of layer `look` around the lattice points the brick's level reads into
+// layer_density, four times over (so that a mean of two or four counts is a whole number): at
+// level 0 every point -2..18 (local), a byte each; at level 1 the even ones, a word each. Every
+// invocation calls it.
+void count_layer(uint look, uint level) {
   barrier();  // the previous layer's cubes have read its densities
-  for (uint w = gl_LocalInvocationIndex; w < (kTileCells + 3u) / 4u; w += 256u) {
-    uint word = 0u;
-    for (uint b = 0u; b < 4u; ++b) {
-      uint i = w * 4u + b;
-      if (i >= kTileCells) break;
-      ivec3 q = ivec3(int(i % uint(kTile)), int((i / uint(kTile)) % uint(kTile)), int(i / uint(kTile * kTile))) - 2;
-      uint sum = 0u;
-      for (int c = 0; c < 8; ++c)
-        sum += (tile_byte(clamp(q - 1 + ivec3(c & 1, (c >> 1) & 1, (c >> 2) & 1), ivec3(-2), ivec3(kTile - 3))) >> 3) == look ? 1u : 0u;
-      word |= sum << (b * 8u);
+  if (level == 0u) {
+    for (uint w = gl_LocalInvocationIndex; w < (kTileCells + 3u) / 4u; w += 256u) {
+      uint word = 0u;
+      for (uint b = 0u; b < 4u; ++b) {
+        uint i = w * 4u + b;
+        if (i >= kTileCells) break;
+        ivec3 q = ivec3(int(i % uint(kTile)), int((i / uint(kTile)) % uint(kTile)), int(i / uint(kTile * kTile))) - 2;
+        word |= (cells_around(q, look) * 4u) << (b * 8u);
+      }
+      layer_density[w] = word;
     }
-    layer_density[w] = word;
+  } else {
+    for (uint i = gl_LocalInvocationIndex; i < uint(kCoarsePoints * kCoarsePoints * kCoarsePoints); i += 256u) {
+      ivec3 p = ivec3(int(i % uint(kCoarsePoints)), int((i / uint(kCoarsePoints)) % uint(kCoarsePoints)), int(i / uint(kCoarsePoints * kCoarsePoints)));
+      layer_density[i] = cells_around(p * 2 - 2, look) * 4u;
+    }
   }
   barrier();
 }
 
-// Density of the counted layer at lattice point q (local, -2..18): the fraction of the 8 cells around it of its look.
-float density(ivec3 q) {
+// The counted layer's value at lattice point q of a level-0 brick (local, -2..18): 4 x its cells around.
+uint fine_count(ivec3 q) {
   uint i = tile_index(q + 2);
-  return float((layer_density[i >> 2] >> ((i & 3u) * 8u)) & 255u) * 0.125;
+  return (layer_density[i >> 2] >> ((i & 3u) * 8u)) & 255u;
 }
 
-vec3 gradient(ivec3 q) {
-  return vec3(density(q + ivec3(1, 0, 0)) - density(q - ivec3(1, 0, 0)), density(q + ivec3(0, 1, 0)) - density(q - ivec3(0, 1, 0)),
-              density(q + ivec3(0, 0, 1)) - density(q - ivec3(0, 0, 1)));
+// Density of the counted layer at lattice point q (local, -2..18; even at level 1): the fraction
+// of the 8 cells around it of its look.
+float density(ivec3 q, uint level) {
+  if (level != 0u) return float(layer_density[uint((q.x + 2) / 2 + kCoarsePoints * ((q.y + 2) / 2 + kCoarsePoints * ((q.z + 2) / 2)))]) / 32.0;
+  return float(fine_count(q)) / 32.0;
 }
 
-// The material of layer `look` most frequent among the 27 cells around cube `local` (ties: the higher state).
-uint layer_material(ivec3 local, uint look) {
+// The level of the brick `offset` bricks from brick `at` (bricks), or `fallback` outside the grid.
+uint level_of(ivec3 at, ivec3 offset, uint fallback) {
+  ivec3 b = at + offset;
+  if (any(lessThan(b, ivec3(0))) || any(greaterThanEqual(b, pc.bricks.xyz))) return fallback;
+  return uint(brick_levels[b.x + pc.bricks.x * (b.y + pc.bricks.y * b.z)]);
+}
+
+// On each face a level-0 brick shares with a coarse neighbour, the densities of the lattice points
+// between the even ones become the mean of the even points beside them on the face (2, or 4 where
+// both coordinates are odd): the brick's surface then crosses the face where the neighbour's
+// coarse cubes cross it. Every invocation calls it, after count_layer.
+void match_coarse_faces(ivec3 at) {
+  for (int a = 0; a < 3; ++a) {
+    ivec3 d = ivec3(0);
+    d[a] = 1;
+    for (int side = 0; side < 2; ++side) {
+      if (level_of(at, side == 0 ? -d : d, 0u) == 0u) continue;
+      ivec3 u = ivec3(0), v = ivec3(0);
+      u[(a + 1) % 3] = 1;
+      v[(a + 2) % 3] = 1;
+      // The means first (they read only even points, which keep their counts), then the writes.
+      for (uint i = gl_LocalInvocationIndex; i < uint(kFaceSide * kFaceSide); i += 256u) {
+        int iu = int(i % uint(kFaceSide)) - 1, iv = int(i / uint(kFaceSide)) - 1;
+        ivec3 q = d * (side * kBrickSize) + u * iu + v * iv;
+        ivec3 du = (iu & 1) != 0 ? u : ivec3(0), dv = (iv & 1) != 0 ? v : ivec3(0);
+        // Where one coordinate is odd the four are two pairs of the same point; where none is, q four times.
+        face_means[i] = (fine_count(q - du - dv) + fine_count(q + du - dv) + fine_count(q - du + dv) + fine_count(q + du + dv)) / 4u;
+      }
+      barrier();
+      for (uint i = gl_LocalInvocationIndex; i < uint(kFaceSide * kFaceSide); i += 256u) {
+        int iu = int(i % uint(kFaceSide)) - 1, iv = int(i / uint(kFaceSide)) - 1;
+        if (((iu | iv) & 1) == 0) continue;
+        uint index = tile_index(d * (side * kBrickSize) + u * iu + v * iv + 2);
+        uint shift = (index & 3u) * 8u;
+        atomicAnd(layer_density[index >> 2], ~(255u << shift));
+        atomicOr(layer_density[index >> 2], face_means[i] << shift);
+      }
+      barrier();
+    }
+  }
+}
+
+// The density gradient at lattice point q, by central differences over the level's point spacing
+// (one-sided at the counted points' edge).
+vec3 gradient(ivec3 q, uint level) {
+  int step = 1 << level;
+  vec3 g;
+  for (int a = 0; a < 3; ++a) {
+    ivec3 d = ivec3(0);
+    d[a] = step;
+    ivec3 hi = clamp(q + d, ivec3(-2), ivec3(18)), lo = clamp(q - d, ivec3(-2), ivec3(18));
+    g[a] = (density(hi, level) - density(lo, level)) / float(max(hi[a] - lo[a], 1));
+  }
+  return g;
+}
+
+// The material of layer `look` most frequent among the cells around the cube from lattice point
+// `local` to local + step: cells local - 1 .. local + step, which hold every cell its corners'
+// densities count (ties: the higher state).
+uint layer_material(ivec3 local, int step, uint look) {
   uint counts[8] = uint[8](0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
-  for (int c = 0; c < 27; ++c) {
-    uint b = tile_byte(local - 1 + ivec3(c % 3, (c / 3) % 3, c / 9));
+  int side = step + 2;
+  for (int c = 0; c < side * side * side; ++c) {
+    ivec3 cell = local - 1 + ivec3(c % side, (c / side) % side, c / (side * side));
+    uint b = tile_byte(clamp(cell, ivec3(-2), ivec3(kTile - 3)));
     if ((b >> 3) == look) counts[b & 7u]++;
   }
   uint best = 0u;
@@ -95,26 +180,39 @@ uint octahedral(vec3 n) {
   return q.x | (q.y << 14);
 }
 
-// Meshes layer `look` of the tile: appends its triangles to the brick's slot. Every invocation calls it.
-void mesh_layer(uint brick, ivec3 origin, uint look, uint max_triangles) {
-  count_layer(look);
-  // Cubes this brick meshes: its own, plus index -1 / index N along an axis at the grid's faces.
+// Meshes layer `look` of the tile at `level`: appends its triangles to the brick's slot. Every invocation calls it.
+void mesh_layer(uint brick, ivec3 origin, uint look, uint max_triangles, uint level) {
+  count_layer(look, level);
+  ivec3 at = origin / kBrickSize;
+  if (level == 0u) match_coarse_faces(at);
+  int step = 1 << level;
+  // Cubes this brick meshes, in units of `step` cells: its own, plus index -1 / one past its own
+  // along an axis at the grid's faces and, for the opaque layers of a coarse brick, toward each
+  // finer neighbour.
   ivec3 first_cube = ivec3(equal(origin, ivec3(0))) * -1;
   bvec3 last_brick = greaterThanEqual(origin + kBrickSize, pc.grid.xyz);
-  ivec3 end_cube = mix(ivec3(kBrickSize), pc.grid.xyz + 1 - origin, last_brick);
+  ivec3 end_cube = mix(ivec3(kBrickSize / step), (pc.grid.xyz - origin + step) / step, last_brick);
+  if (level != 0u && look == kLookOpaque) {
+    for (int a = 0; a < 3; ++a) {
+      ivec3 d = ivec3(0);
+      d[a] = 1;
+      if (level_of(at, -d, level) < level) first_cube[a] = -1;
+      if (level_of(at, d, level) < level) end_cube[a] = kBrickSize / step + 1;
+    }
+  }
   ivec3 span = end_cube - first_cube;
   uint cube_total = uint(span.x * span.y * span.z);
   for (uint i = gl_LocalInvocationIndex; i < cube_total; i += 256u) {
-    ivec3 local = first_cube + ivec3(int(i % uint(span.x)), int((i / uint(span.x)) % uint(span.y)), int(i / uint(span.x * span.y)));
+    ivec3 local = (first_cube + ivec3(int(i % uint(span.x)), int((i / uint(span.x)) % uint(span.y)), int(i / uint(span.x * span.y)))) * step;
     float d[8];
     uint mask = 0u;
     for (int c = 0; c < 8; ++c) {
-      d[c] = density(local + ivec3(c & 1, (c >> 1) & 1, (c >> 2) & 1));
+      d[c] = density(local + ivec3(c & 1, (c >> 1) & 1, (c >> 2) & 1) * step, level);
       if (d[c] > kIso) mask |= 1u << c;
     }
     if (mask == 0u || mask == 255u) continue;
     uint edge_count = cases[mask * 16u];
-    uint material = layer_material(local, look);
+    uint material = layer_material(local, step, look);
     uint first = atomicAdd(triangle_count, edge_count / 3u);
     for (uint k = 0u; k < edge_count; ++k) {
       uint triangle = first + k / 3u;
@@ -125,13 +223,13 @@ void mesh_layer(uint brick, ivec3 origin, uint look, uint max_triangles) {
       // Corner a has bit `axis` clear; the other two bits enumerate the edge within its axis.
       uint low_bits = (axis == 0u) ? (rest << 1) : (axis == 1u ? ((rest & 1u) | ((rest >> 1) << 2)) : rest);
       uint corner_a = low_bits, corner_b = low_bits | (1u << axis);
-      ivec3 pa = local + ivec3(int(corner_a & 1u), int((corner_a >> 1) & 1u), int((corner_a >> 2) & 1u));
-      ivec3 pb = local + ivec3(int(corner_b & 1u), int((corner_b >> 1) & 1u), int((corner_b >> 2) & 1u));
+      ivec3 pa = local + ivec3(int(corner_a & 1u), int((corner_a >> 1) & 1u), int((corner_a >> 2) & 1u)) * step;
+      ivec3 pb = local + ivec3(int(corner_b & 1u), int((corner_b >> 1) & 1u), int((corner_b >> 2) & 1u)) * step;
       float t = clamp((kIso - d[corner_a]) / (d[corner_b] - d[corner_a]), 0.0, 1.0);
       vec3 position = mix(vec3(pa), vec3(pb), t);
-      vec3 normal = -mix(gradient(pa), gradient(pb), t);
+      vec3 normal = -mix(gradient(pa, level), gradient(pb, level), t);
       if (dot(normal, normal) < 1e-8) normal = vec3(0.0, 0.0, 1.0);
-      uvec3 fixed_position = uvec3((position + 1.0) * kPositionScale + 0.5);
+      uvec3 fixed_position = uvec3((position + 2.0) * kPositionScale + 0.5);
       vertices[brick * max_triangles * 3u + first * 3u + k] =
           uvec2(fixed_position.x | (fixed_position.y << 10) | (fixed_position.z << 20), octahedral(normalize(normal)) | (material << 28));
     }
@@ -152,6 +250,7 @@ void main() {
   uint grid_bricks = uint(pc.bricks.x * pc.bricks.y * pc.bricks.z);
   uint brick = brick_list[gl_WorkGroupID.x];
   ivec3 origin = brick_origin(brick);
+  uint level = uint(brick_levels[brick]);
   uint slot_start = brick * max_triangles * 3u;
   if (gl_LocalInvocationIndex == 0u) {
     triangle_count = 0u;
@@ -175,13 +274,13 @@ void main() {
   atomicOr(tile_looks, looks);
   barrier();
   // A layer's surface lies where its look meets another; a tile of one look holds none (most bricks).
-  if (layer_has_surface(kLookOpaque)) mesh_layer(brick, origin, kLookOpaque, max_triangles);
-  if (layer_has_surface(kLookXray)) mesh_layer(brick, origin, kLookXray, max_triangles);
+  if (layer_has_surface(kLookOpaque)) mesh_layer(brick, origin, kLookOpaque, max_triangles, level);
+  if (layer_has_surface(kLookXray)) mesh_layer(brick, origin, kLookXray, max_triangles, level);
   barrier();
   uint opaque_triangles = min(triangle_count, max_triangles);
   barrier();  // every invocation has read the opaque count before the translucent layers add to it
-  if (layer_has_surface(kLookLiquid)) mesh_layer(brick, origin, kLookLiquid, max_triangles);
-  if (layer_has_surface(kLookGas)) mesh_layer(brick, origin, kLookGas, max_triangles);
+  if (layer_has_surface(kLookLiquid)) mesh_layer(brick, origin, kLookLiquid, max_triangles, level);
+  if (layer_has_surface(kLookGas)) mesh_layer(brick, origin, kLookGas, max_triangles, level);
   barrier();
   if (gl_LocalInvocationIndex == 0u) {
     uint total = min(triangle_count, max_triangles);

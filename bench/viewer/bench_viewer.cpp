@@ -56,6 +56,7 @@ int main(int argc, char** argv) {
   std::uint64_t skip_ticks = 0;
   std::string renderers = "cubes,marching,raymarch", csv, camera_text;
   bool validation = false, no_interop = false, real_time = false;
+  viewer::RenderDetail detail;
   app.add_option("--scene", choice.scene, "scene");
   app.add_option("--size", choice.size, "scene size parameter N");
   app.add_option("--backend", choice.backend, "auto, cpu or cuda");
@@ -69,6 +70,9 @@ int main(int argc, char** argv) {
   app.add_option("--skip-ticks", skip_ticks, "ticks simulated before the first frame (e.g. to measure a settled scene)");
   app.add_option("--renderers", renderers, "comma-separated: cubes, marching, raymarch");
   app.add_option("--camera", camera_text, "yaw,pitch,distance[,tx,ty,tz]");
+  app.add_option("--coarse-below", detail.coarse_below_pixels,
+                 "marching cubes meshes a brick at half resolution where its cells cover fewer pixels than this (0: never)")
+      ->check(CLI::Range(0.0f, 1000.0f));
   app.add_option("--csv", csv, "append CSV rows to this file");
   app.add_flag("--validation", validation, "Vulkan validation layers (slow; for checking, not timing)");
   app.add_flag("--no-interop", no_interop, "with --backend cuda: upload through the host instead of sharing the cells");
@@ -132,7 +136,8 @@ int main(int argc, char** argv) {
       }
       const viewer::OrbitCamera camera = camera_text.empty() ? viewer::OrbitCamera::framing(world.size())
                                                              : viewer::OrbitCamera::parse(camera_text, world.size());
-      viewer::OffscreenRenderer renderer(context, world, {std::uint32_t(width), std::uint32_t(height)}, *kind, shared.get());
+      viewer::OffscreenRenderer renderer(context, world, {std::uint32_t(width), std::uint32_t(height)}, *kind, shared.get(),
+                                         detail);
       Row row;
       row.renderer = name;
       // The ticks a frame steps: `ticks`, or with --real-time those the wall clock owes since
@@ -190,9 +195,11 @@ int main(int argc, char** argv) {
     }
     const std::string rate = real_time ? "real time (at most " + std::to_string(ticks) + " ticks/frame)"
                                        : std::to_string(ticks) + " ticks/frame";
-    std::printf("device %s, backend %s, cells %s, rules %s, scene %s N=%d, %dx%d, %s, %d frames after tick %llu\n",
+    std::printf("device %s, backend %s, cells %s, rules %s, scene %s N=%d, %dx%d, %s, %d frames after tick %llu, "
+                "marching coarse below %g px\n",
                 context.device_name().c_str(), backend.c_str(), cells_path.c_str(), choice.rules.c_str(), choice.scene.c_str(),
-                choice.size, width, height, rate.c_str(), frames, static_cast<unsigned long long>(skip_ticks));
+                choice.size, width, height, rate.c_str(), frames, static_cast<unsigned long long>(skip_ticks),
+                double(detail.coarse_below_pixels));
     std::printf("%-9s %8s %9s %8s %9s %10s %9s %8s %9s %7s\n", "renderer", "fps", "frame_ms", "sim_ms", "record_ms",
                 "upload_ms", "build_ms", "draw_ms", "rebuilt", "ticks");
     for (const Row& r : rows)
@@ -204,12 +211,12 @@ int main(int argc, char** argv) {
       if (!out) throw std::runtime_error("cannot write " + csv);
       if (fresh)
         out << "device,backend,cells,rules,scene,n,width,height,ticks_per_frame,skip_ticks,frames,renderer,fps,frame_ms,sim_ms,record_ms,gpu_upload_ms,"
-               "gpu_build_ms,gpu_draw_ms,bricks_rebuilt_per_frame,ticks_stepped_per_frame\n";
+               "gpu_build_ms,gpu_draw_ms,bricks_rebuilt_per_frame,ticks_stepped_per_frame,coarse_below_px\n";
       for (const Row& r : rows)
         out << '"' << context.device_name() << "\",\"" << backend << "\"," << cells_path << ',' << choice.rules << ',' << choice.scene << ',' << choice.size << ','
             << width << ',' << height << ',' << ticks << ',' << skip_ticks << ',' << frames << ',' << r.renderer << ',' << r.fps << ',' << r.frame_ms << ','
             << r.sim_ms << ',' << r.record_ms << ',' << r.upload_ms << ',' << r.build_ms << ',' << r.draw_ms << ','
-            << r.bricks_rebuilt << ',' << r.ticks_per_frame << '\n';
+            << r.bricks_rebuilt << ',' << r.ticks_per_frame << ',' << detail.coarse_below_pixels << '\n';
     }
     if (validation && context.validation_messages()) {
       std::fprintf(stderr, "error: %llu validation messages\n", static_cast<unsigned long long>(context.validation_messages()));

@@ -5,6 +5,17 @@
 #include <numeric>
 
 namespace viewer {
+namespace {
+
+/// The bricks marked non-zero in `marked`, in index order.
+std::vector<std::uint32_t> marked_bricks(const std::vector<std::uint8_t>& marked) {
+  std::vector<std::uint32_t> result;
+  for (std::uint32_t brick = 0; brick < marked.size(); ++brick)
+    if (marked[brick]) result.push_back(brick);
+  return result;
+}
+
+}  // namespace
 
 std::vector<std::uint32_t> all_bricks(granular::Int3 counts) {
   std::vector<std::uint32_t> bricks(std::size_t(counts.x) * counts.y * counts.z);
@@ -27,10 +38,15 @@ std::vector<std::uint32_t> with_neighbours(std::span<const std::uint32_t> change
           marked[std::size_t(px) + nx * (std::size_t(py) + ny * std::size_t(pz))] = 1;
         }
   }
-  std::vector<std::uint32_t> result;
-  for (std::uint32_t brick = 0; brick < total; ++brick)
-    if (marked[brick]) result.push_back(brick);
-  return result;
+  return marked_bricks(marked);
+}
+
+std::vector<std::uint32_t> united(std::span<const std::uint32_t> a, std::span<const std::uint32_t> b,
+                                  granular::Int3 counts) {
+  std::vector<std::uint8_t> marked(std::size_t(counts.x) * counts.y * counts.z, 0);
+  for (std::uint32_t brick : a) marked[brick] = 1;
+  for (std::uint32_t brick : b) marked[brick] = 1;
+  return marked_bricks(marked);
 }
 
 }  // namespace viewer

@@ -42,7 +42,8 @@ int run_headless(const SandboxOptions& options) {
   RendererChoice renderer_choice;
   RendererKind kind = automatic ? renderer_choice.first() : *parse_renderer_kind(options.renderer);
   OffscreenRenderer offscreen(context, world,
-                              {std::uint32_t(options.width), std::uint32_t(options.height)}, kind, shared.get());
+                              {std::uint32_t(options.width), std::uint32_t(options.height)}, kind, shared.get(),
+                              options.detail);
   offscreen.world_renderer().set_see_inside(options.inside);
 
   // One fixed update per frame: the manual clock advances exactly one tick length per frame.

@@ -5,6 +5,7 @@
 #include <cstring>
 #include <vector>
 
+#include "brick_set.hpp"
 #include "cell_buffer.hpp"
 #include "granular/activity.hpp"
 #include "marching_cubes_tables.hpp"
@@ -37,6 +38,14 @@ std::uint32_t triangles_per_brick(const VulkanContext& context, std::uint32_t br
 
 std::uint32_t total_of(granular::Int3 counts) { return std::uint32_t(counts.x) * counts.y * counts.z; }
 
+/// The descriptor types of the build and draw passes: cells, brick list, vertices, draws, case
+/// table; the palette at 5; the brick levels at 6.
+std::vector<VkDescriptorType> marching_bindings() {
+  std::vector<VkDescriptorType> types = storage_then_palette(5);
+  types.push_back(VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
+  return types;
+}
+
 /// The case table as the shader reads it: 256 x (edge count, 15 edges).
 std::vector<std::uint32_t> gpu_case_table() {
   std::vector<std::uint32_t> table(256 * 16, 0);
@@ -52,7 +61,8 @@ std::vector<std::uint32_t> gpu_case_table() {
 }  // namespace
 
 MarchingCubesRenderer::MarchingCubesRenderer(const VulkanContext& context, const CellBuffer& cells,
-                                             const MaterialPalette& palette, VkRenderPass target_pass)
+                                             const MaterialPalette& palette, VkRenderPass target_pass,
+                                             const RenderDetail& detail)
     : brick_counts_(granular::brick_counts(cells.size())),
       brick_total_(total_of(brick_counts_)),
       triangles_per_brick_(triangles_per_brick(context, brick_total_)),
@@ -62,7 +72,11 @@ MarchingCubesRenderer::MarchingCubesRenderer(const VulkanContext& context, const
              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, MemoryKind::DeviceLocal),
       cases_(context, 256 * 16 * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
              MemoryKind::DeviceLocal),
-      sets_(context.device(), storage_then_palette(5)),  // cells, brick list, vertices, draws, case table; the palette at 5
+      detail_(brick_counts_, detail.coarse_below_pixels),
+      level_staging_(context, VK_BUFFER_USAGE_TRANSFER_SRC_BIT),
+      levels_(context, (VkDeviceSize(brick_total_) + 3) / 4 * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+              MemoryKind::DeviceLocal),
+      sets_(context.device(), marching_bindings()),
       rebuild_(context, brick_counts_, sets_, 1),
       build_(context.device(), sets_.layout(), "mc_build.comp"),
       draw_pipeline_(context.device(), sets_.layout(), target_pass, "mc.vert", "mc.frag"),
@@ -75,18 +89,27 @@ MarchingCubesRenderer::MarchingCubesRenderer(const VulkanContext& context, const
   context.run_once([&](VkCommandBuffer commands) {
     const VkBufferCopy region{0, 0, table.size() * 4};
     vkCmdCopyBuffer(commands, staging.buffer(), cases_.buffer(), 1, &region);
+    vkCmdFillBuffer(commands, levels_.buffer(), 0, VK_WHOLE_SIZE, 0);  // every brick fine, as detail_ starts
   });
   sets_.write_buffer(0, cells.buffer());
   sets_.write_buffer(2, vertices_.buffer());
   sets_.write_buffer(3, draws_.buffer());
   sets_.write_buffer(4, cases_.buffer());
   sets_.write_buffer(5, palette.buffer());
+  sets_.write_buffer(6, levels_.buffer());
 }
 
 MarchingCubesRenderer::~MarchingCubesRenderer() = default;
 
 std::uint64_t MarchingCubesRenderer::prepare(VkCommandBuffer commands, const FrameView& view,
                                              std::span<const std::uint32_t> changed_bricks) {
+  level_rebuild_.clear();
+  std::vector<std::uint32_t> united_bricks;
+  if (detail_.update(view.raster.matrix, view.extent.height, level_rebuild_)) {
+    upload_levels(commands, view.slot);
+    united_bricks = united(changed_bricks, level_rebuild_, brick_counts_);
+    changed_bricks = united_bricks;
+  }
   const std::uint32_t bricks = rebuild_.upload(view.slot, changed_bricks);
   if (bricks == 0) {
     compaction_.record(commands, view.raster, false);
@@ -105,6 +128,19 @@ std::uint64_t MarchingCubesRenderer::prepare(VkCommandBuffer commands, const Fra
                  VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
   compaction_.record(commands, view.raster, true);
   return bricks;
+}
+
+void MarchingCubesRenderer::upload_levels(VkCommandBuffer commands, int slot) {
+  const std::span<const std::uint8_t> levels = detail_.levels();
+  level_staging_.reserve(slot, levels_.size());
+  std::memcpy(level_staging_.at(slot).mapped(), levels.data(), levels.size());
+  // Earlier frames' builds read the levels before this copy overwrites them.
+  memory_barrier(commands, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT,
+                 VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
+  const VkBufferCopy region{0, 0, levels.size()};
+  vkCmdCopyBuffer(commands, level_staging_.at(slot).buffer(), levels_.buffer(), 1, &region);
+  memory_barrier(commands, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                 VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
 }
 
 void MarchingCubesRenderer::draw(VkCommandBuffer commands, const FrameView& view) {

@@ -7,15 +7,19 @@
 /// commands; one multi-draw-indirect draws the opaque surfaces of every brick, a second one blends
 /// the translucent ones over them (depth-tested, not written). Colours come from the world's
 /// material table (MaterialPalette). Only the bricks that changed (and their neighbours) are
-/// re-meshed. A section plane clips the surfaces and its cap (SectionCap) closes the cut; x-ray
-/// meshes the static materials apart and draws them blended (surface_draws.hpp).
+/// re-meshed. Where cells are small on the image a brick is meshed with a cube per 2x2x2 cells
+/// (BrickDetail), and re-meshed when its level changes. A section plane clips the surfaces and its
+/// cap (SectionCap) closes the cut; x-ray meshes the static materials apart and draws them blended
+/// (surface_draws.hpp).
 
 #include <cstdint>
 
 #include "draw_compaction.hpp"
 #include "gpu_buffer.hpp"
 #include "granular/geometry.hpp"
+#include "brick_detail.hpp"
 #include "brick_rebuild_list.hpp"
+#include "host_buffer_slots.hpp"
 #include "pipeline_builder.hpp"
 #include "renderer.hpp"
 #include "section_cap.hpp"
@@ -30,9 +34,9 @@ class MaterialPalette;
 class MarchingCubesRenderer final : public Renderer {
  public:
   /// Reads `cells` and `palette` (which must outlive it) and draws into passes compatible with
-  /// `target_pass`.
+  /// `target_pass`, keeping `detail`.
   MarchingCubesRenderer(const VulkanContext& context, const CellBuffer& cells, const MaterialPalette& palette,
-                        VkRenderPass target_pass);
+                        VkRenderPass target_pass, const RenderDetail& detail);
   /// Destroys its Vulkan objects (after the GPU is done with them).
   ~MarchingCubesRenderer() override;
 
@@ -47,12 +51,19 @@ class MarchingCubesRenderer final : public Renderer {
   void draw(VkCommandBuffer commands, const FrameView& view) override;
 
  private:
+  /// Records the copy of detail_'s levels into levels_ through slot `slot`'s staging buffer.
+  void upload_levels(VkCommandBuffer commands, int slot);
+
   granular::Int3 brick_counts_;
   std::uint32_t brick_total_;
   std::uint32_t triangles_per_brick_;
   GpuBuffer vertices_;
   GpuBuffer draws_;  ///< brick_total_ opaque commands, then brick_total_ translucent ones
   GpuBuffer cases_;
+  BrickDetail detail_;
+  HostBufferSlots level_staging_;  ///< detail_'s levels on their way to levels_
+  GpuBuffer levels_;               ///< a byte per brick: the level it is meshed at (mc_build.comp)
+  std::vector<std::uint32_t> level_rebuild_;  ///< bricks to re-mesh for a change of level
   DescriptorSets sets_;
   BrickRebuildList rebuild_;  ///< after sets_: binds its lists there
   Pipeline build_;

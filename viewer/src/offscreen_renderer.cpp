@@ -9,10 +9,10 @@
 namespace viewer {
 
 OffscreenRenderer::OffscreenRenderer(const VulkanContext& context, const granular::World& world, VkExtent2D extent,
-                                     RendererKind kind, SharedCells* shared)
+                                     RendererKind kind, SharedCells* shared, const RenderDetail& detail)
     : context_(context) {
   target_ = std::make_unique<RenderTarget>(context, extent);
-  renderer_ = std::make_unique<WorldRenderer>(context, world, target_->compatible_pass(), kind, shared);
+  renderer_ = std::make_unique<WorldRenderer>(context, world, target_->compatible_pass(), kind, shared, detail);
   VkCommandBufferAllocateInfo allocate{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
   allocate.commandPool = context.command_pool();
   allocate.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;

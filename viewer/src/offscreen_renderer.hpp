@@ -21,9 +21,9 @@ class VulkanContext;
 class OffscreenRenderer {
  public:
   /// Renders `world` (which must outlive it) at `extent` with the renderer of `kind`; through
-  /// `shared` (CUDA interop) when given.
+  /// `shared` (CUDA interop) when given, keeping `detail`.
   OffscreenRenderer(const VulkanContext& context, const granular::World& world, VkExtent2D extent, RendererKind kind,
-                    SharedCells* shared = nullptr);
+                    SharedCells* shared = nullptr, const RenderDetail& detail = {});
   /// Destroys its Vulkan objects (after the GPU is done with them).
   ~OffscreenRenderer();
   OffscreenRenderer(const OffscreenRenderer&) = delete;

@@ -25,6 +25,14 @@ enum class RendererKind {
 /// "cubes", "marching" or "raymarch".
 const char* to_string(RendererKind kind);
 
+/// How much detail the geometry renderers keep where cells are small on the image.
+struct RenderDetail {
+  /// Marching cubes meshes a brick with a cube per 2x2x2 cells (a quarter of the triangles) where
+  /// its cells cover fewer than this many pixels of the image's height (brick_detail.hpp); 0 keeps
+  /// every brick at a cube per cell.
+  float coarse_below_pixels = 1.0f;
+};
+
 /// What a renderer needs to know about the frame being recorded.
 struct FrameView {
   int slot = 0;                  ///< frame-in-flight slot (selects per-frame buffers)

@@ -16,10 +16,11 @@ const char* to_string(RendererKind kind) {
 }
 
 std::unique_ptr<Renderer> make_renderer(RendererKind kind, const VulkanContext& context, const CellBuffer& cells,
-                                        const MaterialPalette& palette, VkRenderPass target_pass) {
+                                        const MaterialPalette& palette, VkRenderPass target_pass,
+                                        const RenderDetail& detail) {
   switch (kind) {
     case RendererKind::Cubes: return std::make_unique<CubeRenderer>(context, cells, palette, target_pass);
-    case RendererKind::Marching: return std::make_unique<MarchingCubesRenderer>(context, cells, palette, target_pass);
+    case RendererKind::Marching: return std::make_unique<MarchingCubesRenderer>(context, cells, palette, target_pass, detail);
     case RendererKind::Raymarch: return std::make_unique<RaymarchRenderer>(context, cells, palette);
   }
   return nullptr;

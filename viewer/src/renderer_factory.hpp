@@ -15,9 +15,10 @@ class CellBuffer;
 class MaterialPalette;
 
 /// A renderer of `kind` reading `cells` in the colours of `palette` (both must outlive it), drawing
-/// into passes compatible with `target_pass`.
+/// into passes compatible with `target_pass`, keeping `detail`.
 std::unique_ptr<Renderer> make_renderer(RendererKind kind, const VulkanContext& context, const CellBuffer& cells,
-                                        const MaterialPalette& palette, VkRenderPass target_pass);
+                                        const MaterialPalette& palette, VkRenderPass target_pass,
+                                        const RenderDetail& detail);
 
 /// The kind named `name` ("cubes", "marching", "raymarch"), or nothing.
 std::optional<RendererKind> parse_renderer_kind(std::string_view name);

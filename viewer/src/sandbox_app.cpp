@@ -284,7 +284,7 @@ class SandboxApp final : public granular::engine::Subsystem {
     choice_.scene = session_->sandbox.scene_name;
     choice_.size = session_->sandbox.n;
     renderer_ = std::make_unique<WorldRenderer>(context_, world(), swapchain_.target().compatible_pass(), kind_,
-                                                session_->shared.get());
+                                                session_->shared.get(), options_.detail);
     renderer_->set_see_inside(inside_);
     // Fixed updates at the rules' real-time rate for 5 mm cells (31 Hz with the motion model, 250 Hz
     // for one step per tick), so sand falls at the speed of real sand.

@@ -52,6 +52,10 @@ void add_sandbox_options(CLI::App& app, SandboxOptions& o) {
   app.add_option("--renderer", o.renderer,
                  "auto (the default: measures the ray march, marching cubes and cubes here and keeps the "
                  "costliest holding 60 FPS, else the fastest), cubes, marching or raymarch");
+  app.add_option("--coarse-below", o.detail.coarse_below_pixels,
+                 "marching cubes meshes a brick with a cube per 2x2x2 cells where its cells cover fewer pixels "
+                 "than this (default 1; 0: a cube per cell everywhere)")
+      ->check(CLI::Range(0.0f, 1000.0f));
   app.add_option("--ticks-per-frame", o.ticks_per_frame, "world ticks per fixed update");
   app.add_option("--width", o.width, "image width in pixels");
   app.add_option("--height", o.height, "image height in pixels");

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "scene_loader.hpp"
+#include "renderer.hpp"
 #include "see_inside.hpp"
 
 namespace CLI {
@@ -24,6 +25,7 @@ struct SandboxOptions {
   SeeInside inside;               ///< --section and --xray: the section plane and x-ray at start
   std::string camera;             ///< "yaw,pitch,distance[,tx,ty,tz]" (empty: framing the content)
   std::string renderer = "auto";  ///< auto (renderer_choice.hpp), cubes, marching or raymarch
+  RenderDetail detail;            ///< --coarse-below: where marching cubes meshes bricks at half resolution
   int ticks_per_frame = 1;        ///< world ticks per engine fixed update (one fixed update per frame headless)
   int width = 1280;               ///< image width
   int height = 720;               ///< image height

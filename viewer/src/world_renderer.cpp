@@ -20,8 +20,13 @@ constexpr std::uint32_t kQueriesPerFrame = 4;
 }  // namespace
 
 WorldRenderer::WorldRenderer(const VulkanContext& context, const granular::World& world, VkRenderPass target_pass,
-                             RendererKind kind, SharedCells* shared)
-    : context_(context), world_(world), target_pass_(target_pass), shared_(shared), palette_(context, world.rules().materials) {
+                             RendererKind kind, SharedCells* shared, const RenderDetail& detail)
+    : context_(context),
+      world_(world),
+      target_pass_(target_pass),
+      shared_(shared),
+      detail_(detail),
+      palette_(context, world.rules().materials) {
   cells_ = std::make_unique<CellBuffer>(context, world.size());
   set_kind(kind);
   if (context.has_timestamps()) {
@@ -38,7 +43,7 @@ WorldRenderer::~WorldRenderer() {
 
 Renderer& WorldRenderer::renderer_of(RendererKind kind) {
   auto& renderer = renderers_[std::size_t(kind)];
-  if (!renderer) renderer = make_renderer(kind, context_, *cells_, palette_, target_pass_);
+  if (!renderer) renderer = make_renderer(kind, context_, *cells_, palette_, target_pass_, detail_);
   return *renderer;
 }
 

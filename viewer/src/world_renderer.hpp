@@ -51,9 +51,9 @@ class WorldRenderer {
  public:
   /// Creates the cell buffer for `world`, the palette of its material table (World::rules()) and
   /// the renderer of `kind`. With `shared` (CUDA interop, outliving this), each frame snapshots the
-  /// shared cells on the device instead of uploading.
+  /// shared cells on the device instead of uploading. Renderers keep `detail`.
   WorldRenderer(const VulkanContext& context, const granular::World& world, VkRenderPass target_pass, RendererKind kind,
-                SharedCells* shared = nullptr);
+                SharedCells* shared = nullptr, const RenderDetail& detail = {});
   /// Destroys its Vulkan objects (after the GPU is done with them).
   ~WorldRenderer();
   WorldRenderer(const WorldRenderer&) = delete;
@@ -92,6 +92,7 @@ class WorldRenderer {
   const granular::World& world_;
   VkRenderPass target_pass_;
   SharedCells* shared_;
+  RenderDetail detail_;
   std::unique_ptr<CellBuffer> cells_;
   MaterialPalette palette_;
   std::array<std::unique_ptr<Renderer>, 3> renderers_;
