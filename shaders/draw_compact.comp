@@ -5,7 +5,9 @@
 // taken from the eye: the opaque list front to back, so the depth test rejects what nearer bricks
 // already cover before it is shaded; the translucent list back to front, so blending composes in
 // depth order. The commands are two lists of pc.bricks.w commands each (opaque, then translucent),
-// pc.bricks.xyz bricks per axis, pc.eye the eye in cells. Workgroup g covers 256 ranks of list
+// each command pc.grid.x words (4: VkDrawIndirectCommand, 5: VkDrawIndexedIndirectCommand; both
+// start with the count of vertices or indices, then of instances), pc.bricks.xyz bricks per axis,
+// pc.eye the eye in cells. Workgroup g covers 256 ranks of list
 // g / G (G workgroups a list). Pass pc.grid.w == 0 counts each workgroup's drawing commands; pass 1
 // writes them at their place in the compacted lists (the sum of the workgroups before it in the
 // list, then the exclusive scan within the workgroup), and the last workgroup of a list writes the
@@ -17,8 +19,8 @@
 // and it ranks first.
 layout(local_size_x = 256) in;
 #include "view.glsl"
-layout(std430, set = 0, binding = 0) readonly buffer Draws { uvec4 draws[]; };
-layout(std430, set = 0, binding = 1) writeonly buffer Compact { uvec4 compact[]; };
+layout(std430, set = 0, binding = 0) readonly buffer Draws { uint draws[]; };
+layout(std430, set = 0, binding = 1) writeonly buffer Compact { uint compact[]; };
 layout(std430, set = 0, binding = 2) buffer GroupCounts { uint group_counts[]; };
 layout(std430, set = 0, binding = 3) writeonly buffer DrawCounts { uint draw_counts[]; };
 
@@ -56,8 +58,9 @@ void main() {
   const uint rank = group * 256u + local;
   // The translucent list is the opaque order reversed.
   const uint brick = rank < bricks ? brick_of_rank(list == 0u ? rank : bricks - 1u - rank) : 0u;
-  const uint command = list * bricks + brick;
-  const bool draws_something = rank < bricks && draws[command].x > 0u && draws[command].y > 0u;
+  const uint words = uint(pc.grid.x);
+  const uint command = (list * bricks + brick) * words;
+  const bool draws_something = rank < bricks && draws[command] > 0u && draws[command + 1u] > 0u;
   scan[local] = draws_something ? 1u : 0u;
   barrier();
   // Inclusive scan of the flags (Hillis-Steele).
@@ -81,6 +84,9 @@ void main() {
     barrier();
   }
   const uint offset = partial[0];
-  if (draws_something) compact[list * bricks + offset + scan[local] - 1u] = draws[command];
+  if (draws_something) {
+    const uint at = (list * bricks + offset + scan[local] - 1u) * words;
+    for (uint w = 0u; w < words; ++w) compact[at + w] = draws[command + w];
+  }
   if (group == groups - 1u && local == 255u) draw_counts[list] = offset + scan[255];
 }

@@ -1,21 +1,23 @@
 #version 460
-// Marching cubes, build pass (pc.bricks.w: triangles per brick slot): one workgroup per listed
+// Marching cubes, build pass (pc.bricks.w: a brick slot's triangles, and its vertices): one workgroup per listed
 // brick. The brick's cells and a border are loaded into shared memory (packed 4 cells a word, each
 // byte its material and look). Each look present (opaque, liquid, gas: materials.glsl; under x-ray
 // the static materials' look apart, see_inside.glsl) is a layer of its own: a marching cube (cube c
 // spans the lattice points c..c+1, lattice point q lies between cells q-1 and q, and its density is
 // the fraction of the 8 cells around it of the layer's look; a layer's densities at the lattice
 // points -2..18 are counted once into shared memory before its cubes read them) emits the triangles of its case into
-// the brick's slot, with normals from the density gradient and the material most frequent among the
-// layer's cells around it. The opaque layers' triangles (x-ray's static layer included) come first,
+// the brick's slot. The triangles share their vertices: each lattice edge the surface crosses is one
+// vertex of the brick's vertex slot, with its normal from the density gradient and the material most
+// frequent among the layer's cells around the edge, and a triangle is three indices into the slot.
+// The opaque layers' triangles (x-ray's static layer included) come first,
 // then the translucent layers'; the first and last bricks along an axis also mesh the cubes just
 // outside the grid, so the surfaces close at the grid's faces. A brick at level 1 (brick_levels,
 // viewer/src/brick_detail.hpp) meshes a cube per 2x2x2 cells: its cubes span the even lattice
 // points, with the same densities there, so its surfaces meet those of a level-0 neighbour on
 // their shared face at every even point; its opaque layers also mesh one cube more into each finer
-// neighbour, which covers the cracks between the two meshes. Then the brick's two indirect draw
-// commands are written: draws[brick] for the opaque triangles, draws[bricks in the grid + brick]
-// for the translucent ones.
+// neighbour, which covers the cracks between the two meshes. Then the brick's two indexed indirect
+// draw commands are written: draws[brick] for the opaque triangles, draws[bricks in the grid +
+// brick] for the translucent ones.
 #extension GL_EXT_shader_8bit_storage : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int8 : require
 layout(local_size_x = 256) in;
@@ -26,6 +28,7 @@ layout(std430, set = 0, binding = 2) writeonly buffer Vertices { uvec2 vertices[
 layout(std430, set = 0, binding = 3) writeonly buffer Draws { uint draws[]; };
 layout(std430, set = 0, binding = 4) readonly buffer Cases { uint cases[]; };  // 256 x (count, 15 edges)
 layout(std430, set = 0, binding = 6) readonly buffer BrickLevels { uint8_t brick_levels[]; };  // 0 or 1 a brick
+layout(std430, set = 0, binding = 7) writeonly buffer Indices { uint indices[]; };  // 3 a triangle, into the brick's vertex slot
 #define MATERIALS_BINDING 5
 #include "cells.glsl"
 #include "materials.glsl"
@@ -39,8 +42,12 @@ const float kPositionScale = 50.0;  // fixed point: (local + 2) * 50 fits 10 bit
 shared uint tile[(kTileCells + 3u) / 4u];
 shared uint layer_density[(kTileCells + 3u) / 4u];  // per lattice point: 4 x the layer's cells around it (count_layer)
 const int kFaceSide = 19;  // lattice points -1..17 along each axis of a brick's face
-shared uint face_means[kFaceSide * kFaceSide];  // match_coarse_faces
+const int kEdgeOwners = 19 * 19 * 19;  // lattice points a layer's edges start from, at most (cubes -1..16 and one past)
+// Scratch, one use at a time: match_coarse_faces' means of a face, then each edge owner's vertices
+// (16 bits a point: its first vertex << 3 | the axes of its edges the surface crosses).
+shared uint scratch[(kEdgeOwners + 1) / 2];
 shared uint triangle_count;
+shared uint vertex_count;
 shared uint tile_looks;  // bit l: some cell of the tile has look l
 
 uint tile_index(ivec3 t) { return uint(t.x + kTile * (t.y + kTile * t.z)); }
@@ -126,7 +133,7 @@ void match_coarse_faces(ivec3 at) {
         ivec3 q = d * (side * kBrickSize) + u * iu + v * iv;
         ivec3 du = (iu & 1) != 0 ? u : ivec3(0), dv = (iv & 1) != 0 ? v : ivec3(0);
         // Where one coordinate is odd the four are two pairs of the same point; where none is, q four times.
-        face_means[i] = (fine_count(q - du - dv) + fine_count(q + du - dv) + fine_count(q - du + dv) + fine_count(q + du + dv)) / 4u;
+        scratch[i] = (fine_count(q - du - dv) + fine_count(q + du - dv) + fine_count(q - du + dv) + fine_count(q + du + dv)) / 4u;
       }
       barrier();
       for (uint i = gl_LocalInvocationIndex; i < uint(kFaceSide * kFaceSide); i += 256u) {
@@ -135,7 +142,7 @@ void match_coarse_faces(ivec3 at) {
         uint index = tile_index(d * (side * kBrickSize) + u * iu + v * iv + 2);
         uint shift = (index & 3u) * 8u;
         atomicAnd(layer_density[index >> 2], ~(255u << shift));
-        atomicOr(layer_density[index >> 2], face_means[i] << shift);
+        atomicOr(layer_density[index >> 2], scratch[i] << shift);
       }
       barrier();
     }
@@ -156,14 +163,15 @@ vec3 gradient(ivec3 q, uint level) {
   return g;
 }
 
-// The material of layer `look` most frequent among the cells around the cube from lattice point
-// `local` to local + step: cells local - 1 .. local + step, which hold every cell its corners'
-// densities count (ties: the higher state).
-uint layer_material(ivec3 local, int step, uint look) {
+// The material of layer `look` most frequent among the cells around the lattice edge from point
+// `from` to from + step along `axis`: cells from - 1 .. from + step along the axis and from - 1 ..
+// from across it, the cells its two ends' densities count (ties: the higher state).
+uint layer_material(ivec3 from, int axis, int step, uint look) {
   uint counts[8] = uint[8](0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
-  int side = step + 2;
-  for (int c = 0; c < side * side * side; ++c) {
-    ivec3 cell = local - 1 + ivec3(c % side, (c / side) % side, c / (side * side));
+  ivec3 size = ivec3(2);
+  size[axis] = step + 2;
+  for (int c = 0; c < size.x * size.y * size.z; ++c) {
+    ivec3 cell = from - 1 + ivec3(c % size.x, (c / size.x) % size.y, c / (size.x * size.y));
     uint b = tile_byte(clamp(cell, ivec3(-2), ivec3(kTile - 3)));
     if ((b >> 3) == look) counts[b & 7u]++;
   }
@@ -180,7 +188,16 @@ uint octahedral(vec3 n) {
   return q.x | (q.y << 14);
 }
 
-// Meshes layer `look` of the tile at `level`: appends its triangles to the brick's slot. Every invocation calls it.
+// The brick-slot vertex of the edge from owner point `owner` (index into scratch) along `axis`, or
+// -1 when the surface does not cross it or its vertex found no room.
+int edge_vertex(uint owner, uint axis) {
+  uint entry = (scratch[owner >> 1] >> ((owner & 1u) * 16u)) & 65535u;
+  if ((entry & (1u << axis)) == 0u) return -1;
+  return int((entry >> 3) + bitCount(entry & ((1u << axis) - 1u)));
+}
+
+// Meshes layer `look` of the tile at `level`: appends its vertices and triangles to the brick's
+// slots. Every invocation calls it.
 void mesh_layer(uint brick, ivec3 origin, uint look, uint max_triangles, uint level) {
   count_layer(look, level);
   ivec3 at = origin / kBrickSize;
@@ -200,49 +217,94 @@ void mesh_layer(uint brick, ivec3 origin, uint look, uint max_triangles, uint le
       if (level_of(at, d, level) < level) end_cube[a] = kBrickSize / step + 1;
     }
   }
+  // The vertices: each lattice point first_cube..end_cube owns the edges from it toward +x, +y, +z
+  // that lie in the meshed cubes.
+  ivec3 owners = end_cube - first_cube + 1;
+  uint owner_total = uint(owners.x * owners.y * owners.z);
+  for (uint w = gl_LocalInvocationIndex; w < (owner_total + 1u) / 2u; w += 256u) scratch[w] = 0u;
+  barrier();
+  uint max_vertices = max_triangles;  // a slot holds as many vertices as triangles (mostly half are used)
+  for (uint i = gl_LocalInvocationIndex; i < owner_total; i += 256u) {
+    ivec3 c = first_cube + ivec3(int(i % uint(owners.x)), int((i / uint(owners.x)) % uint(owners.y)), int(i / uint(owners.x * owners.y)));
+    ivec3 from = c * step;
+    float d0 = density(from, level);
+    uint crossed = 0u;
+    float d1[3];
+    for (int a = 0; a < 3; ++a) {
+      ivec3 e = ivec3(0);
+      e[a] = step;
+      d1[a] = c[a] < end_cube[a] ? density(from + e, level) : d0;
+      if ((d0 > kIso) != (d1[a] > kIso)) crossed |= 1u << a;
+    }
+    if (crossed == 0u) continue;
+    uint first = atomicAdd(vertex_count, bitCount(crossed));
+    if (first + bitCount(crossed) > max_vertices) continue;  // no room: the triangles using these are dropped
+    uint k = 0u;
+    for (int a = 0; a < 3; ++a) {
+      if ((crossed & (1u << a)) == 0u) continue;
+      ivec3 e = ivec3(0);
+      e[a] = step;
+      float t = clamp((kIso - d0) / (d1[a] - d0), 0.0, 1.0);
+      vec3 position = mix(vec3(from), vec3(from + e), t);
+      vec3 normal = -mix(gradient(from, level), gradient(from + e, level), t);
+      if (dot(normal, normal) < 1e-8) normal = vec3(0.0, 0.0, 1.0);
+      uvec3 fixed_position = uvec3((position + 2.0) * kPositionScale + 0.5);
+      uint material = layer_material(from, a, step, look);
+      vertices[brick * max_vertices + first + k] =
+          uvec2(fixed_position.x | (fixed_position.y << 10) | (fixed_position.z << 20), octahedral(normalize(normal)) | (material << 28));
+      ++k;
+    }
+    atomicOr(scratch[i >> 1], ((first << 3) | crossed) << ((i & 1u) * 16u));
+  }
+  barrier();
+  // The triangles: each cube's case names its edges; an edge's vertex is its owner's.
   ivec3 span = end_cube - first_cube;
   uint cube_total = uint(span.x * span.y * span.z);
   for (uint i = gl_LocalInvocationIndex; i < cube_total; i += 256u) {
-    ivec3 local = (first_cube + ivec3(int(i % uint(span.x)), int((i / uint(span.x)) % uint(span.y)), int(i / uint(span.x * span.y)))) * step;
-    float d[8];
+    ivec3 c = first_cube + ivec3(int(i % uint(span.x)), int((i / uint(span.x)) % uint(span.y)), int(i / uint(span.x * span.y)));
     uint mask = 0u;
-    for (int c = 0; c < 8; ++c) {
-      d[c] = density(local + ivec3(c & 1, (c >> 1) & 1, (c >> 2) & 1) * step, level);
-      if (d[c] > kIso) mask |= 1u << c;
-    }
+    for (int corner = 0; corner < 8; ++corner)
+      if (density((c + ivec3(corner & 1, (corner >> 1) & 1, (corner >> 2) & 1)) * step, level) > kIso) mask |= 1u << corner;
     if (mask == 0u || mask == 255u) continue;
     uint edge_count = cases[mask * 16u];
-    uint material = layer_material(local, step, look);
-    uint first = atomicAdd(triangle_count, edge_count / 3u);
-    for (uint k = 0u; k < edge_count; ++k) {
-      uint triangle = first + k / 3u;
-      if (triangle >= max_triangles) break;
-      uint edge = cases[mask * 16u + 1u + k];
-      uint axis = edge >> 2;
-      uint rest = edge & 3u;
-      // Corner a has bit `axis` clear; the other two bits enumerate the edge within its axis.
-      uint low_bits = (axis == 0u) ? (rest << 1) : (axis == 1u ? ((rest & 1u) | ((rest >> 1) << 2)) : rest);
-      uint corner_a = low_bits, corner_b = low_bits | (1u << axis);
-      ivec3 pa = local + ivec3(int(corner_a & 1u), int((corner_a >> 1) & 1u), int((corner_a >> 2) & 1u)) * step;
-      ivec3 pb = local + ivec3(int(corner_b & 1u), int((corner_b >> 1) & 1u), int((corner_b >> 2) & 1u)) * step;
-      float t = clamp((kIso - d[corner_a]) / (d[corner_b] - d[corner_a]), 0.0, 1.0);
-      vec3 position = mix(vec3(pa), vec3(pb), t);
-      vec3 normal = -mix(gradient(pa, level), gradient(pb, level), t);
-      if (dot(normal, normal) < 1e-8) normal = vec3(0.0, 0.0, 1.0);
-      uvec3 fixed_position = uvec3((position + 2.0) * kPositionScale + 0.5);
-      vertices[brick * max_triangles * 3u + first * 3u + k] =
-          uvec2(fixed_position.x | (fixed_position.y << 10) | (fixed_position.z << 20), octahedral(normalize(normal)) | (material << 28));
+    int corners[15];
+    uint kept = 0u;
+    for (uint k = 0u; k < edge_count; k += 3u) {
+      int v[3];
+      for (uint j = 0u; j < 3u; ++j) {
+        uint edge = cases[mask * 16u + 1u + k + j];
+        uint axis = edge >> 2;
+        uint rest = edge & 3u;
+        // The edge's low corner has bit `axis` clear; the other two bits enumerate the edge within its axis.
+        uint low = (axis == 0u) ? (rest << 1) : (axis == 1u ? ((rest & 1u) | ((rest >> 1) << 2)) : rest);
+        ivec3 owner = c + ivec3(int(low & 1u), int((low >> 1) & 1u), int((low >> 2) & 1u)) - first_cube;
+        v[j] = edge_vertex(uint(owner.x + owners.x * (owner.y + owners.y * owner.z)), axis);
+      }
+      if (v[0] < 0 || v[1] < 0 || v[2] < 0) continue;
+      corners[kept] = v[0];
+      corners[kept + 1u] = v[1];
+      corners[kept + 2u] = v[2];
+      kept += 3u;
+    }
+    if (kept == 0u) continue;
+    uint first = atomicAdd(triangle_count, kept / 3u);
+    for (uint k = 0u; k < kept; ++k) {
+      if (first + k / 3u >= max_triangles) break;
+      indices[(brick * max_triangles + first) * 3u + k] = uint(corners[k]);
     }
   }
+  barrier();  // the next layer reuses scratch
 }
 
 bool layer_has_surface(uint look) { return (tile_looks & (1u << look)) != 0u && (tile_looks & ~(1u << look)) != 0u; }
 
-void write_draw(uint command, uint first_vertex, uint vertex_count, uint brick) {
-  draws[command * 4u + 0u] = vertex_count;
-  draws[command * 4u + 1u] = 1u;
-  draws[command * 4u + 2u] = first_vertex;
-  draws[command * 4u + 3u] = brick;
+// VkDrawIndexedIndirectCommand `command`: `index_count` indices from `first_index`, into the brick's vertex slot.
+void write_draw(uint command, uint first_index, uint index_count, uint first_vertex, uint brick) {
+  draws[command * 5u + 0u] = index_count;
+  draws[command * 5u + 1u] = 1u;
+  draws[command * 5u + 2u] = first_index;
+  draws[command * 5u + 3u] = first_vertex;
+  draws[command * 5u + 4u] = brick;
 }
 
 void main() {
@@ -254,6 +316,7 @@ void main() {
   uint slot_start = brick * max_triangles * 3u;
   if (gl_LocalInvocationIndex == 0u) {
     triangle_count = 0u;
+    vertex_count = 0u;
     tile_looks = 0u;
   }
   barrier();
@@ -284,7 +347,7 @@ void main() {
   barrier();
   if (gl_LocalInvocationIndex == 0u) {
     uint total = min(triangle_count, max_triangles);
-    write_draw(brick, slot_start, opaque_triangles * 3u, brick);
-    write_draw(grid_bricks + brick, slot_start + opaque_triangles * 3u, (total - opaque_triangles) * 3u, brick);
+    write_draw(brick, slot_start, opaque_triangles * 3u, brick * max_triangles, brick);
+    write_draw(grid_bricks + brick, slot_start + opaque_triangles * 3u, (total - opaque_triangles) * 3u, brick * max_triangles, brick);
   }
 }

@@ -10,14 +10,16 @@ namespace viewer {
 namespace {
 
 constexpr std::uint32_t kGroupSize = 256;
-constexpr VkDeviceSize kCommandBytes = sizeof(VkDrawIndirectCommand);
 
 }  // namespace
 
-DrawCompaction::DrawCompaction(const VulkanContext& context, const GpuBuffer& draws, std::uint32_t bricks)
+DrawCompaction::DrawCompaction(const VulkanContext& context, const GpuBuffer& draws, std::uint32_t bricks,
+                               const GpuBuffer* indices)
     : bricks_(bricks),
+      indices_(indices),
+      command_bytes_(std::uint32_t(indices ? sizeof(VkDrawIndexedIndirectCommand) : sizeof(VkDrawIndirectCommand))),
       groups_((bricks + kGroupSize - 1) / kGroupSize),
-      compact_(context, 2 * VkDeviceSize(bricks) * kCommandBytes,
+      compact_(context, 2 * VkDeviceSize(bricks) * command_bytes_,
                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, MemoryKind::DeviceLocal),
       group_counts_(context, 2 * VkDeviceSize(groups_) * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryKind::DeviceLocal),
       draw_counts_(context, 2 * 4,
@@ -46,6 +48,7 @@ void DrawCompaction::record(VkCommandBuffer commands, const ViewConstants& view,
                  VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
   ViewConstants constants = view;
   constants.bricks.w = int(bricks_);
+  constants.grid.x = int(command_bytes_ / 4);
   pass_.bind(commands, VK_PIPELINE_BIND_POINT_COMPUTE, sets_.set(0));
   for (int pass = 0; pass < 2; ++pass) {
     constants.grid.w = pass;
@@ -58,8 +61,15 @@ void DrawCompaction::record(VkCommandBuffer commands, const ViewConstants& view,
 }
 
 void DrawCompaction::draw(VkCommandBuffer commands, int list) const {
-  vkCmdDrawIndirectCount(commands, compact_.buffer(), VkDeviceSize(list) * bricks_ * kCommandBytes, draw_counts_.buffer(),
-                         VkDeviceSize(list) * 4, bricks_, std::uint32_t(kCommandBytes));
+  const VkDeviceSize offset = VkDeviceSize(list) * bricks_ * command_bytes_;
+  if (indices_) {
+    vkCmdBindIndexBuffer(commands, indices_->buffer(), 0, VK_INDEX_TYPE_UINT32);
+    vkCmdDrawIndexedIndirectCount(commands, compact_.buffer(), offset, draw_counts_.buffer(), VkDeviceSize(list) * 4, bricks_,
+                                  command_bytes_);
+  } else {
+    vkCmdDrawIndirectCount(commands, compact_.buffer(), offset, draw_counts_.buffer(), VkDeviceSize(list) * 4, bricks_,
+                           command_bytes_);
+  }
 }
 
 }  // namespace viewer

@@ -19,12 +19,15 @@ namespace viewer {
 
 class VulkanContext;
 
-/// Compacts `draws` (2 x bricks VkDrawIndirectCommand: the opaque list, then the translucent one)
-/// into lists of the commands that draw something, ordered from the eye.
+/// Compacts `draws` (2 x bricks draw commands: the opaque list, then the translucent one) into
+/// lists of the commands that draw something, ordered from the eye.
 class DrawCompaction {
  public:
-  /// Compaction of `draws` (which must outlive it), written by a build pass for `bricks` bricks.
-  DrawCompaction(const VulkanContext& context, const GpuBuffer& draws, std::uint32_t bricks);
+  /// Compaction of `draws` (which must outlive it), written by a build pass for `bricks` bricks:
+  /// VkDrawIndirectCommand, or with `indices` (which must outlive it) VkDrawIndexedIndirectCommand
+  /// drawing from that index buffer (32-bit indices).
+  DrawCompaction(const VulkanContext& context, const GpuBuffer& draws, std::uint32_t bricks,
+                 const GpuBuffer* indices = nullptr);
 
   /// Records the compaction for `view`'s eye when the build pass rewrote draws (`rebuilt`) or the
   /// eye moved to another brick since the last one; otherwise the lists stand. After the build
@@ -37,6 +40,8 @@ class DrawCompaction {
 
  private:
   std::uint32_t bricks_;
+  const GpuBuffer* indices_;      ///< the index buffer of indexed commands, or null
+  std::uint32_t command_bytes_;   ///< sizeof the command type
   std::uint32_t groups_;  ///< workgroups a list
   std::array<int, 3> eye_brick_{};  ///< the eye's brick at the last compaction
   bool compacted_ = false;          ///< whether a compaction was recorded

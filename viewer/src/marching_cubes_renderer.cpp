@@ -19,9 +19,11 @@ namespace {
 
 constexpr VkDeviceSize kMaxTrianglesPerBrick = 3072;
 constexpr VkDeviceSize kVertexBytes = 8;
+constexpr VkDeviceSize kTriangleBytes = 3 * 4;  ///< three 32-bit indices
 
-/// Triangles per brick slot: 3072 (a rough surface through a brick needs ~1000), fewer when the
-/// vertex buffer would exceed what one storage buffer or allocation may hold on this device.
+/// Triangles per brick slot, and vertices: 3072 (a rough surface through a brick needs ~1000
+/// triangles and about half as many vertices), fewer when the index buffer would exceed what one
+/// storage buffer or allocation may hold on this device.
 std::uint32_t triangles_per_brick(const VulkanContext& context, std::uint32_t bricks) {
   VkPhysicalDeviceMaintenance3Properties maintenance3{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_3_PROPERTIES};
   VkPhysicalDeviceProperties2 properties{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
@@ -29,19 +31,20 @@ std::uint32_t triangles_per_brick(const VulkanContext& context, std::uint32_t br
   vkGetPhysicalDeviceProperties2(context.physical_device(), &properties);
   const VkDeviceSize limit =
       std::min<VkDeviceSize>(properties.properties.limits.maxStorageBufferRange, maintenance3.maxMemoryAllocationSize);
-  const VkDeviceSize fitting = limit / (VkDeviceSize(bricks) * 3 * kVertexBytes);
+  const VkDeviceSize fitting = limit / (VkDeviceSize(bricks) * kTriangleBytes);
   if (fitting < 256)
     throw VulkanError("the grid is too large for the marching-cubes renderer on " + context.device_name() +
-                      " (vertex buffer over the device's storage-buffer limit); use --renderer raymarch");
+                      " (index buffer over the device's storage-buffer limit); use --renderer raymarch");
   return std::uint32_t(std::min(kMaxTrianglesPerBrick, fitting));
 }
 
 std::uint32_t total_of(granular::Int3 counts) { return std::uint32_t(counts.x) * counts.y * counts.z; }
 
 /// The descriptor types of the build and draw passes: cells, brick list, vertices, draws, case
-/// table; the palette at 5; the brick levels at 6.
+/// table; the palette at 5; the brick levels at 6, the indices at 7.
 std::vector<VkDescriptorType> marching_bindings() {
   std::vector<VkDescriptorType> types = storage_then_palette(5);
+  types.push_back(VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
   types.push_back(VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
   return types;
 }
@@ -66,9 +69,11 @@ MarchingCubesRenderer::MarchingCubesRenderer(const VulkanContext& context, const
     : brick_counts_(granular::brick_counts(cells.size())),
       brick_total_(total_of(brick_counts_)),
       triangles_per_brick_(triangles_per_brick(context, brick_total_)),
-      vertices_(context, VkDeviceSize(brick_total_) * triangles_per_brick_ * 3 * kVertexBytes,
+      vertices_(context, VkDeviceSize(brick_total_) * triangles_per_brick_ * kVertexBytes,
                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryKind::DeviceLocal),
-      draws_(context, 2 * VkDeviceSize(brick_total_) * sizeof(VkDrawIndirectCommand),
+      indices_(context, VkDeviceSize(brick_total_) * triangles_per_brick_ * kTriangleBytes,
+               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDEX_BUFFER_BIT, MemoryKind::DeviceLocal),
+      draws_(context, 2 * VkDeviceSize(brick_total_) * sizeof(VkDrawIndexedIndirectCommand),
              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, MemoryKind::DeviceLocal),
       cases_(context, 256 * 16 * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
              MemoryKind::DeviceLocal),
@@ -82,7 +87,7 @@ MarchingCubesRenderer::MarchingCubesRenderer(const VulkanContext& context, const
       draw_pipeline_(context.device(), sets_.layout(), target_pass, "mc.vert", "mc.frag"),
       translucent_pipeline_(context.device(), sets_.layout(), target_pass, "mc.vert", "mc.frag", GraphicsOptions::translucent()),
       cap_(context, cells, palette, target_pass, false),
-      compaction_(context, draws_, brick_total_) {
+      compaction_(context, draws_, brick_total_, &indices_) {
   const std::vector<std::uint32_t> table = gpu_case_table();
   GpuBuffer staging(context, table.size() * 4, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryKind::HostVisible);
   std::memcpy(staging.mapped(), table.data(), table.size() * 4);
@@ -97,6 +102,7 @@ MarchingCubesRenderer::MarchingCubesRenderer(const VulkanContext& context, const
   sets_.write_buffer(4, cases_.buffer());
   sets_.write_buffer(5, palette.buffer());
   sets_.write_buffer(6, levels_.buffer());
+  sets_.write_buffer(7, indices_.buffer());
 }
 
 MarchingCubesRenderer::~MarchingCubesRenderer() = default;
@@ -115,8 +121,9 @@ std::uint64_t MarchingCubesRenderer::prepare(VkCommandBuffer commands, const Fra
     compaction_.record(commands, view.raster, false);
     return 0;
   }
-  memory_barrier(commands, VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT,
-                 VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT,
+  memory_barrier(commands,
+                 VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_2_INDEX_INPUT_BIT | VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT,
+                 VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_2_INDEX_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT,
                  VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
   ViewConstants constants = view.raster;
   constants.bricks.w = int(triangles_per_brick_);
@@ -124,8 +131,8 @@ std::uint64_t MarchingCubesRenderer::prepare(VkCommandBuffer commands, const Fra
   vkCmdPushConstants(commands, build_.layout(), VK_SHADER_STAGE_ALL, 0, sizeof(constants), &constants);
   vkCmdDispatch(commands, bricks, 1, 1);
   memory_barrier(commands, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
-                 VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT,
-                 VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+                 VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_INDEX_INPUT_BIT | VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT,
+                 VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_INDEX_READ_BIT);
   compaction_.record(commands, view.raster, true);
   return bricks;
 }

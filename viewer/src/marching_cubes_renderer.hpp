@@ -2,9 +2,10 @@
 /// @file marching_cubes_renderer.hpp
 /// Marching cubes: a compute pass meshes, per brick, the iso-surface of each look's density (opaque,
 /// liquid, gas: every look a surface of its own, so the ground under water is meshed too) into the
-/// brick's fixed slot of the vertex buffer (3072 triangles a brick, fewer where the device's buffer
-/// limits require; a brick's excess triangles are dropped) and writes the brick's two indirect draw
-/// commands; one multi-draw-indirect draws the opaque surfaces of every brick, a second one blends
+/// brick's fixed slots of the vertex and index buffers (3072 triangles and as many vertices a brick,
+/// fewer where the device's buffer limits require; a brick's excess triangles are dropped; the
+/// triangles share their vertices) and writes the brick's two indexed indirect draw commands; one
+/// multi-draw-indirect draws the opaque surfaces of every brick, a second one blends
 /// the translucent ones over them (depth-tested, not written). Colours come from the world's
 /// material table (MaterialPalette). Only the bricks that changed (and their neighbours) are
 /// re-meshed. Where cells are small on the image a brick is meshed with a cube per 2x2x2 cells
@@ -57,8 +58,9 @@ class MarchingCubesRenderer final : public Renderer {
   granular::Int3 brick_counts_;
   std::uint32_t brick_total_;
   std::uint32_t triangles_per_brick_;
-  GpuBuffer vertices_;
-  GpuBuffer draws_;  ///< brick_total_ opaque commands, then brick_total_ translucent ones
+  GpuBuffer vertices_;  ///< triangles_per_brick_ vertices a brick
+  GpuBuffer indices_;   ///< triangles_per_brick_ x 3 indices a brick, into its vertices
+  GpuBuffer draws_;     ///< brick_total_ opaque indexed commands, then brick_total_ translucent ones
   GpuBuffer cases_;
   BrickDetail detail_;
   HostBufferSlots level_staging_;  ///< detail_'s levels on their way to levels_
