@@ -24,7 +24,9 @@ layout(local_size_x = 256) in;
 #include "view.glsl"
 layout(std430, set = 0, binding = 0) readonly buffer Cells { uint8_t cells[]; };
 layout(std430, set = 0, binding = 1) readonly buffer BrickList { uint brick_list[]; };
-layout(std430, set = 0, binding = 2) writeonly buffer Vertices { uvec2 vertices[]; };
+// A vertex slot holds, between the two halves of a layer's vertex pass, the work item of each
+// vertex (its owner point and axis) before the vertex itself.
+layout(std430, set = 0, binding = 2) buffer Vertices { uvec2 vertices[]; };
 layout(std430, set = 0, binding = 3) writeonly buffer Draws { uint draws[]; };
 layout(std430, set = 0, binding = 4) readonly buffer Cases { uint cases[]; };  // 256 x (count, 15 edges)
 layout(std430, set = 0, binding = 6) readonly buffer BrickLevels { uint8_t brick_levels[]; };  // 0 or 1 a brick
@@ -43,8 +45,9 @@ shared uint tile[(kTileCells + 3u) / 4u];
 shared uint layer_density[(kTileCells + 3u) / 4u];  // per lattice point: 4 x the layer's cells around it (count_layer)
 const int kFaceSide = 19;  // lattice points -1..17 along each axis of a brick's face
 const int kEdgeOwners = 19 * 19 * 19;  // lattice points a layer's edges start from, at most (cubes -1..16 and one past)
-// Scratch, one use at a time: match_coarse_faces' means of a face, then each edge owner's vertices
-// (16 bits a point: its first vertex << 3 | the axes of its edges the surface crosses).
+// Scratch, one use at a time: the layer's tile rows (count_layer), match_coarse_faces' means of a
+// face, then each edge owner's vertices (16 bits a point: its first vertex << 3 | the axes of its
+// edges the surface crosses).
 shared uint scratch[(kEdgeOwners + 1) / 2];
 shared uint triangle_count;
 shared uint vertex_count;
@@ -60,11 +63,21 @@ uint tile_byte(ivec3 local) {
 
 const int kCoarsePoints = 11;  // the even lattice points -2, 0, .., 18 along an axis
 
-// The cells of layer `look` among the 8 around lattice point q (cells q - 1 .. q, clamped to the tile).
-uint cells_around(ivec3 q, uint look) {
+const uint kTileRows = uint(kTile * kTile);
+
+// The layer's cells in tile row (y, z) (tile coordinates, 0..20): bit x set where cell x has the
+// layer's look. count_layer writes them into scratch.
+uint layer_row(int y, int z) { return scratch[uint(y + kTile * z)]; }
+
+// The cells of the layer among the 8 around lattice point q (cells q - 1 .. q, clamped to the
+// tile), from the layer's rows.
+uint cells_around(ivec3 q) {
+  ivec3 hi = q + 2, lo = max(hi - 1, ivec3(0));
   uint sum = 0u;
-  for (int c = 0; c < 8; ++c)
-    sum += (tile_byte(clamp(q - 1 + ivec3(c & 1, (c >> 1) & 1, (c >> 2) & 1), ivec3(-2), ivec3(kTile - 3))) >> 3) == look ? 1u : 0u;
+  for (int c = 0; c < 4; ++c) {
+    uint row = layer_row((c & 1) == 0 ? lo.y : hi.y, (c & 2) == 0 ? lo.z : hi.z);
+    sum += ((row >> lo.x) & 1u) + ((row >> hi.x) & 1u);
+  }
   return sum;
 }
 
@@ -73,7 +86,16 @@ uint cells_around(ivec3 q, uint look) {
 // level 0 every point -2..18 (local), a byte each; at level 1 the even ones, a word each. Every
 // invocation calls it.
 void count_layer(uint look, uint level) {
-  barrier();  // the previous layer's cubes have read its densities
+  barrier();  // the previous layer's cubes have read its densities and its edges' vertices
+  for (uint r = gl_LocalInvocationIndex; r < kTileRows; r += 256u) {
+    uint first = r * uint(kTile), row = 0u;
+    for (uint x = 0u; x < uint(kTile); ++x) {
+      uint i = first + x;
+      if (((tile[i >> 2] >> ((i & 3u) * 8u + 3u)) & 7u) == look) row |= 1u << x;
+    }
+    scratch[r] = row;
+  }
+  barrier();
   if (level == 0u) {
     for (uint w = gl_LocalInvocationIndex; w < (kTileCells + 3u) / 4u; w += 256u) {
       uint word = 0u;
@@ -81,14 +103,14 @@ void count_layer(uint look, uint level) {
         uint i = w * 4u + b;
         if (i >= kTileCells) break;
         ivec3 q = ivec3(int(i % uint(kTile)), int((i / uint(kTile)) % uint(kTile)), int(i / uint(kTile * kTile))) - 2;
-        word |= (cells_around(q, look) * 4u) << (b * 8u);
+        word |= (cells_around(q) * 4u) << (b * 8u);
       }
       layer_density[w] = word;
     }
   } else {
     for (uint i = gl_LocalInvocationIndex; i < uint(kCoarsePoints * kCoarsePoints * kCoarsePoints); i += 256u) {
       ivec3 p = ivec3(int(i % uint(kCoarsePoints)), int((i / uint(kCoarsePoints)) % uint(kCoarsePoints)), int(i / uint(kCoarsePoints * kCoarsePoints)));
-      layer_density[i] = cells_around(p * 2 - 2, look) * 4u;
+      layer_density[i] = cells_around(p * 2 - 2) * 4u;
     }
   }
   barrier();
@@ -167,17 +189,25 @@ vec3 gradient(ivec3 q, uint level) {
 // `from` to from + step along `axis`: cells from - 1 .. from + step along the axis and from - 1 ..
 // from across it, the cells its two ends' densities count (ties: the higher state).
 uint layer_material(ivec3 from, int axis, int step, uint look) {
-  uint counts[8] = uint[8](0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
+  // A byte of counts per material, materials 0-3 in `low` and 4-7 in `high` (at most 16 cells).
+  uint low = 0u, high = 0u;
   ivec3 size = ivec3(2);
   size[axis] = step + 2;
   for (int c = 0; c < size.x * size.y * size.z; ++c) {
     ivec3 cell = from - 1 + ivec3(c % size.x, (c / size.x) % size.y, c / (size.x * size.y));
     uint b = tile_byte(clamp(cell, ivec3(-2), ivec3(kTile - 3)));
-    if ((b >> 3) == look) counts[b & 7u]++;
+    if ((b >> 3) != look) continue;
+    uint one = 1u << ((b & 3u) * 8u);
+    if ((b & 4u) == 0u) low += one; else high += one;
   }
-  uint best = 0u;
-  for (uint m = 1u; m < 8u; ++m)
-    if (counts[m] >= counts[best]) best = m;
+  uint best = 0u, best_count = low & 255u;
+  for (uint m = 1u; m < 8u; ++m) {
+    uint count = ((m < 4u ? low : high) >> ((m & 3u) * 8u)) & 255u;
+    if (count >= best_count) {
+      best = m;
+      best_count = count;
+    }
+  }
   return best;
 }
 
@@ -194,6 +224,18 @@ int edge_vertex(uint owner, uint axis) {
   uint entry = (scratch[owner >> 1] >> ((owner & 1u) * 16u)) & 65535u;
   if ((entry & (1u << axis)) == 0u) return -1;
   return int((entry >> 3) + bitCount(entry & ((1u << axis) - 1u)));
+}
+
+// The brick-slot vertex of edge k of the case `mask` of the cube at `cube` (counted from the
+// layer's first cube), the owners spanning `owners` points along each axis; -1 when it has none.
+int case_edge_vertex(uint mask, uint k, ivec3 cube, ivec3 owners) {
+  uint edge = cases[mask * 16u + 1u + k];
+  uint axis = edge >> 2;
+  uint rest = edge & 3u;
+  // The edge's low corner has bit `axis` clear; the other two bits enumerate the edge within its axis.
+  uint low = (axis == 0u) ? (rest << 1) : (axis == 1u ? ((rest & 1u) | ((rest >> 1) << 2)) : rest);
+  ivec3 owner = cube + ivec3(int(low & 1u), int((low >> 1) & 1u), int((low >> 2) & 1u));
+  return edge_vertex(uint(owner.x + owners.x * (owner.y + owners.y * owner.z)), axis);
 }
 
 // Meshes layer `look` of the tile at `level`: appends its vertices and triangles to the brick's
@@ -218,45 +260,59 @@ void mesh_layer(uint brick, ivec3 origin, uint look, uint max_triangles, uint le
     }
   }
   // The vertices: each lattice point first_cube..end_cube owns the edges from it toward +x, +y, +z
-  // that lie in the meshed cubes.
+  // that lie in the meshed cubes. First each owner finds the edges the surface crosses and takes
+  // their vertices, leaving a work item in each; then each vertex is computed from its item, so
+  // that the costly part runs on every invocation alike.
   ivec3 owners = end_cube - first_cube + 1;
   uint owner_total = uint(owners.x * owners.y * owners.z);
+  uint max_vertices = max_triangles;  // a slot holds as many vertices as triangles (mostly half are used)
+  uint slot = brick * max_vertices;
+  uint layer_first_vertex = min(vertex_count, max_vertices);
   for (uint w = gl_LocalInvocationIndex; w < (owner_total + 1u) / 2u; w += 256u) scratch[w] = 0u;
   barrier();
-  uint max_vertices = max_triangles;  // a slot holds as many vertices as triangles (mostly half are used)
+  const uint kNoItem = 0xffffffffu;
   for (uint i = gl_LocalInvocationIndex; i < owner_total; i += 256u) {
     ivec3 c = first_cube + ivec3(int(i % uint(owners.x)), int((i / uint(owners.x)) % uint(owners.y)), int(i / uint(owners.x * owners.y)));
-    ivec3 from = c * step;
-    float d0 = density(from, level);
+    bool inside = density(c * step, level) > kIso;
     uint crossed = 0u;
-    float d1[3];
     for (int a = 0; a < 3; ++a) {
       ivec3 e = ivec3(0);
-      e[a] = step;
-      d1[a] = c[a] < end_cube[a] ? density(from + e, level) : d0;
-      if ((d0 > kIso) != (d1[a] > kIso)) crossed |= 1u << a;
+      e[a] = 1;
+      if (c[a] < end_cube[a] && (density((c + e) * step, level) > kIso) != inside) crossed |= 1u << a;
     }
     if (crossed == 0u) continue;
-    uint first = atomicAdd(vertex_count, bitCount(crossed));
-    if (first + bitCount(crossed) > max_vertices) continue;  // no room: the triangles using these are dropped
+    uint count = bitCount(crossed);
+    uint first = atomicAdd(vertex_count, count);
+    bool fits = first + count <= max_vertices;  // else the triangles using these are dropped
     uint k = 0u;
-    for (int a = 0; a < 3; ++a) {
+    for (uint a = 0u; a < 3u; ++a) {
       if ((crossed & (1u << a)) == 0u) continue;
-      ivec3 e = ivec3(0);
-      e[a] = step;
-      float t = clamp((kIso - d0) / (d1[a] - d0), 0.0, 1.0);
-      vec3 position = mix(vec3(from), vec3(from + e), t);
-      vec3 normal = -mix(gradient(from, level), gradient(from + e, level), t);
-      if (dot(normal, normal) < 1e-8) normal = vec3(0.0, 0.0, 1.0);
-      uvec3 fixed_position = uvec3((position + 2.0) * kPositionScale + 0.5);
-      uint material = layer_material(from, a, step, look);
-      vertices[brick * max_vertices + first + k] =
-          uvec2(fixed_position.x | (fixed_position.y << 10) | (fixed_position.z << 20), octahedral(normalize(normal)) | (material << 28));
+      if (first + k < max_vertices) vertices[slot + first + k] = uvec2(fits ? i : kNoItem, a);
       ++k;
     }
-    atomicOr(scratch[i >> 1], ((first << 3) | crossed) << ((i & 1u) * 16u));
+    if (fits) atomicOr(scratch[i >> 1], ((first << 3) | crossed) << ((i & 1u) * 16u));
   }
+  memoryBarrierBuffer();
   barrier();
+  uint layer_end_vertex = min(vertex_count, max_vertices);
+  for (uint v = layer_first_vertex + gl_LocalInvocationIndex; v < layer_end_vertex; v += 256u) {
+    uvec2 item = vertices[slot + v];
+    if (item.x == kNoItem) continue;
+    uint i = item.x;
+    int a = int(item.y);
+    ivec3 from = (first_cube + ivec3(int(i % uint(owners.x)), int((i / uint(owners.x)) % uint(owners.y)), int(i / uint(owners.x * owners.y)))) * step;
+    ivec3 e = ivec3(0);
+    e[a] = step;
+    float d0 = density(from, level), d1 = density(from + e, level);
+    float t = clamp((kIso - d0) / (d1 - d0), 0.0, 1.0);
+    vec3 position = mix(vec3(from), vec3(from + e), t);
+    vec3 normal = -mix(gradient(from, level), gradient(from + e, level), t);
+    if (dot(normal, normal) < 1e-8) normal = vec3(0.0, 0.0, 1.0);
+    uvec3 fixed_position = uvec3((position + 2.0) * kPositionScale + 0.5);
+    uint material = layer_material(from, a, step, look);
+    vertices[slot + v] =
+        uvec2(fixed_position.x | (fixed_position.y << 10) | (fixed_position.z << 20), octahedral(normalize(normal)) | (material << 28));
+  }
   // The triangles: each cube's case names its edges; an edge's vertex is its owner's.
   ivec3 span = end_cube - first_cube;
   uint cube_total = uint(span.x * span.y * span.z);
@@ -267,30 +323,19 @@ void mesh_layer(uint brick, ivec3 origin, uint look, uint max_triangles, uint le
       if (density((c + ivec3(corner & 1, (corner >> 1) & 1, (corner >> 2) & 1)) * step, level) > kIso) mask |= 1u << corner;
     if (mask == 0u || mask == 255u) continue;
     uint edge_count = cases[mask * 16u];
-    int corners[15];
-    uint kept = 0u;
+    uint first = atomicAdd(triangle_count, edge_count / 3u);
     for (uint k = 0u; k < edge_count; k += 3u) {
-      int v[3];
-      for (uint j = 0u; j < 3u; ++j) {
-        uint edge = cases[mask * 16u + 1u + k + j];
-        uint axis = edge >> 2;
-        uint rest = edge & 3u;
-        // The edge's low corner has bit `axis` clear; the other two bits enumerate the edge within its axis.
-        uint low = (axis == 0u) ? (rest << 1) : (axis == 1u ? ((rest & 1u) | ((rest >> 1) << 2)) : rest);
-        ivec3 owner = c + ivec3(int(low & 1u), int((low >> 1) & 1u), int((low >> 2) & 1u)) - first_cube;
-        v[j] = edge_vertex(uint(owner.x + owners.x * (owner.y + owners.y * owner.z)), axis);
-      }
-      if (v[0] < 0 || v[1] < 0 || v[2] < 0) continue;
-      corners[kept] = v[0];
-      corners[kept + 1u] = v[1];
-      corners[kept + 2u] = v[2];
-      kept += 3u;
-    }
-    if (kept == 0u) continue;
-    uint first = atomicAdd(triangle_count, kept / 3u);
-    for (uint k = 0u; k < kept; ++k) {
-      if (first + k / 3u >= max_triangles) break;
-      indices[(brick * max_triangles + first) * 3u + k] = uint(corners[k]);
+      uint triangle = first + k / 3u;
+      if (triangle >= max_triangles) break;
+      int a = case_edge_vertex(mask, k, c - first_cube, owners);
+      int b = case_edge_vertex(mask, k + 1u, c - first_cube, owners);
+      int v = case_edge_vertex(mask, k + 2u, c - first_cube, owners);
+      // A triangle with a vertex that found no room is drawn as nothing (all three indices 0).
+      bool whole = min(a, min(b, v)) >= 0;
+      uint at = (brick * max_triangles + triangle) * 3u;
+      indices[at] = whole ? uint(a) : 0u;
+      indices[at + 1u] = whole ? uint(b) : 0u;
+      indices[at + 2u] = whole ? uint(v) : 0u;
     }
   }
   barrier();  // the next layer reuses scratch

@@ -168,3 +168,61 @@ TEST_CASE("marching cubes: coarse bricks draw the surface fine ones draw, and no
   CHECK(inside > int(kWidth * kHeight) / 5);
   CHECK(cracks == 0);
 }
+
+TEST_CASE("marching cubes: bricks with more surface than their slots hold draw what fits, inside the grid's outline") {
+  // Noise at 40% fill: more lattice edges cross the surface in a brick than its slot holds
+  // vertices (as many as triangles, 3072). The build drops the triangles that would use a vertex
+  // that found no room, and writes nothing past a slot: the image shows the noise, and nothing
+  // outside the grid's outline.
+  const granular::Int3 size{48, 48, 48};
+  granular::Grid grid(size);
+  std::uint32_t state = 12345u;
+  for (int z = 0; z < size.z; ++z)
+    for (int y = 0; y < size.y; ++y)
+      for (int x = 0; x < size.x; ++x) {
+        state = state * 1664525u + 1013904223u;
+        if ((state >> 24) < 102u) grid.set({x, y, z}, granular::Material::Solid);
+      }
+  // The premise: brick (1, 1, 1) has more crossed lattice edges (vertices) than its 3072-vertex slot.
+  const auto inside = [&](int x, int y, int z) {  // lattice point (x, y, z): 3 or more of its 8 cells filled
+    int filled = 0;
+    for (int c = 0; c < 8; ++c) {
+      const granular::Int3 cell{x - 1 + (c & 1), y - 1 + (c >> 1 & 1), z - 1 + (c >> 2)};
+      filled += grid.at(cell) != granular::Material::Void ? 1 : 0;
+    }
+    return filled * 0.125 > 0.35;
+  };
+  int crossed = 0;
+  for (int z = 16; z <= 32; ++z)
+    for (int y = 16; y <= 32; ++y)
+      for (int x = 16; x <= 32; ++x) {
+        if (x < 32 && inside(x, y, z) != inside(x + 1, y, z)) ++crossed;
+        if (y < 32 && inside(x, y, z) != inside(x, y + 1, z)) ++crossed;
+        if (z < 32 && inside(x, y, z) != inside(x, y, z + 1)) ++crossed;
+      }
+  REQUIRE(crossed > 3072);
+  granular::WorldDef def;
+  def.backend = granular::BackendKind::Cpu;
+  def.threads = 2;
+  granular::World world(def, grid);
+  const OrbitCamera camera = test_camera(size);
+  const glm::mat4 view_projection = camera.projection(float(kWidth) / float(kHeight)) * camera.view();
+  // The grid's outline: the bounding rectangle of its eight corners on the image, a pixel wider.
+  float left = 1e9f, right = -1e9f, top = 1e9f, bottom = -1e9f;
+  for (int corner = 0; corner < 8; ++corner) {
+    const glm::vec4 clip = view_projection * glm::vec4(float((corner & 1) * size.x), float((corner >> 1 & 1) * size.y),
+                                                       float((corner >> 2) * size.z), 1.0f);
+    const glm::vec2 at = (glm::vec2(clip) / clip.w * 0.5f + 0.5f) * glm::vec2(kWidth, kHeight);
+    left = std::min(left, at.x - 1.0f);
+    right = std::max(right, at.x + 1.0f);
+    top = std::min(top, at.y - 1.0f);
+    bottom = std::max(bottom, at.y + 1.0f);
+  }
+  const std::vector<std::uint8_t> image = marching_image(world, camera, 0.0f);
+  CHECK(coverage(image) > 0.1);
+  int astray = 0;
+  for (int y = 0; y < int(kHeight); ++y)
+    for (int x = 0; x < int(kWidth); ++x)
+      if (!is_background(pixel(image, x, y)) && (x < left || x > right || y < top || y > bottom)) ++astray;
+  CHECK(astray == 0);
+}
