@@ -52,6 +52,7 @@ shared uint scratch[(kEdgeOwners + 1) / 2];
 shared uint triangle_count;
 shared uint vertex_count;
 shared uint tile_looks;  // bit l: some cell of the tile has look l
+shared uint material_looks;  // bits 3m..3m+2: the seen look of material m (see_inside.glsl)
 
 uint tile_index(ivec3 t) { return uint(t.x + kTile * (t.y + kTile * t.z)); }
 
@@ -363,19 +364,30 @@ void main() {
     triangle_count = 0u;
     vertex_count = 0u;
     tile_looks = 0u;
+    uint table = 0u;
+    for (uint m = 0u; m < 8u; ++m) table |= seen_look(m) << (3u * m);
+    material_looks = table;
   }
   barrier();
   uint looks = 0u;
+  uint seen = material_looks;
   for (uint w = gl_LocalInvocationIndex; w < (kTileCells + 3u) / 4u; w += 256u) {
+    // The word's first cell, then along its row and into the next.
+    uint i = w * 4u;
+    int x = int(i % uint(kTile));
+    uint row = i / uint(kTile);
     uint word = 0u;
-    for (uint b = 0u; b < 4u; ++b) {
-      uint i = w * 4u + b;
-      if (i >= kTileCells) break;
-      ivec3 t = ivec3(int(i % uint(kTile)), int((i / uint(kTile)) % uint(kTile)), int(i / uint(kTile * kTile)));
-      uint material = cell_at(origin + t - 2);
-      uint look = seen_look(material);
+    for (uint b = 0u; b < 4u && i + b < kTileCells; ++b) {
+      if (x == kTile) {
+        x = 0;
+        ++row;
+      }
+      ivec3 p = origin + ivec3(x, int(row % uint(kTile)), int(row / uint(kTile))) - 2;
+      uint material = cell_at(p);
+      uint look = (seen >> (3u * material)) & 7u;
       looks |= 1u << look;
       word |= (material | (look << 3)) << (b * 8u);
+      ++x;
     }
     tile[w] = word;
   }
