@@ -23,6 +23,8 @@
 layout(local_size_x = 256) in;
 #include "view.glsl"
 layout(std430, set = 0, binding = 0) readonly buffer Cells { uint8_t cells[]; };
+// The same cells four to a word (CellBuffer pads them to whole words): the tile load reads words.
+layout(std430, set = 0, binding = 0) readonly buffer CellWords { uint cell_words[]; };
 layout(std430, set = 0, binding = 1) readonly buffer BrickList { uint brick_list[]; };
 // A vertex slot holds, between the two halves of a layer's vertex pass, the work item of each
 // vertex (its owner point and axis) before the vertex itself.
@@ -369,27 +371,42 @@ void main() {
     material_looks = table;
   }
   barrier();
-  uint looks = 0u;
+  // The tile, row by row: each row of 21 cells is read as the (at most 7) words of the cell
+  // buffer that hold its cells inside the grid; cells outside the grid stay void.
+  for (uint w = gl_LocalInvocationIndex; w < (kTileCells + 3u) / 4u; w += 256u) tile[w] = 0u;
+  barrier();
   uint seen = material_looks;
-  for (uint w = gl_LocalInvocationIndex; w < (kTileCells + 3u) / 4u; w += 256u) {
-    // The word's first cell, then along its row and into the next.
-    uint i = w * 4u;
-    int x = int(i % uint(kTile));
-    uint row = i / uint(kTile);
-    uint word = 0u;
-    for (uint b = 0u; b < 4u && i + b < kTileCells; ++b) {
-      if (x == kTile) {
-        x = 0;
-        ++row;
-      }
-      ivec3 p = origin + ivec3(x, int(row % uint(kTile)), int(row / uint(kTile))) - 2;
-      uint material = cell_at(p);
+  uint looks = 0u;
+  if (gl_LocalInvocationIndex == 0u &&
+      (any(lessThan(origin - 2, ivec3(0))) || any(greaterThan(origin + kTile - 3, pc.grid.xyz - 1))))
+    looks |= 1u << (seen & 7u);  // void's look, for the cells outside the grid
+  const uint kWordsPerRow = 7u;
+  for (uint task = gl_LocalInvocationIndex; task < kTileRows * kWordsPerRow; task += 256u) {
+    uint row = task / kWordsPerRow;
+    ivec3 first = origin + ivec3(-2, int(row % uint(kTile)) - 2, int(row / uint(kTile)) - 2);  // the row's first cell
+    if (first.y < 0 || first.z < 0 || first.y >= pc.grid.y || first.z >= pc.grid.z) continue;
+    int lo = max(first.x, 0), hi = min(first.x + kTile - 1, pc.grid.x - 1);  // its cells inside the grid
+    if (lo > hi) continue;
+    uint row_base = cell_index(ivec3(0, first.y, first.z));
+    uint word = ((row_base + uint(lo)) >> 2) + task % kWordsPerRow;
+    if (word > ((row_base + uint(hi)) >> 2)) continue;
+    uint bits = cell_words[word];
+    // The word's cells of the row go to consecutive tile bytes: at most two tile words.
+    uint first_tile_word = 0xffffffffu, low_part = 0u, high_part = 0u;
+    for (uint j = 0u; j < 4u; ++j) {
+      int x = int(word * 4u + j - row_base);
+      if (x < lo || x > hi) continue;
+      uint material = (bits >> (8u * j)) & 7u;
       uint look = (seen >> (3u * material)) & 7u;
       looks |= 1u << look;
-      word |= (material | (look << 3)) << (b * 8u);
-      ++x;
+      uint t = row * uint(kTile) + uint(x - first.x);
+      if (first_tile_word == 0xffffffffu) first_tile_word = t >> 2;
+      uint byte = (material | (look << 3)) << ((t & 3u) * 8u);
+      if ((t >> 2) == first_tile_word) low_part |= byte; else high_part |= byte;
     }
-    tile[w] = word;
+    if (first_tile_word == 0xffffffffu) continue;
+    atomicOr(tile[first_tile_word], low_part);
+    if (high_part != 0u) atomicOr(tile[first_tile_word + 1u], high_part);
   }
   atomicOr(tile_looks, looks);
   barrier();
