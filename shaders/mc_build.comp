@@ -1,6 +1,6 @@
 #version 460
-// Marching cubes, build pass (pc.bricks.w: a brick slot's triangles, and its vertices): one workgroup per listed
-// brick. The brick's cells and a border are loaded into shared memory (packed 4 cells a word, each
+// Marching cubes, build pass (pc.bricks.w: a brick slot's triangles, and its vertices): one workgroup per brick
+// of the mesh list (mc_classify.comp: the listed bricks with more than one look around them). The brick's cells and a border are loaded into shared memory (packed 4 cells a word, each
 // byte its material and look). Each look present (opaque, liquid, gas: materials.glsl; under x-ray
 // the static materials' look apart, see_inside.glsl) is a layer of its own: a marching cube (cube c
 // spans the lattice points c..c+1, lattice point q lies between cells q-1 and q, and its density is
@@ -33,6 +33,7 @@ layout(std430, set = 0, binding = 3) writeonly buffer Draws { uint draws[]; };
 layout(std430, set = 0, binding = 4) readonly buffer Cases { uint cases[]; };  // 256 x (count, 15 edges)
 layout(std430, set = 0, binding = 6) readonly buffer BrickLevels { uint8_t brick_levels[]; };  // 0 or 1 a brick
 layout(std430, set = 0, binding = 7) writeonly buffer Indices { uint indices[]; };  // 3 a triangle, into the brick's vertex slot
+layout(std430, set = 0, binding = 8) readonly buffer MeshList { uint mesh_list[]; };  // mc_classify.comp: dispatch, then bricks
 #define MATERIALS_BINDING 5
 #include "cells.glsl"
 #include "materials.glsl"
@@ -355,10 +356,25 @@ void write_draw(uint command, uint first_index, uint index_count, uint first_ver
   draws[command * 5u + 4u] = brick;
 }
 
+// The word of the cell buffer that tile-load task `task` reads (task / 7: the tile row, task % 7:
+// the word among those holding the row's cells inside the grid), or 0xffffffff when there is none.
+uint tile_row_word(ivec3 origin, uint task) {
+  const uint kWordsPerRow = 7u;
+  uint row = task / kWordsPerRow;
+  if (row >= kTileRows) return 0xffffffffu;
+  ivec3 first = origin + ivec3(-2, int(row % uint(kTile)) - 2, int(row / uint(kTile)) - 2);
+  if (first.y < 0 || first.z < 0 || first.y >= pc.grid.y || first.z >= pc.grid.z) return 0xffffffffu;
+  int lo = max(first.x, 0), hi = min(first.x + kTile - 1, pc.grid.x - 1);
+  if (lo > hi) return 0xffffffffu;
+  uint row_base = cell_index(ivec3(0, first.y, first.z));
+  uint word = ((row_base + uint(lo)) >> 2) + task % kWordsPerRow;
+  return word > ((row_base + uint(hi)) >> 2) ? 0xffffffffu : word;
+}
+
 void main() {
   uint max_triangles = uint(pc.bricks.w);  // the brick's slot size (MarchingCubesRenderer)
   uint grid_bricks = uint(pc.bricks.x * pc.bricks.y * pc.bricks.z);
-  uint brick = brick_list[gl_WorkGroupID.x];
+  uint brick = mesh_list[3u + gl_WorkGroupID.x];
   ivec3 origin = brick_origin(brick);
   uint level = uint(brick_levels[brick]);
   uint slot_start = brick * max_triangles * 3u;
@@ -381,16 +397,23 @@ void main() {
       (any(lessThan(origin - 2, ivec3(0))) || any(greaterThan(origin + kTile - 3, pc.grid.xyz - 1))))
     looks |= 1u << (seen & 7u);  // void's look, for the cells outside the grid
   const uint kWordsPerRow = 7u;
-  for (uint task = gl_LocalInvocationIndex; task < kTileRows * kWordsPerRow; task += 256u) {
+  const uint kTasks = (kTileRows * kWordsPerRow + 255u) / 256u;  // tasks an invocation takes
+  // All of an invocation's words are read before any is used, so their reads overlap.
+  uint loaded[kTasks];
+  for (uint k = 0u; k < kTasks; ++k) {
+    uint task = gl_LocalInvocationIndex + 256u * k;
+    uint word = tile_row_word(origin, task);
+    loaded[k] = word != 0xffffffffu ? cell_words[word] : 0u;
+  }
+  for (uint k = 0u; k < kTasks; ++k) {
+    uint task = gl_LocalInvocationIndex + 256u * k;
+    uint word = tile_row_word(origin, task);
+    if (word == 0xffffffffu) continue;
     uint row = task / kWordsPerRow;
     ivec3 first = origin + ivec3(-2, int(row % uint(kTile)) - 2, int(row / uint(kTile)) - 2);  // the row's first cell
-    if (first.y < 0 || first.z < 0 || first.y >= pc.grid.y || first.z >= pc.grid.z) continue;
     int lo = max(first.x, 0), hi = min(first.x + kTile - 1, pc.grid.x - 1);  // its cells inside the grid
-    if (lo > hi) continue;
     uint row_base = cell_index(ivec3(0, first.y, first.z));
-    uint word = ((row_base + uint(lo)) >> 2) + task % kWordsPerRow;
-    if (word > ((row_base + uint(hi)) >> 2)) continue;
-    uint bits = cell_words[word];
+    uint bits = loaded[k];
     // The word's cells of the row go to consecutive tile bytes: at most two tile words.
     uint first_tile_word = 0xffffffffu, low_part = 0u, high_part = 0u;
     for (uint j = 0u; j < 4u; ++j) {

@@ -40,12 +40,11 @@ std::uint32_t triangles_per_brick(const VulkanContext& context, std::uint32_t br
 
 std::uint32_t total_of(granular::Int3 counts) { return std::uint32_t(counts.x) * counts.y * counts.z; }
 
-/// The descriptor types of the build and draw passes: cells, brick list, vertices, draws, case
-/// table; the palette at 5; the brick levels at 6, the indices at 7.
+/// The descriptor types of the classify, build and draw passes: cells, brick list, vertices, draws,
+/// case table; the palette at 5; the brick levels at 6, the indices at 7, the mesh list at 8.
 std::vector<VkDescriptorType> marching_bindings() {
   std::vector<VkDescriptorType> types = storage_then_palette(5);
-  types.push_back(VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
-  types.push_back(VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
+  types.insert(types.end(), 3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
   return types;
 }
 
@@ -81,8 +80,12 @@ MarchingCubesRenderer::MarchingCubesRenderer(const VulkanContext& context, const
       level_staging_(context, VK_BUFFER_USAGE_TRANSFER_SRC_BIT),
       levels_(context, (VkDeviceSize(brick_total_) + 3) / 4 * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
               MemoryKind::DeviceLocal),
+      mesh_list_(context, (3 + VkDeviceSize(brick_total_)) * 4,
+                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                 MemoryKind::DeviceLocal),
       sets_(context.device(), marching_bindings()),
       rebuild_(context, brick_counts_, sets_, 1),
+      classify_(context.device(), sets_.layout(), "mc_classify.comp"),
       build_(context.device(), sets_.layout(), "mc_build.comp"),
       draw_pipeline_(context.device(), sets_.layout(), target_pass, "mc.vert", "mc.frag"),
       translucent_pipeline_(context.device(), sets_.layout(), target_pass, "mc.vert", "mc.frag", GraphicsOptions::translucent()),
@@ -103,6 +106,7 @@ MarchingCubesRenderer::MarchingCubesRenderer(const VulkanContext& context, const
   sets_.write_buffer(5, palette.buffer());
   sets_.write_buffer(6, levels_.buffer());
   sets_.write_buffer(7, indices_.buffer());
+  sets_.write_buffer(8, mesh_list_.buffer());
 }
 
 MarchingCubesRenderer::~MarchingCubesRenderer() = default;
@@ -121,15 +125,29 @@ std::uint64_t MarchingCubesRenderer::prepare(VkCommandBuffer commands, const Fra
     compaction_.record(commands, view.raster, false);
     return 0;
   }
+  // Earlier frames' draws and builds are done with what this frame's classify and build rewrite.
   memory_barrier(commands,
-                 VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_2_INDEX_INPUT_BIT | VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT,
+                 VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_2_INDEX_INPUT_BIT |
+                     VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
                  VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_2_INDEX_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT,
-                 VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+                 VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_CLEAR_BIT,
+                 VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT | VK_ACCESS_2_TRANSFER_WRITE_BIT);
+  // The mesh list's dispatch: no bricks yet, 1, 1.
+  vkCmdFillBuffer(commands, mesh_list_.buffer(), 0, 4, 0);
+  vkCmdFillBuffer(commands, mesh_list_.buffer(), 4, 8, 1);
+  memory_barrier(commands, VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                 VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
   ViewConstants constants = view.raster;
   constants.bricks.w = int(triangles_per_brick_);
+  classify_.bind(commands, VK_PIPELINE_BIND_POINT_COMPUTE, sets_.set(view.slot));
+  vkCmdPushConstants(commands, classify_.layout(), VK_SHADER_STAGE_ALL, 0, sizeof(constants), &constants);
+  vkCmdDispatch(commands, bricks, 1, 1);
+  memory_barrier(commands, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                 VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                 VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
   build_.bind(commands, VK_PIPELINE_BIND_POINT_COMPUTE, sets_.set(view.slot));
   vkCmdPushConstants(commands, build_.layout(), VK_SHADER_STAGE_ALL, 0, sizeof(constants), &constants);
-  vkCmdDispatch(commands, bricks, 1, 1);
+  vkCmdDispatchIndirect(commands, mesh_list_.buffer(), 0);
   memory_barrier(commands, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                  VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_INDEX_INPUT_BIT | VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT,
                  VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_INDEX_READ_BIT);

@@ -61,6 +61,7 @@ class MarchingCubesRenderer final : public Renderer {
   GpuBuffer vertices_;  ///< triangles_per_brick_ vertices a brick
   GpuBuffer indices_;   ///< triangles_per_brick_ x 3 indices a brick, into its vertices
   GpuBuffer draws_;     ///< brick_total_ opaque indexed commands, then brick_total_ translucent ones
+  GpuBuffer mesh_list_;  ///< the build's indirect dispatch, then the bricks it meshes (mc_classify.comp)
   GpuBuffer cases_;
   BrickDetail detail_;
   HostBufferSlots level_staging_;  ///< detail_'s levels on their way to levels_
@@ -68,6 +69,7 @@ class MarchingCubesRenderer final : public Renderer {
   std::vector<std::uint32_t> level_rebuild_;  ///< bricks to re-mesh for a change of level
   DescriptorSets sets_;
   BrickRebuildList rebuild_;  ///< after sets_: binds its lists there
+  Pipeline classify_;
   Pipeline build_;
   Pipeline draw_pipeline_;
   Pipeline translucent_pipeline_;
