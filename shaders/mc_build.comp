@@ -20,7 +20,10 @@
 // brick] for the translucent ones.
 #extension GL_EXT_shader_8bit_storage : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int8 : require
-layout(local_size_x = 256) in;
+// Invocations of a workgroup: 256, or what the renderer specialises (64 on a CPU device, where
+// fewer invocations meet at each barrier: MarchingCubesRenderer).
+layout(constant_id = 0) const uint kGroupSize = 256u;
+layout(local_size_x_id = 0) in;
 #include "view.glsl"
 layout(std430, set = 0, binding = 0) readonly buffer Cells { uint8_t cells[]; };
 // The same cells four to a word (CellBuffer pads them to whole words): the tile load reads words.
@@ -91,7 +94,7 @@ uint cells_around(ivec3 q) {
 // invocation calls it.
 void count_layer(uint look, uint level) {
   barrier();  // the previous layer's cubes have read its densities and its edges' vertices
-  for (uint r = gl_LocalInvocationIndex; r < kTileRows; r += 256u) {
+  for (uint r = gl_LocalInvocationIndex; r < kTileRows; r += kGroupSize) {
     uint first = r * uint(kTile), row = 0u;
     for (uint x = 0u; x < uint(kTile); ++x) {
       uint i = first + x;
@@ -101,7 +104,7 @@ void count_layer(uint look, uint level) {
   }
   barrier();
   if (level == 0u) {
-    for (uint w = gl_LocalInvocationIndex; w < (kTileCells + 3u) / 4u; w += 256u) {
+    for (uint w = gl_LocalInvocationIndex; w < (kTileCells + 3u) / 4u; w += kGroupSize) {
       uint word = 0u;
       for (uint b = 0u; b < 4u; ++b) {
         uint i = w * 4u + b;
@@ -112,7 +115,7 @@ void count_layer(uint look, uint level) {
       layer_density[w] = word;
     }
   } else {
-    for (uint i = gl_LocalInvocationIndex; i < uint(kCoarsePoints * kCoarsePoints * kCoarsePoints); i += 256u) {
+    for (uint i = gl_LocalInvocationIndex; i < uint(kCoarsePoints * kCoarsePoints * kCoarsePoints); i += kGroupSize) {
       ivec3 p = ivec3(int(i % uint(kCoarsePoints)), int((i / uint(kCoarsePoints)) % uint(kCoarsePoints)), int(i / uint(kCoarsePoints * kCoarsePoints)));
       layer_density[i] = cells_around(p * 2 - 2) * 4u;
     }
@@ -154,7 +157,7 @@ void match_coarse_faces(ivec3 at) {
       u[(a + 1) % 3] = 1;
       v[(a + 2) % 3] = 1;
       // The means first (they read only even points, which keep their counts), then the writes.
-      for (uint i = gl_LocalInvocationIndex; i < uint(kFaceSide * kFaceSide); i += 256u) {
+      for (uint i = gl_LocalInvocationIndex; i < uint(kFaceSide * kFaceSide); i += kGroupSize) {
         int iu = int(i % uint(kFaceSide)) - 1, iv = int(i / uint(kFaceSide)) - 1;
         ivec3 q = d * (side * kBrickSize) + u * iu + v * iv;
         ivec3 du = (iu & 1) != 0 ? u : ivec3(0), dv = (iv & 1) != 0 ? v : ivec3(0);
@@ -162,7 +165,7 @@ void match_coarse_faces(ivec3 at) {
         scratch[i] = (fine_count(q - du - dv) + fine_count(q + du - dv) + fine_count(q - du + dv) + fine_count(q + du + dv)) / 4u;
       }
       barrier();
-      for (uint i = gl_LocalInvocationIndex; i < uint(kFaceSide * kFaceSide); i += 256u) {
+      for (uint i = gl_LocalInvocationIndex; i < uint(kFaceSide * kFaceSide); i += kGroupSize) {
         int iu = int(i % uint(kFaceSide)) - 1, iv = int(i / uint(kFaceSide)) - 1;
         if (((iu | iv) & 1) == 0) continue;
         uint index = tile_index(d * (side * kBrickSize) + u * iu + v * iv + 2);
@@ -272,10 +275,10 @@ void mesh_layer(uint brick, ivec3 origin, uint look, uint max_triangles, uint le
   uint max_vertices = max_triangles;  // a slot holds as many vertices as triangles (mostly half are used)
   uint slot = brick * max_vertices;
   uint layer_first_vertex = min(vertex_count, max_vertices);
-  for (uint w = gl_LocalInvocationIndex; w < (owner_total + 1u) / 2u; w += 256u) scratch[w] = 0u;
+  for (uint w = gl_LocalInvocationIndex; w < (owner_total + 1u) / 2u; w += kGroupSize) scratch[w] = 0u;
   barrier();
   const uint kNoItem = 0xffffffffu;
-  for (uint i = gl_LocalInvocationIndex; i < owner_total; i += 256u) {
+  for (uint i = gl_LocalInvocationIndex; i < owner_total; i += kGroupSize) {
     ivec3 c = first_cube + ivec3(int(i % uint(owners.x)), int((i / uint(owners.x)) % uint(owners.y)), int(i / uint(owners.x * owners.y)));
     bool inside = density(c * step, level) > kIso;
     uint crossed = 0u;
@@ -299,7 +302,7 @@ void mesh_layer(uint brick, ivec3 origin, uint look, uint max_triangles, uint le
   memoryBarrierBuffer();
   barrier();
   uint layer_end_vertex = min(vertex_count, max_vertices);
-  for (uint v = layer_first_vertex + gl_LocalInvocationIndex; v < layer_end_vertex; v += 256u) {
+  for (uint v = layer_first_vertex + gl_LocalInvocationIndex; v < layer_end_vertex; v += kGroupSize) {
     uvec2 item = vertices[slot + v];
     if (item.x == kNoItem) continue;
     uint i = item.x;
@@ -320,7 +323,7 @@ void mesh_layer(uint brick, ivec3 origin, uint look, uint max_triangles, uint le
   // The triangles: each cube's case names its edges; an edge's vertex is its owner's.
   ivec3 span = end_cube - first_cube;
   uint cube_total = uint(span.x * span.y * span.z);
-  for (uint i = gl_LocalInvocationIndex; i < cube_total; i += 256u) {
+  for (uint i = gl_LocalInvocationIndex; i < cube_total; i += kGroupSize) {
     ivec3 c = first_cube + ivec3(int(i % uint(span.x)), int((i / uint(span.x)) % uint(span.y)), int(i / uint(span.x * span.y)));
     uint mask = 0u;
     for (int corner = 0; corner < 8; ++corner)
@@ -389,7 +392,7 @@ void main() {
   barrier();
   // The tile, row by row: each row of 21 cells is read as the (at most 7) words of the cell
   // buffer that hold its cells inside the grid; cells outside the grid stay void.
-  for (uint w = gl_LocalInvocationIndex; w < (kTileCells + 3u) / 4u; w += 256u) tile[w] = 0u;
+  for (uint w = gl_LocalInvocationIndex; w < (kTileCells + 3u) / 4u; w += kGroupSize) tile[w] = 0u;
   barrier();
   uint seen = material_looks;
   uint looks = 0u;
@@ -397,16 +400,16 @@ void main() {
       (any(lessThan(origin - 2, ivec3(0))) || any(greaterThan(origin + kTile - 3, pc.grid.xyz - 1))))
     looks |= 1u << (seen & 7u);  // void's look, for the cells outside the grid
   const uint kWordsPerRow = 7u;
-  const uint kTasks = (kTileRows * kWordsPerRow + 255u) / 256u;  // tasks an invocation takes
+  const uint kTasks = (kTileRows * kWordsPerRow + kGroupSize - 1u) / kGroupSize;  // tasks an invocation takes
   // All of an invocation's words are read before any is used, so their reads overlap.
   uint loaded[kTasks];
   for (uint k = 0u; k < kTasks; ++k) {
-    uint task = gl_LocalInvocationIndex + 256u * k;
+    uint task = gl_LocalInvocationIndex + kGroupSize * k;
     uint word = tile_row_word(origin, task);
     loaded[k] = word != 0xffffffffu ? cell_words[word] : 0u;
   }
   for (uint k = 0u; k < kTasks; ++k) {
-    uint task = gl_LocalInvocationIndex + 256u * k;
+    uint task = gl_LocalInvocationIndex + kGroupSize * k;
     uint word = tile_row_word(origin, task);
     if (word == 0xffffffffu) continue;
     uint row = task / kWordsPerRow;

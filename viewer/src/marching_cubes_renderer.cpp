@@ -38,6 +38,15 @@ std::uint32_t triangles_per_brick(const VulkanContext& context, std::uint32_t br
   return std::uint32_t(std::min(kMaxTrianglesPerBrick, fitting));
 }
 
+/// Invocations of a build workgroup: 64 on a CPU device (lavapipe runs a workgroup's invocations as
+/// SIMD fibers that all meet at each barrier; 64 builds the 64³ bowl's bricks in 34-36 ms against
+/// 42-43 with 256, bench/RESULTS.md), else the shader's 256.
+std::uint32_t build_workgroup_size(const VulkanContext& context) {
+  VkPhysicalDeviceProperties properties;
+  vkGetPhysicalDeviceProperties(context.physical_device(), &properties);
+  return properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU ? 64 : 256;
+}
+
 std::uint32_t total_of(granular::Int3 counts) { return std::uint32_t(counts.x) * counts.y * counts.z; }
 
 /// The descriptor types of the classify, build and draw passes: cells, brick list, vertices, draws,
@@ -86,7 +95,7 @@ MarchingCubesRenderer::MarchingCubesRenderer(const VulkanContext& context, const
       sets_(context.device(), marching_bindings()),
       rebuild_(context, brick_counts_, sets_, 1),
       classify_(context.device(), sets_.layout(), "mc_classify.comp"),
-      build_(context.device(), sets_.layout(), "mc_build.comp"),
+      build_(context.device(), sets_.layout(), "mc_build.comp", build_workgroup_size(context)),
       draw_pipeline_(context.device(), sets_.layout(), target_pass, "mc.vert", "mc.frag"),
       translucent_pipeline_(context.device(), sets_.layout(), target_pass, "mc.vert", "mc.frag", GraphicsOptions::translucent()),
       cap_(context, cells, palette, target_pass, false),

@@ -76,7 +76,9 @@ void Pipeline::create_layout(VkDescriptorSetLayout set_layout) {
   vk_check(vkCreatePipelineLayout(device_, &info, nullptr, &layout_), "vkCreatePipelineLayout");
 }
 
-Pipeline::Pipeline(VkDevice device, VkDescriptorSetLayout set_layout, const std::string& compute) : device_(device) {
+Pipeline::Pipeline(VkDevice device, VkDescriptorSetLayout set_layout, const std::string& compute,
+                   std::uint32_t workgroup_size)
+    : device_(device) {
   create_layout(set_layout);
   VkShaderModule module = load_shader(device_, compute);
   VkComputePipelineCreateInfo info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
@@ -84,6 +86,9 @@ Pipeline::Pipeline(VkDevice device, VkDescriptorSetLayout set_layout, const std:
   info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
   info.stage.module = module;
   info.stage.pName = "main";
+  const VkSpecializationMapEntry entry{0, 0, sizeof(std::uint32_t)};
+  const VkSpecializationInfo specialization{1, &entry, sizeof(std::uint32_t), &workgroup_size};
+  if (workgroup_size != 0) info.stage.pSpecializationInfo = &specialization;
   info.layout = layout_;
   const VkResult result = vkCreateComputePipelines(device_, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline_);
   vkDestroyShaderModule(device_, module, nullptr);

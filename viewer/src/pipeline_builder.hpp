@@ -6,6 +6,7 @@
 #include <vulkan/vulkan.h>
 
 #include <array>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -69,8 +70,10 @@ inline std::vector<VkDescriptorType> storage_then_palette(int storage) {
 /// A pipeline and its layout (one descriptor set, ViewConstants push constants).
 class Pipeline {
  public:
-  /// A compute pipeline from shader `compute` ("cube_build.comp").
-  Pipeline(VkDevice device, VkDescriptorSetLayout set_layout, const std::string& compute);
+  /// A compute pipeline from shader `compute` ("cube_build.comp"); with `workgroup_size`, the
+  /// shader's specialisation constant 0 (its workgroup's invocations) set to it.
+  Pipeline(VkDevice device, VkDescriptorSetLayout set_layout, const std::string& compute,
+           std::uint32_t workgroup_size = 0);
   /// A graphics pipeline (triangle lists, no vertex input, depth test) for `render_pass`.
   Pipeline(VkDevice device, VkDescriptorSetLayout set_layout, VkRenderPass render_pass, const std::string& vertex,
            const std::string& fragment, const GraphicsOptions& options = {});
