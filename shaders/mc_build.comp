@@ -1,23 +1,25 @@
 #version 460
-// Marching cubes, build pass (pc.bricks.w: a brick slot's triangles, and its vertices): one workgroup per brick
-// of the mesh list (mc_classify.comp: the listed bricks with more than one look around them). The brick's cells and a border are loaded into shared memory (packed 4 cells a word, each
-// byte its material and look). Each look present (opaque, liquid, gas: materials.glsl; under x-ray
-// the static materials' look apart, see_inside.glsl) is a layer of its own: a marching cube (cube c
-// spans the lattice points c..c+1, lattice point q lies between cells q-1 and q, and its density is
-// the fraction of the 8 cells around it of the layer's look; a layer's densities at the lattice
-// points -2..18 are counted once into shared memory before its cubes read them) emits the triangles of its case into
-// the brick's slot. The triangles share their vertices: each lattice edge the surface crosses is one
-// vertex of the brick's vertex slot, with its normal from the density gradient and the material most
-// frequent among the layer's cells around the edge, and a triangle is three indices into the slot.
-// The opaque layers' triangles (x-ray's static layer included) come first,
-// then the translucent layers'; the first and last bricks along an axis also mesh the cubes just
-// outside the grid, so the surfaces close at the grid's faces. A brick at level 1 (brick_levels,
-// viewer/src/brick_detail.hpp) meshes a cube per 2x2x2 cells: its cubes span the even lattice
-// points, with the same densities there, so its surfaces meet those of a level-0 neighbour on
-// their shared face at every even point; its opaque layers also mesh one cube more into each finer
-// neighbour, which covers the cracks between the two meshes. Then the brick's two indexed indirect
-// draw commands are written: draws[brick] for the opaque triangles, draws[bricks in the grid +
-// brick] for the translucent ones.
+// Marching cubes, build pass (pc.bricks.w: a brick slot's triangles, and its vertices): one
+// workgroup per brick of the mesh list (mc_classify.comp: the listed bricks with more than one look
+// around them). The brick's cells and a border are loaded into shared memory (packed 4 cells a
+// word, each byte its material and look). Each look present (opaque, liquid, gas: materials.glsl;
+// under x-ray the static materials' look apart, see_inside.glsl) is a layer of its own: a marching
+// cube (cube c spans the lattice points c..c+1, lattice point q lies between cells q-1 and q, and
+// its density is the fraction of the 8 cells around it of the layer's look; a layer's densities at
+// the lattice points -2..18 are counted once into shared memory before its cubes read them) emits
+// the triangles of its case into the brick's slot. The triangles share their vertices: each lattice
+// edge the surface crosses is one vertex of the brick's vertex slot, with its normal from the
+// density gradient and the material most frequent among the layer's cells around the edge, and a
+// triangle is three indices into the slot. The opaque layers' triangles (x-ray's static layer
+// included) come first, then the translucent layers'; the first and last bricks along an axis also
+// mesh the cubes just outside the grid, so the surfaces close at the grid's faces. A brick at level
+// 1 (brick_levels, viewer/src/brick_detail.hpp) meshes a cube per 2x2x2 cells over the even lattice
+// points, with the same densities there; a level-0 brick's face toward it takes the mean of the
+// even points beside each odd one (match_coarse_faces), so both cross the face alike, and the
+// coarse brick's opaque layers mesh one cube more into the finer one, which covers what is left
+// between the two meshes. Then the brick's two indexed indirect draw commands are written:
+// draws[brick] for the opaque triangles, draws[bricks in the grid + brick] for the translucent
+// ones.
 #extension GL_EXT_shader_8bit_storage : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int8 : require
 // Invocations of a workgroup: 256, or what the renderer specialises (64 on a CPU device, where
@@ -28,7 +30,6 @@ layout(local_size_x_id = 0) in;
 layout(std430, set = 0, binding = 0) readonly buffer Cells { uint8_t cells[]; };
 // The same cells four to a word (CellBuffer pads them to whole words): the tile load reads words.
 layout(std430, set = 0, binding = 0) readonly buffer CellWords { uint cell_words[]; };
-layout(std430, set = 0, binding = 1) readonly buffer BrickList { uint brick_list[]; };
 // A vertex slot holds, between the two halves of a layer's vertex pass, the work item of each
 // vertex (its owner point and axis) before the vertex itself.
 layout(std430, set = 0, binding = 2) buffer Vertices { uvec2 vertices[]; };
@@ -53,7 +54,7 @@ const int kFaceSide = 19;  // lattice points -1..17 along each axis of a brick's
 const int kEdgeOwners = 19 * 19 * 19;  // lattice points a layer's edges start from, at most (cubes -1..16 and one past)
 // Scratch, one use at a time: the layer's tile rows (count_layer), match_coarse_faces' means of a
 // face, then each edge owner's vertices (16 bits a point: its first vertex << 3 | the axes of its
-// edges the surface crosses).
+// edges the surface crosses; edge_vertex).
 shared uint scratch[(kEdgeOwners + 1) / 2];
 shared uint triangle_count;
 shared uint vertex_count;
