@@ -111,10 +111,7 @@ std::unique_ptr<granular::World> wavy_slab() {
       const int top = 30 + int(std::lround(6.0 * std::sin(x * 0.31) * std::cos(y * 0.23)));
       for (int z = 20; z < top; ++z) grid.set({x, y, z}, granular::Material::Solid);
     }
-  granular::WorldDef def;
-  def.backend = granular::BackendKind::Cpu;
-  def.threads = 2;
-  return std::make_unique<granular::World>(def, grid);
+  return grid_world(grid);
 }
 
 std::vector<std::uint8_t> marching_image(const granular::World& world, const OrbitCamera& camera, float coarse_below) {
@@ -138,13 +135,12 @@ bool covered_around(const std::vector<std::uint8_t>& image, int x, int y) {
 TEST_CASE("marching cubes: coarse bricks draw the surface fine ones draw, and no crack opens where levels meet") {
   const auto world = wavy_slab();
   const OrbitCamera camera = test_camera(world->size());
-  const glm::mat4 view_projection = camera.projection(float(kWidth) / float(kHeight)) * camera.view();
   // A threshold that makes some of the 64 bricks coarse and leaves others fine.
   float mixed = 0.0f;
   for (float t = 0.5f; t < 50.0f && mixed == 0.0f; t *= 1.1f) {
     BrickDetail detail({4, 4, 4}, t);
     std::vector<std::uint32_t> rebuild;
-    detail.update(view_projection, kHeight, rebuild);
+    detail.update(view_projection(camera), kHeight, rebuild);
     const auto coarse = std::count(detail.levels().begin(), detail.levels().end(), BrickDetail::kCoarse);
     if (coarse >= 20 && coarse <= 44) mixed = t;
   }
@@ -201,16 +197,13 @@ TEST_CASE("marching cubes: bricks with more surface than their slots hold draw w
         if (z < 32 && inside(x, y, z) != inside(x, y, z + 1)) ++crossed;
       }
   REQUIRE(crossed > 3072);
-  granular::WorldDef def;
-  def.backend = granular::BackendKind::Cpu;
-  def.threads = 2;
-  granular::World world(def, grid);
+  const auto world = grid_world(grid);
   const OrbitCamera camera = test_camera(size);
-  const glm::mat4 view_projection = camera.projection(float(kWidth) / float(kHeight)) * camera.view();
+  const glm::mat4 to_clip = view_projection(camera);
   // The grid's outline: the bounding rectangle of its eight corners on the image, a pixel wider.
   float left = 1e9f, right = -1e9f, top = 1e9f, bottom = -1e9f;
   for (int corner = 0; corner < 8; ++corner) {
-    const glm::vec4 clip = view_projection * glm::vec4(float((corner & 1) * size.x), float((corner >> 1 & 1) * size.y),
+    const glm::vec4 clip = to_clip * glm::vec4(float((corner & 1) * size.x), float((corner >> 1 & 1) * size.y),
                                                        float((corner >> 2) * size.z), 1.0f);
     const glm::vec2 at = (glm::vec2(clip) / clip.w * 0.5f + 0.5f) * glm::vec2(kWidth, kHeight);
     left = std::min(left, at.x - 1.0f);
@@ -218,7 +211,7 @@ TEST_CASE("marching cubes: bricks with more surface than their slots hold draw w
     top = std::min(top, at.y - 1.0f);
     bottom = std::max(bottom, at.y + 1.0f);
   }
-  const std::vector<std::uint8_t> image = marching_image(world, camera, 0.0f);
+  const std::vector<std::uint8_t> image = marching_image(*world, camera, 0.0f);
   CHECK(coverage(image) > 0.1);
   int astray = 0;
   for (int y = 0; y < int(kHeight); ++y)

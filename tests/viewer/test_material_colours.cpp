@@ -78,7 +78,7 @@ std::unique_ptr<granular::World> scene_world(std::shared_ptr<const granular::Rul
 
 /// The pixel (top-left origin) where `point` (cells) appears.
 glm::ivec2 project(const OrbitCamera& camera, glm::vec3 point) {
-  const glm::vec4 clip = camera.projection(float(kWidth) / float(kHeight)) * camera.view() * glm::vec4(point, 1.0f);
+  const glm::vec4 clip = view_projection(camera) * glm::vec4(point, 1.0f);
   const glm::vec2 ndc = glm::vec2(clip) / clip.w;
   return glm::ivec2((ndc * 0.5f + 0.5f) * glm::vec2(kWidth, kHeight));
 }

@@ -30,7 +30,7 @@ constexpr Container kContainers[] = {{"hourglass", 64, {16.0f, 16.0f, 44.0f}}, {
 
 /// The pixel (x, y) of a kWidth x kHeight image where `point` appears.
 std::pair<int, int> pixel_of(const OrbitCamera& camera, glm::vec3 point) {
-  const glm::vec4 clip = camera.projection(float(kWidth) / float(kHeight)) * camera.view() * glm::vec4(point, 1.0f);
+  const glm::vec4 clip = view_projection(camera) * glm::vec4(point, 1.0f);
   const glm::vec2 ndc = glm::vec2(clip) / clip.w;
   return {int(std::lround((ndc.x + 1.0f) * 0.5f * kWidth - 0.5f)), int(std::lround((ndc.y + 1.0f) * 0.5f * kHeight - 0.5f))};
 }
@@ -175,11 +175,7 @@ TEST_CASE("see inside: a section cuts the cubes' merged face quads where it cuts
   granular::Grid grid(size);
   grid.fill(granular::Box{{0, 0, 0}, {48, 48, 10}}, granular::Material::Granular);
   grid.fill(granular::Box{{12, 12, 10}, {36, 36, 30}}, granular::Material::Granular);
-  granular::WorldDef def;
-  def.backend = granular::BackendKind::Cpu;
-  def.threads = 2;
-  granular::World world(def, grid);
-  check_cubes_match_raymarch(world, {"x:0.5", "y:0.5", "z:0.4"}, 0.02);
+  check_cubes_match_raymarch(*grid_world(grid), {"x:0.5", "y:0.5", "z:0.4"}, 0.02);
 }
 
 TEST_CASE("see inside: bricks of scattered cells (more faces than a brick's slot) draw as cubes of cells") {
@@ -191,9 +187,5 @@ TEST_CASE("see inside: bricks of scattered cells (more faces than a brick's slot
     for (int y = 0; y < size.y; ++y)
       for (int x = 0; x < size.x; ++x)
         if ((x + y + z) % 2 == 0) grid.set({x, y, z}, granular::Material::Granular);
-  granular::WorldDef def;
-  def.backend = granular::BackendKind::Cpu;
-  def.threads = 2;
-  granular::World world(def, grid);
-  check_cubes_match_raymarch(world, {"x:0.5", "z:0.6"}, 0.05);
+  check_cubes_match_raymarch(*grid_world(grid), {"x:0.5", "z:0.6"}, 0.05);
 }

@@ -22,12 +22,15 @@ VulkanContext& context() {
   return instance;
 }
 
-std::unique_ptr<granular::World> scene_world(const std::string& scene, int n) {
+std::unique_ptr<granular::World> grid_world(const granular::Grid& grid) {
   granular::WorldDef def;
   def.backend = granular::BackendKind::Cpu;
   def.threads = 2;
-  const granular::SceneInstance instance = granular::instantiate(granular::load_scene(granular::find_scene(scene)), n);
-  return std::make_unique<granular::World>(def, instance.grid);
+  return std::make_unique<granular::World>(def, grid);
+}
+
+std::unique_ptr<granular::World> scene_world(const std::string& scene, int n) {
+  return grid_world(granular::instantiate(granular::load_scene(granular::find_scene(scene)), n).grid);
 }
 
 std::unique_ptr<granular::World> bowl_world(int n) { return scene_world("bowl", n); }
@@ -37,6 +40,10 @@ int ticks_for_seconds(const granular::World& world, double seconds) {
 }
 
 OrbitCamera test_camera(granular::Int3 size) { return OrbitCamera::framing(size); }
+
+glm::mat4 view_projection(const OrbitCamera& camera) {
+  return camera.projection(float(kWidth) / float(kHeight)) * camera.view();
+}
 
 Rgba pixel(const std::vector<std::uint8_t>& image, int x, int y) {
   const std::size_t i = (std::size_t(y) * kWidth + std::size_t(x)) * 4;

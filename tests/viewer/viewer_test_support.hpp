@@ -21,6 +21,9 @@ inline constexpr std::uint32_t kHeight = 240;
 /// The process-wide context, with validation on.
 VulkanContext& context();
 
+/// A world of `grid`'s cells on the CPU backend (2 threads), under the default rules.
+std::unique_ptr<granular::World> grid_world(const granular::Grid& grid);
+
 /// Scene `scene` (a name from assets/scenes) at N = `n` on the CPU backend.
 std::unique_ptr<granular::World> scene_world(const std::string& scene, int n);
 
@@ -33,6 +36,9 @@ int ticks_for_seconds(const granular::World& world, double seconds);
 
 /// The fixed camera of the tests: the default framing of the grid.
 OrbitCamera test_camera(granular::Int3 size);
+
+/// Cells to clip space through `camera` for a kWidth x kHeight image (as the renderers draw it).
+glm::mat4 view_projection(const OrbitCamera& camera);
 
 /// RGBA of pixel (x, y).
 struct Rgba {
