@@ -25,6 +25,7 @@ bool BrickDetail::update(const glm::mat4& view_projection, std::uint32_t image_h
   const glm::vec4 depth_row(view_projection[0][3], view_projection[1][3], view_projection[2][3], view_projection[3][3]);
   const float brick_radius = 0.5f * float(granular::kBrickSize) * std::sqrt(3.0f) * glm::length(glm::vec3(depth_row));
   const float half = 0.5f * float(granular::kBrickSize);
+  const float pixels_at_unit_depth = cell_pixels(view_projection, image_height, 1.0f);
   const std::size_t first_appended = rebuild.size();
   for (int z = 0; z < counts_.z; ++z)
     for (int y = 0; y < counts_.y; ++y)
@@ -38,7 +39,7 @@ bool BrickDetail::update(const glm::mat4& view_projection, std::uint32_t image_h
         if (nearest <= 0.0f) {
           wanted = kFine;
         } else {
-          const float pixels = cell_pixels(view_projection, image_height, nearest);
+          const float pixels = pixels_at_unit_depth / nearest;
           if (level == kFine && pixels < coarse_below_) wanted = kCoarse;
           if (level == kCoarse && pixels > coarse_below_ * kHysteresis) wanted = kFine;
         }
