@@ -43,8 +43,8 @@ layout(std430, set = 0, binding = 8) readonly buffer MeshList { uint mesh_list[]
 #include "materials.glsl"
 #include "marching_iso.glsl"
 #include "see_inside.glsl"
+#include "marching_tile.glsl"
 
-const int kTile = 21;  // cells -2..18 around the brick
 const uint kTileCells = uint(kTile * kTile * kTile);
 const float kPositionScale = 50.0;  // fixed point: (local + 2) * 50 fits 10 bits for local in [-2, 18]
 
@@ -360,10 +360,11 @@ void write_draw(uint command, uint first_index, uint index_count, uint first_ver
   draws[command * 5u + 4u] = brick;
 }
 
+const uint kWordsPerRow = 7u;  // words of the cell buffer that can hold a tile row's 21 cells
+
 // The word of the cell buffer that tile-load task `task` reads (task / 7: the tile row, task % 7:
 // the word among those holding the row's cells inside the grid), or 0xffffffff when there is none.
 uint tile_row_word(ivec3 origin, uint task) {
-  const uint kWordsPerRow = 7u;
   uint row = task / kWordsPerRow;
   if (row >= kTileRows) return 0xffffffffu;
   ivec3 first = origin + ivec3(-2, int(row % uint(kTile)) - 2, int(row / uint(kTile)) - 2);
@@ -400,7 +401,6 @@ void main() {
   if (gl_LocalInvocationIndex == 0u &&
       (any(lessThan(origin - 2, ivec3(0))) || any(greaterThan(origin + kTile - 3, pc.grid.xyz - 1))))
     looks |= 1u << (seen & 7u);  // void's look, for the cells outside the grid
-  const uint kWordsPerRow = 7u;
   const uint kTasks = (kTileRows * kWordsPerRow + kGroupSize - 1u) / kGroupSize;  // tasks an invocation takes
   // All of an invocation's words are read before any is used, so their reads overlap.
   uint loaded[kTasks];

@@ -17,8 +17,7 @@ layout(std430, set = 0, binding = 8) buffer MeshList { uint mesh_list[]; };  // 
 #include "cells.glsl"
 #include "materials.glsl"
 #include "see_inside.glsl"
-
-const int kTile = 21;  // as mc_build.comp: cells -2..18 around the brick
+#include "marching_tile.glsl"
 
 shared uint tile_looks;
 
