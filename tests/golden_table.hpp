@@ -12,7 +12,7 @@
 ///
 /// Besides the shipped scenes (sand and solid only), one scene of every material, built here
 /// (all_materials_pool, tests/reference/material_scenes.hpp), is pinned under the default rules
-/// (inertial-24), under its columns lever (inertial-24-columns) and under isotropic: its values were taken where the plain per-block loop reaches the
+/// (inertial-24), under its columns and entrain levers (inertial-24-columns, inertial-24-entrain) and under isotropic: its values were taken where the plain per-block loop reaches the
 /// same hash (test_golden.cpp checks that on every run).
 
 #include <cstdint>
@@ -68,9 +68,14 @@ inline constexpr GoldenCase kGoldenCases[] = {
     {"inertial-24-columns", "hourglass", 48, 64, 0xa6cc5cf07de05663ull},
     {"inertial-24-columns", "silo", 32, 64, 0x85e391cf34a7223cull},
     {"inertial-24-columns", "column", 32, 64, 0xf3b8bd34da7544ebull},
+    {"inertial-24-entrain", "bowl", 32, 64, 0x88795ed963b3f1d5ull},
+    {"inertial-24-entrain", "hourglass", 48, 64, 0x713fd9334023d4baull},
+    {"inertial-24-entrain", "silo", 32, 64, 0x8c4d65cf4d7ecba2ull},
+    {"inertial-24-entrain", "column", 32, 64, 0x142bea3ce32404a5ull},
     {"isotropic", kAllMaterialsScene, 32, 64, 0x1c7ef40c215698ddull},
     {"inertial-24", kAllMaterialsScene, 32, 64, 0x2e00f47e4960e98eull},
     {"inertial-24-columns", kAllMaterialsScene, 32, 64, 0xbc4aa19320f5bd2bull},
+    {"inertial-24-entrain", kAllMaterialsScene, 32, 64, 0x60a982d6c7d21217ull},
 };
 
 /// The initial grid of a golden case: its shipped scene built at its N (the scene of every material

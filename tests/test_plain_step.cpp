@@ -80,7 +80,7 @@ reference::PlainRules plain_materials(const RuleSet& rules) {
   for (int s = 0; s < kMaterialCount; ++s) {
     const MaterialDef& d = rules.materials[std::size_t(s)];
     r.materials[std::size_t(s)] = {d.behaviour, d.density, d.spread, d.grain.topple_gain, d.grain.roll_cost,
-                                   d.grain.roll_chance};
+                                   d.grain.roll_chance, d.grain.entrain};
   }
   r.substeps = rules.motion.substeps;
   return r;

@@ -54,7 +54,13 @@ TEST_CASE("rule set: a preset is a value whose material table a game may change"
   const RuleSet columns = preset("inertial-24-columns");
   CHECK(columns.motion.columns);
   CHECK(columns.motion.substeps == 24);
-  CHECK(rule_preset_names().size() == 6);
+  CHECK(inertial.materials[2].grain.entrain == 0);
+  const RuleSet entrain = preset("inertial-24-entrain");
+  CHECK(entrain.materials[2].grain.entrain == 128);
+  CHECK(entrain.materials[5].grain.entrain == 128);  // gravel erodes as sand does, at its own roll cost
+  CHECK(entrain.materials[3].grain.entrain == 0);   // a liquid has no slope to erode
+  CHECK(rule_fingerprint(entrain) != rule_fingerprint(inertial));
+  CHECK(rule_preset_names().size() == 7);
   for (const auto& name : rule_preset_names()) CHECK(preset(name).name == name);
 }
 
@@ -124,6 +130,9 @@ TEST_CASE("rule set: a table the step cannot run is refused, naming the field an
   r = preset("inertial");
   r.materials[2].grain.roll_chance = 300;
   CHECK_THROWS_WITH_AS(make(r), doctest::Contains("RuleSet::materials[2].grain.roll_chance = 300"), RuleError);
+  r = preset("inertial");
+  r.materials[5].grain.entrain = -1;
+  CHECK_THROWS_WITH_AS(make(r), doctest::Contains("RuleSet::materials[5].grain.entrain = -1"), RuleError);
   r = preset("inertial");
   r.motion.substeps = 12;
   CHECK_THROWS_WITH_AS(make(r), doctest::Contains("RuleSet::motion.substeps = 12"), RuleError);

@@ -19,6 +19,13 @@ namespace {
 /// the accuracy suite's cone on the GPU: 128 gives 29.4, 192 gives 36.4); every moving grain may roll.
 constexpr GrainMotion kInertialGrain{.topple_gain = 256, .roll_cost = 160, .roll_chance = 256};
 
+/// The entrain preset's grain: a moving grain that rolls or topples sets a grain at rest on a step
+/// edge of its block moving with chance 128/256, a topple gains a level with chance 192/256 and a roll
+/// costs one with chance 224/256. Tuned on the accuracy suite's tilted bed, dug crater and cones
+/// (entrain 64 to 256, topple gain 128 to 256, roll cost 160 to 256; docs/ACCURACY.md): more entrain
+/// lowers the angle an avalanche stops at, a smaller topple gain raises the cones' angles.
+constexpr GrainMotion kEntrainGrain{.topple_gain = 192, .roll_cost = 224, .roll_chance = 256, .entrain = 128};
+
 /// Density ranks of the shipped materials: gas < void (0) < liquid < sand < gravel.
 constexpr int kGasDensity = -1, kLiquidDensity = 2, kSandDensity = 3, kGravelDensity = 4;
 
@@ -34,7 +41,7 @@ constexpr GrainMotion liquid_motion(GrainMotion sand) {
 /// suite against sand's 29-33 (docs/accuracy/gravel_cone.md lists every value tried).
 constexpr GrainMotion gravel_motion(GrainMotion sand) {
   if (sand.roll_chance == 0) return {};
-  return GrainMotion{.topple_gain = 0, .roll_cost = 256, .roll_chance = 256};
+  return GrainMotion{.topple_gain = 0, .roll_cost = 256, .roll_chance = 256, .entrain = sand.entrain};
 }
 
 /// One preset of the registry.
@@ -46,9 +53,10 @@ struct PresetEntry {
   bool random_axis_order;
   int substeps;  ///< MotionParams::substeps (1: no motion model)
   bool columns = false;  ///< MotionParams::columns
+  GrainMotion grain = kInertialGrain;  ///< sand's motion under a motion model (gravel's follows from it)
 };
 
-constexpr std::array<PresetEntry, 6> kPresets = {{
+constexpr std::array<PresetEntry, 7> kPresets = {{
     {"paper", "gravity then flow, fixed preference order (the paper's rules)", 1, false, false, 1},
     {"isotropic",
      "the paper's rules under a random horizontal symmetry per block and tick and a random offset order per cycle", 2,
@@ -64,6 +72,10 @@ constexpr std::array<PresetEntry, 6> kPresets = {{
     {"inertial-24-columns",
      "inertial-24 with grains in free fall falling as columns: a released block falls as one train of grains", 1, true,
      true, 24, true},
+    {"inertial-24-entrain",
+     "inertial-24 with avalanches: a rolling or toppling grain sets the grains at rest on step edges of its block "
+     "moving, so a tilted slope fails near 38 degrees and its avalanche stops near 34",
+     1, true, true, 24, false, kEntrainGrain},
 }};
 
 RuleSet make_preset(const PresetEntry& e) {
@@ -75,7 +87,7 @@ RuleSet make_preset(const PresetEntry& e) {
   r.random_axis_order = e.random_axis_order;
   r.motion.substeps = e.substeps;
   r.motion.columns = e.columns;
-  r.materials = default_materials(r.motion.enabled() ? kInertialGrain : GrainMotion{});
+  r.materials = default_materials(r.motion.enabled() ? e.grain : GrainMotion{});
   r.transition = r.motion.enabled() ? &motion_transition : &paper_transition;
   r.device_rule = r.motion.enabled() ? "motion" : "paper";
   return r;

@@ -29,6 +29,8 @@
 ///     from below loses 1 with chance roll_cost / 256 if it rolled, kStuckCost / 256 if its block
 ///     had no room. So a moving grain runs on down slopes steeper than the balance of gains and
 ///     costs and stops on shallower ones, whatever the pile's size: the friction lever.
+///     A grain at rest in the top layer on a step edge is set moving (level 1) with chance
+///     GrainMotion::entrain / 256 when a moving grain rolled or toppled in its block (entrain_step_edges).
 ///  4. On a block holding a liquid, a gas or two granular materials, the fluid pass
 ///     (fluid_block.hpp) moves what gravity and flow left: density order, liquid and gas spread. Its
 ///     movers are the fallers that took part and stayed, and in sub-steps 0 and 1 the bottom-layer
@@ -276,6 +278,34 @@ constexpr std::uint64_t leave_wakes(std::uint64_t bytes, std::uint32_t wakes) {
   return bytes;
 }
 
+/// `out` (a block's bytes after its move, the entry `entry` applied to bytes of table codes `codes`)
+/// with each grain at rest in the top layer that kept its place and stands on a step edge (a top
+/// cell beside it is void and the cell under that one is not) set moving, at level 1, with chance
+/// GrainMotion::entrain / 256 of its material, drawn from its level draw (bits 40 + 6 k of `random`
+/// for top cell 4 + k, which a grain that kept its place at level 0 never uses otherwise). step_block
+/// calls it when a moving grain rolled or toppled in the block: a flowing layer erodes the slope it
+/// runs on, so an avalanche spreads over the slope and stops at the angle where moving grains stop.
+template <class ByteOps>
+constexpr std::uint64_t entrain_step_edges(std::uint64_t out, std::uint64_t codes, MotionEntry entry,
+                                           std::uint64_t random, const StepMaterials& mats) {
+  const std::uint64_t out_codes = ByteOps::gather(codes, entry & 0x77777777u);
+  for (int k = 0; k < 4; ++k) {
+    const int p = 4 + k;
+    if (((entry >> (4 * p)) & 7u) != std::uint32_t(p)) continue;
+    const std::uint64_t byte = (out >> (8 * p)) & 0xFFu;
+    if (((mats.entrained >> (byte & kMaterialMask)) & 1u) == 0 || ((byte >> kMotionShift) & kMotionLevelMask) != 0)
+      continue;
+    bool edge = false;
+    for (int flip = 1; flip <= 3; ++flip) {
+      const int q = k ^ flip;
+      edge = edge || (((out_codes >> (8 * (4 + q))) & 0xFFu) == kCodeVoid && ((out_codes >> (8 * q)) & 0xFFu) != kCodeVoid);
+    }
+    if (edge && int((random >> (40 + 6 * k)) & 63u) * 4 < int(mats.entrain[byte & kMaterialMask]))
+      out |= std::uint64_t(1u << kMotionShift) << (8 * p);
+  }
+  return out;
+}
+
 /// The block's 8 bytes (cell i in byte i) after sub-step `m` (see the file comment). `load(k)`
 /// reads entry k of the motion entries (kMotionEntries; a plain read on the CPU, a read-only cache
 /// load on a GPU); ByteOps does the per-cell lookups and the byte gather (PortableByteOps, or a
@@ -355,12 +385,14 @@ constexpr std::uint64_t step_block_as(std::uint64_t bytes, const SubStep& m, int
     for (int k = 0; k < 4; ++k) fell |= (move_of(k) == kFell ? 1u : 0u) << k;
   std::uint32_t new_top = top;
   std::uint32_t wakes_left = 0;  // byte k: the wake top cell 4 + k leaves if it fell, else 0
+  bool flowed = false;           // a moving grain rolled or toppled (GrainMotion::entrain)
   for (int k = 0; k < 4; ++k) {
     if (((part >> (8 * k)) & 1u) == 0) continue;
     const std::uint32_t byte = (top >> (8 * k)) & 0xFFu;
     const std::uint32_t material = byte & kMaterialMask, phase = byte & kMotionPhaseBit;
     int level = int((byte >> kMotionShift) & kMotionLevelMask);
     const std::uint32_t move = move_of(k);
+    flowed = flowed || (level > 0 && (move == kRolled || move == kToppled));
     const int draw = int((random >> (40 + 6 * k)) & 63u) * 4;
     if (move == kFell) {
       // Gravity accelerates a grain in free fall, in the first sub-step of its window: one with nothing
@@ -377,7 +409,8 @@ constexpr std::uint64_t step_block_as(std::uint64_t bytes, const SubStep& m, int
     new_top = (new_top & ~(0xFFu << (8 * k))) | (updated << (8 * k));
     if (kColumns && move == kFell) wakes_left |= (kWakeBit | (std::uint32_t(level) << kMotionShift)) << (8 * k);
   }
-  const std::uint64_t out = ByteOps::gather((bytes & 0xFFFFFFFFull) | (std::uint64_t(new_top) << 32), entry & 0x77777777u);
+  std::uint64_t out = ByteOps::gather((bytes & 0xFFFFFFFFull) | (std::uint64_t(new_top) << 32), entry & 0x77777777u);
+  if (flowed && mats.entrained != 0) out = entrain_step_edges<ByteOps>(out, codes, entry, random, mats);
   // The fluid pass, on a block holding a liquid, a gas or two granular materials.
   if (!mats.fluid_pass_applies(present_materials<ByteOps>(bytes))) return kColumns ? leave_wakes(out, wakes_left) : out;
   // Its movers: the cells that took part and kept their place (nibble p of the entry is p).

@@ -32,6 +32,8 @@ struct StepMaterials {
   std::uint16_t roll_chance[kMaterialCount] = {};  ///< GrainMotion::roll_chance per material
   std::uint16_t topple_gain[kMaterialCount] = {};  ///< GrainMotion::topple_gain per material
   std::uint16_t roll_cost[kMaterialCount] = {};    ///< GrainMotion::roll_cost per material
+  std::uint16_t entrain[kMaterialCount] = {};      ///< GrainMotion::entrain per material
+  std::uint32_t entrained = 0;  ///< bit m set: material m's GrainMotion::entrain is above 0
   std::uint16_t spread[kMaterialCount] = {};       ///< MaterialDef::spread per material
   std::int8_t density[kMaterialCount] = {};        ///< MaterialDef::density per material (static: unused)
   std::uint8_t pair_codes[64] = {};  ///< the codes of two cells (6 bits of a key) from their materials
@@ -96,6 +98,8 @@ inline StepMaterials step_materials(const MaterialTable& table) {
     m.roll_chance[s] = std::uint16_t(d.grain.roll_chance);
     m.topple_gain[s] = std::uint16_t(d.grain.topple_gain);
     m.roll_cost[s] = std::uint16_t(d.grain.roll_cost);
+    m.entrain[s] = std::uint16_t(d.grain.entrain);
+    if (d.grain.entrain > 0 && m.is_faller(s)) m.entrained |= 1u << s;
     m.spread[s] = std::uint16_t(d.spread);
     m.density[s] = std::int8_t(d.density);
   }

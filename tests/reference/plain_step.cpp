@@ -206,6 +206,13 @@ BlockCells motion_block(const PlainRules& r, BlockCells cells, const BlockAt& b)
       if (j != i && flow_code(r, cells[j]) != kCodeVoid && !(moving[j] && fell_straight(j))) return false;
     return true;
   };
+  // Entrainment: did a moving grain roll (to another top cell) or topple (down into another column)?
+  bool flowed = false;
+  for (int i = 4; i < 8; ++i) {
+    const int to = destination_of[i];
+    const bool rolled = to >= 4 && to != i, toppled = to < 4 && (to & 3) != (i & 3);
+    if (moving[i] && cell_motion(cells[i]) > 0 && (rolled || toppled)) flowed = true;
+  }
   BlockCells out{};
   std::array<std::uint8_t, 8> wake_left{};  // per top cell: the wake it leaves (0: none)
   std::array<bool, 8> mover{};  // who may start a move in the fluid pass: took part and stayed
@@ -233,6 +240,17 @@ BlockCells motion_block(const PlainRules& r, BlockCells cells, const BlockAt& b)
     out[to] = cell;
     if (to == i && (moving[i] || gas_turn[i])) mover[i] = true;
   }
+  // After a roll or topple of a moving grain, a faller at rest that kept its top cell, with a void
+  // top cell beside it over a cell that is not void, starts moving (level 1) with chance entrain / 256.
+  if (flowed)
+    for (int i = 4; i < 8; ++i) {
+      if (destination_of[i] != i || !is_faller(r, out[i]) || cell_motion(out[i]) != 0) continue;
+      bool edge = false;
+      for (int j = 4; j < 8; ++j)
+        if (j != i && flow_code(r, out[j]) == kCodeVoid && flow_code(r, out[j - 4]) != kCodeVoid) edge = true;
+      if (edge && level_draw(i) < r.materials[out[i] & kMaterialMask].entrain)
+        out[i] = std::uint8_t(out[i] | (1 << kMotionShift));
+    }
   const std::uint64_t draws = block_random(r.seed ^ kPlainFluidDrawSalt, step, b.x0, b.y0, b.z0);
   BlockCells after = plain_fluid_pass(r, out, mover, symmetry, draws, true);
   for (int i = 4; i < 8; ++i)
@@ -436,6 +454,7 @@ PlainRules plain_rules(const RuleSet& rules, const Lut& lut, std::uint64_t seed)
     m.topple_gain = d.grain.topple_gain;
     m.roll_cost = d.grain.roll_cost;
     m.roll_chance = d.grain.roll_chance;
+    m.entrain = d.grain.entrain;
     if (d.behaviour == Behaviour::Void) plain.code_state[kCodeVoid] = std::uint8_t(s);
     if (d.behaviour == Behaviour::Static && !have_static) {
       plain.code_state[kCodeObstacle] = std::uint8_t(s);

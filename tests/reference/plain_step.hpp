@@ -35,6 +35,8 @@ struct PlainMaterial {
   int topple_gain = 0;  ///< out of 256: chance that a faller toppling down a step gains a level
   int roll_cost = 0;    ///< out of 256: chance that a roll costs a level
   int roll_chance = 0;  ///< out of 256: chance that a moving faller blocked from below may roll
+  int entrain = 0;      ///< out of 256: chance that a moving grain's roll or topple sets a grain at rest
+                        ///< on a step edge of its block moving
 };
 
 /// What the plain loop reads of a world: its table, the rule set's random variants, the motion

@@ -49,6 +49,9 @@ struct GrainMotion {
   int roll_cost = 0;    ///< chance that a roll (a move onto a level neighbour) costs a level
   int roll_chance = 0;  ///< chance that a moving grain blocked from below is offered a roll to a level
                         ///< neighbour cell (0: never rolls)
+  int entrain = 0;      ///< chance that a grain at rest on a step edge (a void beside it in its block's top
+                        ///< layer, something under that void) is set moving (level 1) by a moving grain
+                        ///< that rolls or topples in its block: a flowing layer erodes the slope it runs on
 };
 
 /// The bit that, on a void cell (material 0), marks a wake (MotionParams::columns): the void a grain
