@@ -1,85 +1,16 @@
 #include <chrono>
 #include <cmath>
-#include <numbers>
 #include <string>
-#include <vector>
 
-#include "granular/accuracy/fit.hpp"
+#include "granular/accuracy/tilted_bed.hpp"
 #include "granular/world.hpp"
 #include "settle.hpp"
 #include "suite_tests.hpp"
 
 namespace granular::accuracy {
 
-namespace {
-
-constexpr double kDegree = std::numbers::pi / 180;
-
-/// The inclined bed: a walled box (solid floor at z = 0, walls at x = 0, x = nx - 1, y = 0,
-/// y = ny - 1), sand over x in [1, 1 + slope_length) rising towards x = 1, a void run-out beyond.
-struct Bed {
-  int slope_length, width, runout, base;
-  double max_deg;
-  Int3 size() const {
-    return {slope_length + runout + 2, width + 2, base + int(std::ceil(slope_length * std::tan(max_deg * kDegree))) + 4};
-  }
-  Grid build(double deg) const {
-    const Int3 s = size();
-    Grid g(s);
-    g.fill(Box{{0, 0, 0}, {s.x, s.y, 1}}, Material::Solid);
-    g.fill(Box{{0, 0, 0}, {1, s.y, s.z}}, Material::Solid);
-    g.fill(Box{{s.x - 1, 0, 0}, {s.x, s.y, s.z}}, Material::Solid);
-    g.fill(Box{{0, 0, 0}, {s.x, 1, s.z}}, Material::Solid);
-    g.fill(Box{{0, s.y - 1, 0}, {s.x, s.y, s.z}}, Material::Solid);
-    const double t = std::tan(deg * kDegree);
-    for (int i = 0; i < slope_length; ++i) {
-      const int h = base + int(std::lround((slope_length - i - 0.5) * t));
-      g.fill(Box{{1 + i, 1, 1}, {2 + i, s.y - 1, 1 + h}}, Material::Granular);
-    }
-    return g;
-  }
-};
-
-/// The bed's mean column height (grains per column over y) at each x of the slope.
-std::vector<double> mean_heights(const Grid& g, const Bed& bed) {
-  std::vector<double> h(std::size_t(g.size().x), 0);
-  for (int x = 0; x < g.size().x; ++x) {
-    double sum = 0;
-    for (int y = 1; y <= bed.width; ++y)
-      for (int z = 1; z < g.size().z; ++z) sum += g.at({x, y, z}) == Material::Granular;
-    h[std::size_t(x)] = sum / bed.width;
-  }
-  return h;
-}
-
-/// The surface slope angle: a line fit of the mean column height against x over the columns
-/// between 20% and 80% of the highest.
-double slope_deg(const std::vector<double>& h) {
-  double top = 0;
-  for (double v : h) top = std::max(top, v);
-  std::vector<double> xs, hs;
-  for (std::size_t x = 0; x < h.size(); ++x)
-    if (h[x] >= 0.2 * top && h[x] <= 0.8 * top) {
-      xs.push_back(double(x));
-      hs.push_back(h[x]);
-    }
-  const LineFit f = fit_line(xs, hs);
-  return f.ok ? std::atan(-f.slope) / kDegree : std::nan("");
-}
-
-std::uint64_t grains_moved(const Grid& before, const Grid& after) {
-  std::uint64_t moved = 0;
-  const auto& a = before.cells();
-  const auto& b = after.cells();
-  for (std::size_t i = 0; i < a.size(); ++i)
-    moved += a[i] == to_cell(Material::Granular) && b[i] != to_cell(Material::Granular);
-  return moved;
-}
-
-}  // namespace
-
 TestReport run_hysteresis_test(const SuiteOptions& o) {
-  const Bed bed = o.quick ? Bed{32, 12, 48, 2, 62} : Bed{96, 32, 144, 2, 62};
+  const TiltedBed bed = o.quick ? TiltedBed{32, 12, 48, 2, 62} : TiltedBed{96, 32, 144, 2, 62};
   const double first_deg = 20, step_deg = o.quick ? 1.0 : 0.5, threshold = 0.01;
   TestReport r;
   r.test = "hysteresis";
@@ -103,7 +34,7 @@ TestReport run_hysteresis_test(const SuiteOptions& o) {
     r.cell_updates += double(s.x) * s.y * s.z * 4 * bed.slope_length;
     const Grid after = world.snapshot();
     r.conserved = r.conserved && after.count() == before;
-    const double fraction = double(grains_moved(initial, after)) / double(before[to_cell(Material::Granular)]);
+    const double fraction = moved_fraction(initial, after);
     moved_series.x.push_back(deg);
     moved_series.y.push_back(fraction);
     if (fraction > threshold) {
@@ -114,7 +45,7 @@ TestReport run_hysteresis_test(const SuiteOptions& o) {
       r.cell_updates += double(s.x) * s.y * s.z * double(rest.ticks + 8);
       const Grid final_grid = world.snapshot();
       r.conserved = r.conserved && final_grid.count() == before;
-      theta_stop = slope_deg(mean_heights(final_grid, bed));
+      theta_stop = tilted_bed_slope_deg(final_grid, bed);
       if (!rest.settled) r.notes.push_back("the avalanche had not stopped after " + std::to_string(limit) + " ticks");
       break;
     }
