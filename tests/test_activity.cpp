@@ -19,12 +19,6 @@ using namespace granular::test;
 
 namespace {
 
-/// `def` with sparse stepping on or off.
-WorldDef with_sparse(WorldDef def, bool sparse) {
-  def.sparse = sparse;
-  return def;
-}
-
 /// A random tool call on both worlds (dig, pour, paint box or sphere), the same on each.
 void random_tool(std::mt19937_64& rng, World& a, World& b) {
   const Int3 n = a.size();

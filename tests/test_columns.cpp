@@ -22,13 +22,9 @@ using namespace granular;
 using granular::test::check_has;
 using granular::test::error_of;
 using granular::test::test_def;
+using granular::test::with_sparse;
 
 namespace {
-
-WorldDef with_sparse(WorldDef def, bool sparse) {
-  def.sparse = sparse;
-  return def;
-}
 
 /// How a released cube of sand fell: ticks until its mean height dropped two side lengths, and its
 /// packing then (grains in its footprint between its 5th and 95th percentile layers over those cells).

@@ -13,17 +13,14 @@
 
 using namespace granular;
 using granular::test::test_def;
+using granular::test::with_sparse;
 
 namespace {
 
 /// The accuracy suite's tilt-test bed at its quick size.
 constexpr accuracy::TiltedBed kBed{32, 12, 48, 2, 62};
 
-WorldDef entrain_def(Int3 size, const char* rules, bool sparse) {
-  WorldDef def = test_def(size, rules, 2, 7);
-  def.sparse = sparse;
-  return def;
-}
+WorldDef entrain_def(Int3 size, const char* rules, bool sparse) { return with_sparse(test_def(size, rules, 2, 7), sparse); }
 
 }  // namespace
 
@@ -33,11 +30,12 @@ TEST_CASE("entrain: a bed tilted at 40 degrees stands under inertial-24 and aval
   World lever(entrain_def(bed.size(), "inertial-24-entrain", true), bed);
   plain.step(2000);
   lever.step(2000);
-  const double plain_moved = accuracy::moved_fraction(bed, plain.snapshot());
-  const double lever_moved = accuracy::moved_fraction(bed, lever.snapshot());
+  const Grid plain_grid = plain.snapshot(), lever_grid = lever.snapshot();
+  const double plain_moved = accuracy::moved_fraction(bed, plain_grid);
+  const double lever_moved = accuracy::moved_fraction(bed, lever_grid);
   const double built = accuracy::tilted_bed_slope_deg(bed, kBed);
-  const double plain_after = accuracy::tilted_bed_slope_deg(plain.snapshot(), kBed);
-  const double lever_after = accuracy::tilted_bed_slope_deg(lever.snapshot(), kBed);
+  const double plain_after = accuracy::tilted_bed_slope_deg(plain_grid, kBed);
+  const double lever_after = accuracy::tilted_bed_slope_deg(lever_grid, kBed);
   CAPTURE(plain_moved);
   CAPTURE(lever_moved);
   CAPTURE(built);

@@ -31,6 +31,12 @@ inline WorldDef test_def(Int3 size, const char* rules = "paper", int threads = 2
   return def;
 }
 
+/// `def` with sparse stepping on or off.
+inline WorldDef with_sparse(WorldDef def, bool sparse) {
+  def.sparse = sparse;
+  return def;
+}
+
 /// A random grid: each cell void, solid or granular with the given probabilities (percent).
 inline Grid random_grid(Int3 size, std::uint64_t seed, int solid_percent = 10, int granular_percent = 35) {
   Grid g(size);
