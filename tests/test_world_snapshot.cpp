@@ -37,7 +37,7 @@ namespace {
 
 const Int3 kSize{40, 36, 44};
 
-/// The default rules (inertial-24), on the CPU, sparse or dense, seed 7.
+/// inertial-24 rules on the CPU, sparse or dense, seed 7.
 WorldDef snapshot_def(bool sparse) {
   WorldDef def = test_def(kSize, "inertial-24", 2, 7);
   def.sparse = sparse;

@@ -34,8 +34,10 @@ MaterialTable default_materials(GrainMotion grain = {});
 /// and offset cycle), "isotropic" (the same table under a random horizontal symmetry per block and
 /// tick, and a random offset order per 8-tick cycle, so heaps come out round), "d4" (the random
 /// symmetry alone, on the paper's cycle), "inertial" (isotropic plus the motion model: 16 sub-steps
-/// per tick, inertia and rolling) and "inertial-24" (24 sub-steps). Throws InvalidArgument naming the
-/// valid presets for an unknown name.
+/// per tick, inertia and rolling), "inertial-24" (24 sub-steps), "inertial-24-columns" (grains in free
+/// fall fall as columns) and "inertial-24-entrain" (the default: rolling grains set the grains at rest
+/// on step edges moving, so slopes avalanche). Throws InvalidArgument naming the valid presets for an
+/// unknown name.
 RuleSet preset(std::string_view name);
 
 /// preset(name), shared.
