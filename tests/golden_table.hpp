@@ -11,9 +11,10 @@
 /// A refactoring, a new fast path or a new backend never changes one.
 ///
 /// Besides the shipped scenes (sand and solid only), one scene of every material, built here
-/// (all_materials_pool, tests/reference/material_scenes.hpp), is pinned under the default rules
-/// (inertial-24), under its columns and entrain levers (inertial-24-columns, inertial-24-entrain) and under isotropic: its values were taken where the plain per-block loop reaches the
-/// same hash (test_golden.cpp checks that on every run).
+/// (all_materials_pool, tests/reference/material_scenes.hpp), is pinned under inertial-24, under its
+/// columns, entrain and flow levers (inertial-24-columns, inertial-24-entrain and inertial-24-flow)
+/// and under isotropic: its values were taken where the plain per-block loop
+/// reaches the same hash (test_golden.cpp checks that on every run).
 
 #include <cstdint>
 #include <cstdio>
@@ -72,10 +73,15 @@ inline constexpr GoldenCase kGoldenCases[] = {
     {"inertial-24-entrain", "hourglass", 48, 64, 0x713fd9334023d4baull},
     {"inertial-24-entrain", "silo", 32, 64, 0x8c4d65cf4d7ecba2ull},
     {"inertial-24-entrain", "column", 32, 64, 0x142bea3ce32404a5ull},
+    {"inertial-24-flow", "bowl", 32, 64, 0x8e5f2b19f2e47c41ull},
+    {"inertial-24-flow", "hourglass", 48, 64, 0x7895c16b0374fce1ull},
+    {"inertial-24-flow", "silo", 32, 64, 0x3442a3dea4230868ull},
+    {"inertial-24-flow", "column", 32, 64, 0xa17205bf1b960973ull},
     {"isotropic", kAllMaterialsScene, 32, 64, 0x1c7ef40c215698ddull},
     {"inertial-24", kAllMaterialsScene, 32, 64, 0x2e00f47e4960e98eull},
     {"inertial-24-columns", kAllMaterialsScene, 32, 64, 0xbc4aa19320f5bd2bull},
     {"inertial-24-entrain", kAllMaterialsScene, 32, 64, 0x60a982d6c7d21217ull},
+    {"inertial-24-flow", kAllMaterialsScene, 32, 64, 0x7b93add6cb51175eull},
 };
 
 /// The initial grid of a golden case: its shipped scene built at its N (the scene of every material

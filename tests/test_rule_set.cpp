@@ -60,7 +60,14 @@ TEST_CASE("rule set: a preset is a value whose material table a game may change"
   CHECK(entrain.materials[5].grain.entrain == 128);  // gravel erodes as sand does, at its own roll cost
   CHECK(entrain.materials[3].grain.entrain == 0);   // a liquid has no slope to erode
   CHECK(rule_fingerprint(entrain) != rule_fingerprint(inertial));
-  CHECK(rule_preset_names().size() == 7);
+  CHECK(entrain.materials[2].grain.flow_level == 0);
+  const RuleSet flow = preset("inertial-24-flow");
+  CHECK(flow.materials[2].grain.entrain == 128);
+  CHECK(flow.materials[2].grain.flow_level == 1);
+  CHECK(flow.materials[5].grain.flow_level == 1);  // gravel flows as slowly as sand
+  CHECK(flow.materials[3].grain.flow_level == 0);  // a liquid keeps its speed
+  CHECK(rule_fingerprint(flow) != rule_fingerprint(entrain));
+  CHECK(rule_preset_names().size() == 8);
   for (const auto& name : rule_preset_names()) CHECK(preset(name).name == name);
 }
 
@@ -133,6 +140,10 @@ TEST_CASE("rule set: a table the step cannot run is refused, naming the field an
   r = preset("inertial");
   r.materials[5].grain.entrain = -1;
   CHECK_THROWS_WITH_AS(make(r), doctest::Contains("RuleSet::materials[5].grain.entrain = -1"), RuleError);
+  r.materials[5].grain.entrain = 0;
+  r.materials[5].grain.flow_level = 16;
+  CHECK_THROWS_WITH_AS(make(r), doctest::Contains("RuleSet::materials[5].grain.flow_level = 16; a motion level is 0..15"),
+                       RuleError);
   r = preset("inertial");
   r.motion.substeps = 12;
   CHECK_THROWS_WITH_AS(make(r), doctest::Contains("RuleSet::motion.substeps = 12"), RuleError);

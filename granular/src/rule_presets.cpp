@@ -26,6 +26,12 @@ constexpr GrainMotion kInertialGrain{.topple_gain = 256, .roll_cost = 160, .roll
 /// lowers the angle an avalanche stops at, a smaller topple gain raises the cones' angles.
 constexpr GrainMotion kEntrainGrain{.topple_gain = 192, .roll_cost = 224, .roll_chance = 256, .entrain = 128};
 
+/// The flow preset's grain: the entrain preset's, and a grain that rolls or topples keeps at most
+/// level 1, so a grain landing on a slope flows down it one cell a tick whatever height it fell from
+/// (docs/accuracy/flow.md lists the settings and flow levels tried).
+constexpr GrainMotion kFlowGrain{
+    .topple_gain = 192, .roll_cost = 224, .roll_chance = 256, .entrain = 128, .flow_level = 1};
+
 /// Density ranks of the shipped materials: gas < void (0) < liquid < sand < gravel.
 constexpr int kGasDensity = -1, kLiquidDensity = 2, kSandDensity = 3, kGravelDensity = 4;
 
@@ -41,7 +47,8 @@ constexpr GrainMotion liquid_motion(GrainMotion sand) {
 /// suite against sand's 29-33 (docs/accuracy/gravel_cone.md lists every value tried).
 constexpr GrainMotion gravel_motion(GrainMotion sand) {
   if (sand.roll_chance == 0) return {};
-  return GrainMotion{.topple_gain = 0, .roll_cost = 256, .roll_chance = 256, .entrain = sand.entrain};
+  return GrainMotion{
+      .topple_gain = 0, .roll_cost = 256, .roll_chance = 256, .entrain = sand.entrain, .flow_level = sand.flow_level};
 }
 
 /// One preset of the registry.
@@ -56,7 +63,7 @@ struct PresetEntry {
   GrainMotion grain = kInertialGrain;  ///< sand's motion under a motion model (gravel's follows from it)
 };
 
-constexpr std::array<PresetEntry, 7> kPresets = {{
+constexpr std::array<PresetEntry, 8> kPresets = {{
     {"paper", "gravity then flow, fixed preference order (the paper's rules)", 1, false, false, 1},
     {"isotropic",
      "the paper's rules under a random horizontal symmetry per block and tick and a random offset order per cycle", 2,
@@ -76,6 +83,10 @@ constexpr std::array<PresetEntry, 7> kPresets = {{
      "inertial-24 with avalanches: a rolling or toppling grain sets the grains at rest on step edges of its block "
      "moving, so a tilted slope fails near 38 degrees and its avalanche stops near 34",
      1, true, true, 24, false, kEntrainGrain},
+    {"inertial-24-flow",
+     "inertial-24-entrain with grains that flow over a surface one cell a tick: a grain that rolls or topples keeps "
+     "at most level 1, so a poured pile's angle no longer depends on the height its grains fell from",
+     1, true, true, 24, false, kFlowGrain},
 }};
 
 RuleSet make_preset(const PresetEntry& e) {

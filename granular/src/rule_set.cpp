@@ -54,6 +54,9 @@ void validate_rule_set(const RuleSet& rules) {
     chance(d.grain.roll_cost, "roll_cost");
     chance(d.grain.roll_chance, "roll_chance");
     chance(d.grain.entrain, "entrain");
+    if (d.grain.flow_level < 0 || d.grain.flow_level > int(kMotionLevelMask))
+      throw RuleError(who + field + ".grain.flow_level = " + std::to_string(d.grain.flow_level) +
+                      "; a motion level is 0..15 (0: no limit)");
     if (d.spread < 0 || d.spread > 256)
       throw RuleError(who + field + ".spread = " + std::to_string(d.spread) + "; chances are out of 256 (0..256)");
     if (d.colour > 0xFFFFFFu)
@@ -95,6 +98,7 @@ std::uint64_t rule_fingerprint(const RuleSet& rules) {
               (std::uint64_t(d.grain.roll_cost) << 16) ^ (std::uint64_t(d.grain.roll_chance) << 32));
     h = mix64(h ^ (std::uint64_t(std::uint32_t(d.density)) << 20) ^ std::uint64_t(d.spread));
     if (d.grain.entrain != 0) h = mix64(h ^ 0x656E747261696E00ull ^ std::uint64_t(d.grain.entrain));
+    if (d.grain.flow_level != 0) h = mix64(h ^ 0x666C6F776C766C00ull ^ std::uint64_t(d.grain.flow_level));
   }
   if (!rules.transition) return h;
   // Every block over the three simulated states.

@@ -28,7 +28,8 @@
 ///     one that toppled down a step gains 1 with chance topple_gain / 256; one that was blocked
 ///     from below loses 1 with chance roll_cost / 256 if it rolled, kStuckCost / 256 if its block
 ///     had no room. So a moving grain runs on down slopes steeper than the balance of gains and
-///     costs and stops on shallower ones, whatever the pile's size: the friction lever.
+///     costs and stops on shallower ones, whatever the pile's size: the friction lever. One that
+///     rolled or toppled keeps at most its material's GrainMotion::flow_level.
 ///     A grain at rest in the top layer on a step edge is set moving (level 1) with chance
 ///     GrainMotion::entrain / 256 when a moving grain rolled or toppled in its block (entrain_step_edges).
 ///  4. On a block holding a liquid, a gas or two granular materials, the fluid pass
@@ -405,6 +406,7 @@ constexpr std::uint64_t step_block_as(std::uint64_t bytes, const SubStep& m, int
       --level;
     }
     if (move >= kFell && level > max_level) level = max_level;
+    if ((move == kRolled || move == kToppled) && level > int(mats.flow_level[material])) level = mats.flow_level[material];
     const std::uint32_t updated = material | (std::uint32_t(level) << kMotionShift) | phase;
     new_top = (new_top & ~(0xFFu << (8 * k))) | (updated << (8 * k));
     if (kColumns && move == kFell) wakes_left |= (kWakeBit | (std::uint32_t(level) << kMotionShift)) << (8 * k);

@@ -34,6 +34,8 @@ struct StepMaterials {
   std::uint16_t roll_cost[kMaterialCount] = {};    ///< GrainMotion::roll_cost per material
   std::uint16_t entrain[kMaterialCount] = {};      ///< GrainMotion::entrain per material
   std::uint32_t entrained = 0;  ///< bit m set: material m's GrainMotion::entrain is above 0
+  std::uint8_t flow_level[kMaterialCount] = {};  ///< GrainMotion::flow_level per material, 0 read as
+                                                 ///< kMotionLevelMask (no limit)
   std::uint16_t spread[kMaterialCount] = {};       ///< MaterialDef::spread per material
   std::int8_t density[kMaterialCount] = {};        ///< MaterialDef::density per material (static: unused)
   std::uint8_t pair_codes[64] = {};  ///< the codes of two cells (6 bits of a key) from their materials
@@ -100,6 +102,7 @@ inline StepMaterials step_materials(const MaterialTable& table) {
     m.roll_cost[s] = std::uint16_t(d.grain.roll_cost);
     m.entrain[s] = std::uint16_t(d.grain.entrain);
     if (d.grain.entrain > 0 && m.is_faller(s)) m.entrained |= 1u << s;
+    m.flow_level[s] = std::uint8_t(d.grain.flow_level > 0 ? d.grain.flow_level : kMotionLevelMask);
     m.spread[s] = std::uint16_t(d.spread);
     m.density[s] = std::int8_t(d.density);
   }

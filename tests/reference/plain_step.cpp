@@ -234,6 +234,9 @@ BlockCells motion_block(const PlainRules& r, BlockCells cells, const BlockAt& b)
       } else if (level > 0 && level_draw(i) < (to != i ? mat.roll_cost : kPlainStuckCost)) {
         --level;
       }
+      // A grain that rolled or toppled keeps at most its material's flow level (0: no limit).
+      const bool rolled_or_toppled = to != i && !(to < 4 && (to & 3) == (i & 3));
+      if (rolled_or_toppled && mat.flow_level > 0 && level > mat.flow_level) level = mat.flow_level;
       cell = std::uint8_t((cell & kMaterialMask) | (level << kMotionShift) | phase);
       if (r.columns && fell_straight(i)) wake_left[i] = std::uint8_t(kWakeBit | (level << kMotionShift));
     }
@@ -455,6 +458,7 @@ PlainRules plain_rules(const RuleSet& rules, const Lut& lut, std::uint64_t seed)
     m.roll_cost = d.grain.roll_cost;
     m.roll_chance = d.grain.roll_chance;
     m.entrain = d.grain.entrain;
+    m.flow_level = d.grain.flow_level;
     if (d.behaviour == Behaviour::Void) plain.code_state[kCodeVoid] = std::uint8_t(s);
     if (d.behaviour == Behaviour::Static && !have_static) {
       plain.code_state[kCodeObstacle] = std::uint8_t(s);

@@ -37,6 +37,7 @@ struct PlainMaterial {
   int roll_chance = 0;  ///< out of 256: chance that a moving faller blocked from below may roll
   int entrain = 0;      ///< out of 256: chance that a moving grain's roll or topple sets a grain at rest
                         ///< on a step edge of its block moving
+  int flow_level = 0;   ///< the highest level a grain keeps after a roll or topple (0: no limit)
 };
 
 /// What the plain loop reads of a world: its table, the rule set's random variants, the motion

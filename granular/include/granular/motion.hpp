@@ -52,6 +52,9 @@ struct GrainMotion {
   int entrain = 0;      ///< chance that a grain at rest on a step edge (a void beside it in its block's top
                         ///< layer, something under that void) is set moving (level 1) by a moving grain
                         ///< that rolls or topples in its block: a flowing layer erodes the slope it runs on
+  int flow_level = 0;   ///< the highest motion level a grain keeps after it rolls or topples (1 ..
+                        ///< kMotionLevelMask; 0: no limit): a grain flowing over a surface moves at most
+                        ///< motion_window(flow_level) cells a tick, whatever speed it landed with
 };
 
 /// The bit that, on a void cell (material 0), marks a wake (MotionParams::columns): the void a grain
