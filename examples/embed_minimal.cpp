@@ -7,7 +7,7 @@
 #include <cstdio>
 
 int main() {
-  granular::WorldDef def;                 // defaults: auto backend, inertial-24-entrain rules, seed 0
+  granular::WorldDef def;                 // defaults: auto backend, inertial-24-flow rules, seed 0
   def.size = {64, 64, 64};
   granular::World world(def);
   world.paint(granular::Box{{0, 0, 0}, {64, 64, 2}}, granular::Material::Solid);         // a floor

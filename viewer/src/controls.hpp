@@ -23,7 +23,7 @@ inline constexpr std::array<Control, 26> kControls{{
     {"W A S D", "fly forward / left / back / right"},
     {"Q / E", "fly down / up"},
     {"F", "frame the content (every non-void cell, as at the start)"},
-    {"Tab", "cycle the left button: dig / erase / shake (shake only under rules with a motion model, as the default inertial-24-entrain; one-step rules such as paper have none)"},
+    {"Tab", "cycle the left button: dig / erase / shake (shake only under rules with a motion model, as the default inertial-24-flow; one-step rules such as paper have none)"},
     {"1 .. 7", "choose the material of state 1..7 of the world's table (the HUD lists each with its colour; presets: solid, granular, liquid, gas, gravel, state6, state7)"},
     {"Space", "pause / resume"},
     {"N", "single step (while paused)"},

@@ -25,10 +25,10 @@ enum class BackendKind {
 /// Parameters of a World. Every field has a usable default.
 struct WorldDef {
   Int3 size{64, 64, 64};        ///< grid extent in cells (z is up)
-  std::string rules = "inertial-24-entrain";  ///< rule-set preset name (see rule_presets.hpp);
-                                             ///< "inertial-24-entrain" measures best on the accuracy
-                                             ///< suite and runs in real time on a GPU up to 1024^3
-                                             ///< (docs/ACCURACY.md), "paper" is the paper's
+  std::string rules = "inertial-24-flow";  ///< rule-set preset name (see rule_presets.hpp);
+                                          ///< "inertial-24-flow" measures best on the accuracy
+                                          ///< suite and runs in real time on a GPU up to 1024^3
+                                          ///< (docs/ACCURACY.md), "paper" is the paper's
   std::shared_ptr<const RuleSet> rule_set;  ///< a rule set of the game's own (e.g. a copy of
                                             ///< granular::preset(...) with a changed material table);
                                             ///< when set it wins over `rules`
