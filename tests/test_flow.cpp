@@ -34,7 +34,8 @@ TEST_CASE("flow level: a pile of 10^4 poured grains rests steeper under the cap 
   REQUIRE(entrain.settled);
   CHECK(flow.conserved);
   CHECK(flow.poured == 10000);
-  // Measured 31.25 against 29.54 (docs/accuracy/flow.md); the large piles rest at 31.6 to 32.2.
+  // Measured 31.25 against 29.54 at this seed (seeds 2 and 3: 30.94 against 29.51, 30.78 against 30.33;
+  // docs/accuracy/flow.md); the large piles rest at 31.6 to 32.2.
   CHECK(flow.metrics.angle_deg >= entrain.metrics.angle_deg + 1);
   CHECK(flow.metrics.angle_deg >= 31);
 }
