@@ -26,11 +26,16 @@ constexpr GrainMotion kInertialGrain{.topple_gain = 256, .roll_cost = 160, .roll
 /// lowers the angle an avalanche stops at, a smaller topple gain raises the cones' angles.
 constexpr GrainMotion kEntrainGrain{.topple_gain = 192, .roll_cost = 224, .roll_chance = 256, .entrain = 128};
 
+/// `grain` with its flow level set to `level`.
+constexpr GrainMotion with_flow_level(GrainMotion grain, int level) {
+  grain.flow_level = level;
+  return grain;
+}
+
 /// The flow preset's grain: the entrain preset's, and a grain that rolls or topples keeps at most
 /// level 1, so a grain landing on a slope flows down it one cell a tick whatever height it fell from
 /// (docs/accuracy/flow.md lists the settings and flow levels tried).
-constexpr GrainMotion kFlowGrain{
-    .topple_gain = 192, .roll_cost = 224, .roll_chance = 256, .entrain = 128, .flow_level = 1};
+constexpr GrainMotion kFlowGrain = with_flow_level(kEntrainGrain, 1);
 
 /// Density ranks of the shipped materials: gas < void (0) < liquid < sand < gravel.
 constexpr int kGasDensity = -1, kLiquidDensity = 2, kSandDensity = 3, kGravelDensity = 4;

@@ -235,7 +235,7 @@ BlockCells motion_block(const PlainRules& r, BlockCells cells, const BlockAt& b)
         --level;
       }
       // A grain that rolled or toppled keeps at most its material's flow level (0: no limit).
-      const bool rolled_or_toppled = to != i && !(to < 4 && (to & 3) == (i & 3));
+      const bool rolled_or_toppled = to != i && !fell_straight(i);
       if (rolled_or_toppled && mat.flow_level > 0 && level > mat.flow_level) level = mat.flow_level;
       cell = std::uint8_t((cell & kMaterialMask) | (level << kMotionShift) | phase);
       if (r.columns && fell_straight(i)) wake_left[i] = std::uint8_t(kWakeBit | (level << kMotionShift));
