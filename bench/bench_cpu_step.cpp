@@ -16,7 +16,7 @@
 #include "granular/scene.hpp"
 #include "granular/world.hpp"
 #include "plain_step.hpp"
-#include "thread_pool.hpp"
+#include "cpu/thread_pool.hpp"
 
 namespace {
 

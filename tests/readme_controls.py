@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""README's table of the sandbox's controls is the sandbox's own (viewer/src/controls.hpp, the table
+"""README's table of the sandbox's controls is the sandbox's own (viewer/src/window/controls.hpp, the table
 the HUD lists): the same rows in the same order, so README offers no key the sandbox lacks and
 lists every one it has."""
 import os
@@ -10,7 +10,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
 def main():
-    source = open(os.path.join(ROOT, "viewer", "src", "controls.hpp")).read()
+    source = open(os.path.join(ROOT, "viewer", "src", "window", "controls.hpp")).read()
     controls = re.findall(r'\{"((?:[^"\\]|\\.)*)", "((?:[^"\\]|\\.)*)"\}', source)
     readme = open(os.path.join(ROOT, "README.md")).read()
     table = readme[readme.index("| input | action |"):]
@@ -23,7 +23,7 @@ def main():
     # README escapes the | of a cell as \|.
     rows = [(a.replace("\\|", "|"), b.replace("\\|", "|")) for a, b in rows]
     if not controls:
-        sys.exit("readme_controls: no controls found in viewer/src/controls.hpp")
+        sys.exit("readme_controls: no controls found in viewer/src/window/controls.hpp")
     if rows != controls:
         for i in range(max(len(rows), len(controls))):
             a = rows[i] if i < len(rows) else None

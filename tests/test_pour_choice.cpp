@@ -10,7 +10,7 @@
 #include <random>
 #include <vector>
 
-#include "pour_choice.hpp"
+#include "world/pour_choice.hpp"
 
 using namespace granular;
 

@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "granular/errors.hpp"
-#include "sphere_runs.hpp"
-#include "tool_region.hpp"
+#include "world/sphere_runs.hpp"
+#include "world/tool_region.hpp"
 
 using namespace granular;
 

@@ -20,7 +20,7 @@
 #include "granular/threads.hpp"
 #include "granular/world.hpp"
 #include "test_support.hpp"
-#include "thread_pool.hpp"
+#include "cpu/thread_pool.hpp"
 
 using namespace granular;
 using granular::test::test_def;

@@ -21,7 +21,7 @@
 #include "granular/rule_set.hpp"
 #include "granular/world.hpp"
 #include "granular/world_snapshot.hpp"
-#include "little_endian.hpp"
+#include "io/little_endian.hpp"
 #include "test_support.hpp"
 #include "tool_session.hpp"
 

@@ -23,7 +23,7 @@
 #include "granular/rule_set.hpp"
 #include "granular/world.hpp"
 #include "test_support.hpp"
-#include "tool_region.hpp"
+#include "world/tool_region.hpp"
 
 using namespace granular;
 using granular::test::test_def;

@@ -21,15 +21,15 @@
 #include <string>
 #include <vector>
 
-#include "camera.hpp"
+#include "session/camera.hpp"
 #include "granular/external_memory.hpp"
 #include "granular/scene.hpp"
 #include "granular/time_scale.hpp"
-#include "offscreen_renderer.hpp"
-#include "renderer_factory.hpp"
-#include "scene_loader.hpp"
-#include "shared_cells.hpp"
-#include "vulkan_context.hpp"
+#include "renderers/offscreen_renderer.hpp"
+#include "renderers/renderer_factory.hpp"
+#include "session/scene_loader.hpp"
+#include "cells/shared_cells.hpp"
+#include "vulkan/vulkan_context.hpp"
 
 namespace {
 

@@ -2,7 +2,7 @@
 /// @file interop_test_support.hpp
 /// The interop tests' context: validation on, external memory, the CUDA device's UUID.
 
-#include "vulkan_context.hpp"
+#include "vulkan/vulkan_context.hpp"
 
 namespace viewer::test {
 

@@ -7,9 +7,9 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "brick_detail.hpp"
+#include "cells/brick_detail.hpp"
 #include "granular/activity.hpp"
-#include "offscreen_renderer.hpp"
+#include "renderers/offscreen_renderer.hpp"
 #include "viewer_test_support.hpp"
 
 using namespace viewer;

@@ -4,8 +4,8 @@
 #include <cstring>
 #include <vector>
 
-#include "cell_buffer.hpp"
-#include "gpu_buffer.hpp"
+#include "cells/cell_buffer.hpp"
+#include "vulkan/gpu_buffer.hpp"
 #include "granular/activity.hpp"
 #include "granular/world.hpp"
 #include "viewer_test_support.hpp"

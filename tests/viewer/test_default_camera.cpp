@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "content_framing.hpp"
-#include "offscreen_renderer.hpp"
-#include "scene_loader.hpp"
+#include "session/content_framing.hpp"
+#include "renderers/offscreen_renderer.hpp"
+#include "session/scene_loader.hpp"
 #include "viewer_test_support.hpp"
 
 using namespace viewer;

@@ -8,8 +8,8 @@
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 
-#include "glfw_window.hpp"
-#include "input_tracker.hpp"
+#include "window/glfw_window.hpp"
+#include "window/input_tracker.hpp"
 
 using namespace viewer;
 

@@ -6,13 +6,13 @@
 #include <string>
 #include <vector>
 
-#include "camera.hpp"
+#include "session/camera.hpp"
 #include "granular/external_memory.hpp"
 #include "granular/scene.hpp"
 #include "granular/world.hpp"
 #include "interop_test_support.hpp"
-#include "offscreen_renderer.hpp"
-#include "shared_cells.hpp"
+#include "renderers/offscreen_renderer.hpp"
+#include "cells/shared_cells.hpp"
 
 namespace viewer::test {
 

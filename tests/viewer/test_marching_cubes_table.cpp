@@ -6,7 +6,7 @@
 #include <random>
 #include <utility>
 
-#include "marching_cubes_tables.hpp"
+#include "renderers/marching_cubes_tables.hpp"
 
 using namespace viewer;
 

@@ -19,9 +19,9 @@
 
 #include "granular/raycast.hpp"
 #include "granular/rule_presets.hpp"
-#include "material_palette.hpp"
-#include "offscreen_renderer.hpp"
-#include "png_writer.hpp"
+#include "cells/material_palette.hpp"
+#include "renderers/offscreen_renderer.hpp"
+#include "session/png_writer.hpp"
 #include "viewer_test_support.hpp"
 
 using namespace viewer;

@@ -15,17 +15,17 @@
 #include <string>
 #include <vector>
 
-#include "camera.hpp"
-#include "glfw_window.hpp"
+#include "session/camera.hpp"
+#include "window/glfw_window.hpp"
 #include "granular/rule_presets.hpp"
 #include "granular/world.hpp"
-#include "hud.hpp"
-#include "material_choices.hpp"
-#include "material_panel.hpp"
-#include "png_writer.hpp"
-#include "swapchain.hpp"
-#include "vulkan_context.hpp"
-#include "world_renderer.hpp"
+#include "window/hud.hpp"
+#include "session/material_choices.hpp"
+#include "window/material_panel.hpp"
+#include "session/png_writer.hpp"
+#include "window/swapchain.hpp"
+#include "vulkan/vulkan_context.hpp"
+#include "renderers/world_renderer.hpp"
 
 using namespace viewer;
 

@@ -4,7 +4,7 @@
 #include <string>
 
 #include "granular/raycast.hpp"
-#include "offscreen_renderer.hpp"
+#include "renderers/offscreen_renderer.hpp"
 #include "viewer_test_support.hpp"
 
 using namespace viewer;

@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "renderer_choice.hpp"
-#include "vulkan_check.hpp"
+#include "renderers/renderer_choice.hpp"
+#include "vulkan/vulkan_check.hpp"
 
 using namespace viewer;
 

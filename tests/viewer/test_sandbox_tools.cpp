@@ -6,7 +6,7 @@
 
 #include "granular/raycast.hpp"
 #include "granular/rule_presets.hpp"
-#include "sandbox_tools.hpp"
+#include "session/sandbox_tools.hpp"
 #include "granular/world.hpp"
 #include "viewer_test_support.hpp"
 

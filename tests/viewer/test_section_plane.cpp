@@ -7,10 +7,10 @@
 #include <string>
 
 #include "granular/world.hpp"
-#include "screenshot_path.hpp"
-#include "section_pick.hpp"
-#include "section_plane.hpp"
-#include "see_inside.hpp"
+#include "session/screenshot_path.hpp"
+#include "section/section_pick.hpp"
+#include "section/section_plane.hpp"
+#include "section/see_inside.hpp"
 
 using namespace viewer;
 

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "offscreen_renderer.hpp"
+#include "renderers/offscreen_renderer.hpp"
 #include "viewer_test_support.hpp"
 
 using namespace viewer;

@@ -10,13 +10,13 @@
 
 #include <memory>
 
-#include "camera.hpp"
-#include "glfw_window.hpp"
+#include "session/camera.hpp"
+#include "window/glfw_window.hpp"
 #include "granular/scene.hpp"
 #include "granular/world.hpp"
-#include "swapchain.hpp"
-#include "vulkan_context.hpp"
-#include "world_renderer.hpp"
+#include "window/swapchain.hpp"
+#include "vulkan/vulkan_context.hpp"
+#include "renderers/world_renderer.hpp"
 
 using namespace viewer;
 

@@ -18,11 +18,11 @@
 #include "granular/hex.hpp"
 #include "granular/stroke_history.hpp"
 #include "granular/world.hpp"
-#include "history_lines.hpp"
-#include "sandbox_options.hpp"
-#include "sandbox_tools.hpp"
-#include "scene_loader.hpp"
-#include "world_files.hpp"
+#include "session/history_lines.hpp"
+#include "session/sandbox_options.hpp"
+#include "session/sandbox_tools.hpp"
+#include "session/scene_loader.hpp"
+#include "session/world_files.hpp"
 
 using namespace viewer;
 

@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "camera.hpp"
+#include "session/camera.hpp"
 #include "granular/world.hpp"
-#include "vulkan_context.hpp"
+#include "vulkan/vulkan_context.hpp"
 
 namespace viewer::test {
 

@@ -1,0 +1,259 @@
+#include "cpu/cpu_backend.hpp"
+
+#include <algorithm>
+#include <cstring>
+#include <map>
+#include <mutex>
+#include <new>
+#include <tuple>
+
+#include "cpu/cpu_sparse_step.hpp"
+#include "cpu/cpu_step.hpp"
+#include "granular/errors.hpp"
+#include "granular/threads.hpp"
+#include "step/inert_keys.hpp"
+#include "step/motion_table.hpp"
+#include "cpu/thread_pool.hpp"
+
+namespace granular {
+
+namespace {
+
+/// Result tables are 64 MiB: backends of one process share them per transition table.
+std::shared_ptr<const std::vector<BlockKey>> shared_result_table(const Lut& lut, int threads) {
+  static std::mutex mutex;
+  static std::map<std::uint64_t, std::weak_ptr<const std::vector<BlockKey>>> live;
+  std::lock_guard lock(mutex);
+  auto& slot = live[lut.content_hash()];
+  if (auto table = slot.lock()) return table;
+  auto table = std::make_shared<const std::vector<BlockKey>>(derive_result_table(lut.entries(), threads));
+  slot = table;
+  return table;
+}
+
+/// Inert-key tables are 2 MiB: backends of one process share them per table and variants. A motion
+/// rule set's is derived for its rest keys only (derive_rest_inert_table), from the table itself;
+/// a one-step rule set's for every key, from its result table.
+std::shared_ptr<const std::vector<std::uint64_t>> shared_inert_table(const Lut& lut, const std::vector<BlockKey>* result,
+                                                                      bool random_symmetry, int threads) {
+  static std::mutex mutex;
+  static std::map<std::tuple<std::uint64_t, bool, bool>, std::weak_ptr<const std::vector<std::uint64_t>>> live;
+  std::lock_guard lock(mutex);
+  auto& slot = live[{lut.content_hash(), random_symmetry, result == nullptr}];
+  if (auto table = slot.lock()) return table;
+  auto table = std::make_shared<const std::vector<std::uint64_t>>(
+      result ? derive_inert_table(*result, random_symmetry, threads) : derive_rest_inert_table(lut.entries(), random_symmetry));
+  slot = table;
+  return table;
+}
+
+}  // namespace
+
+CpuBackend::CpuBackend(const BackendCreateInfo& info)
+    : grid_(info.initial),
+      lut_(info.lut),
+      result_(info.rules->motion.enabled() ? nullptr : shared_result_table(*lut_, info.threads)),
+      sparse_(info.sparse),
+      inert_(info.sparse && (info.rules->random_symmetry || info.rules->motion.enabled())
+                 ? shared_inert_table(*lut_, result_.get(), info.rules->random_symmetry, info.threads)
+                 : nullptr),
+      activity_(info.initial.size()),
+      task_system_(info.task_system ? info.task_system : std::make_shared<ThreadPool>(info.threads)),
+      pool_(*task_system_) {
+  const Int3 b = activity_.bricks();
+  last_.total_bricks = std::uint64_t(b.x) * std::uint64_t(b.y) * std::uint64_t(b.z);
+  const RuleSet& rules = *info.rules;
+  step_rules_.result = result_ ? result_->data() : nullptr;
+  if (rules.motion.enabled()) {
+    motion_table_ = derive_motion_table(lut_->entries());
+    step_rules_.transitions = motion_table_.data();
+  }
+  step_rules_.inert = inert_ ? inert_->data() : nullptr;
+  step_rules_.seed = info.seed;
+  step_rules_.random_symmetry = rules.random_symmetry;
+  step_rules_.random_axis_order = rules.random_axis_order;
+  step_rules_.motion = rules.motion;
+  step_rules_.materials = step_materials(rules.materials);
+  step_rules_.origin = block_position_offset(info.domain_origin.x, info.domain_origin.y, info.domain_origin.z);
+  outside_row_.assign(std::size_t(grid_.size().x), std::uint8_t(step_rules_.materials.outside));
+}
+
+std::string CpuBackend::description() const {
+  return "cpu (" + std::to_string(pool_.thread_count()) + (pool_.thread_count() == 1 ? " thread)" : " threads)");
+}
+
+void CpuBackend::step(std::uint64_t first_tick, int ticks) {
+  const std::uint64_t total = last_.total_bricks;
+  last_ = ActivityStats{};
+  last_.total_bricks = total;
+  const int substeps = step_rules_.motion.substeps;
+  for (int i = 0; i < ticks; ++i) {
+    const std::uint64_t tick = first_tick + std::uint64_t(i);
+    if (sparse_) {
+      last_.active_bricks = activity_.active().size();
+      last_.active_cells = activity_.active_cells();
+    } else {
+      last_.active_bricks = total;
+      last_.active_cells = std::uint64_t(grid_.cell_count());
+    }
+    for (int s = 0; s < substeps; ++s) {
+      const StepContext c = context(tick, s);
+      if (sparse_) {
+        step_pass_sparse(c);
+        // The sleep/wake decision rests on a cycle of 8 Margolus steps, which walk all 8 offsets
+        // (ticks 8k .. 8k + 7, or sub-steps 8k .. 8k + 7 of a tick with the motion model): a
+        // grain moves at most 8 cells in one, so the neighbourhood of a brick covers its reach.
+        if (((tick * std::uint64_t(substeps) + std::uint64_t(s)) & 7u) == 7u) activity_.end_cycle();
+      } else {
+        step_pass(c);
+      }
+    }
+    ++last_.ticks;
+    last_.brick_ticks += last_.active_bricks;
+    last_.cell_ticks += last_.active_cells;
+  }
+}
+
+StepContext CpuBackend::context(std::uint64_t tick, int substep) {
+  return StepContext{.cells = grid_.cells().data(),
+                     .size = grid_.size(),
+                     .outside_row = outside_row_.data(),
+                     .rules = step_rules_,
+                     .tick = tick,
+                     .substep = substep};
+}
+
+void CpuBackend::step_pass_sparse(const StepContext& c) {
+  // One task per few runs, taken by the threads as they come free: runs differ in cost (sand or
+  // air), so many small tasks balance best. The task reads everything through one pointer, which
+  // keeps the std::function the pool takes free of an allocation.
+  struct Pass {
+    const StepContext& context;
+    BrickRecord record;
+    const std::vector<BrickActivity::Run>& runs;
+    int tasks;
+  };
+  const auto& runs = activity_.runs();
+  const int count = int(runs.size());
+  const int tasks = std::min(count, pool_.thread_count() == 1 ? 1 : pool_.thread_count() * 32);
+  const Pass pass{c, activity_.next_pass(), runs, tasks};
+  if (pass.tasks > 0)
+    pool_.run(pass.tasks, [p = &pass](int task) {
+      const std::size_t count = p->runs.size();
+      const std::size_t first = count * std::size_t(task) / std::size_t(p->tasks);
+      const std::size_t last = count * std::size_t(task + 1) / std::size_t(p->tasks);
+      for (std::size_t i = first; i < last; ++i)
+        step_brick_run(p->context, p->record, p->runs[i].first, p->runs[i].length);
+    });
+}
+
+void CpuBackend::take_changed_bricks(std::span<std::uint8_t> flags) {
+  if (sparse_)
+    activity_.take_changed(flags);
+  else
+    std::fill(flags.begin(), flags.end(), std::uint8_t(1));
+}
+
+void CpuBackend::step_pass(const StepContext& c) {
+  // Several layer ranges per thread so that uneven layers (sand vs. air) still balance; the task
+  // reads everything through one pointer (no allocation for the pool's std::function).
+  struct Pass {
+    const StepContext& context;
+    int layers;
+    int tasks;
+  };
+  const int layers = block_layers(c);
+  const Pass pass{c, layers, std::min(layers, pool_.thread_count() == 1 ? 1 : pool_.thread_count() * 8)};
+  pool_.run(pass.tasks, [p = &pass](int task) {
+    const int first = int(std::int64_t(p->layers) * task / p->tasks);
+    const int last = int(std::int64_t(p->layers) * (task + 1) / p->tasks);
+    for (int layer = first; layer < last; ++layer) step_block_layer(p->context, layer);
+  });
+}
+
+void CpuBackend::read(const Box& box, std::span<std::uint8_t> out) const { copy_box(grid_.cells().data(), box, out); }
+
+void CpuBackend::copy_box(const std::uint8_t* cells, const Box& box, std::span<std::uint8_t> out) const {
+  const int w = box.max.x - box.min.x;
+  std::size_t o = 0;
+  for (int z = box.min.z; z < box.max.z; ++z)
+    for (int y = box.min.y; y < box.max.y; ++y, o += std::size_t(w))
+      std::memcpy(out.data() + o, cells + grid_.index({box.min.x, y, z}), std::size_t(w));
+}
+
+void CpuBackend::take_checkpoint() {
+  try {
+    checkpoint_.assign(grid_.cells().begin(), grid_.cells().end());
+  } catch (const std::bad_alloc&) {
+    throw OutOfMemory("cpu backend: could not allocate the " + std::to_string(grid_.cell_count()) +
+                      " bytes of a checkpoint of the " + to_string(grid_.size()) + " grid");
+  }
+}
+
+void CpuBackend::read_checkpoint(const Box& box, std::span<std::uint8_t> out) const {
+  if (checkpoint_.empty()) throw StateError("cpu backend: read_checkpoint: no checkpoint was taken");
+  copy_box(checkpoint_.data(), box, out);
+}
+
+void CpuBackend::drop_checkpoint() {
+  checkpoint_.clear();
+  checkpoint_.shrink_to_fit();
+}
+
+void CpuBackend::write(const Box& box, std::span<const std::uint8_t> in, std::span<const std::uint32_t> wake_bricks) {
+  const int w = box.max.x - box.min.x;
+  std::size_t o = 0;
+  for (int z = box.min.z; z < box.max.z; ++z)
+    for (int y = box.min.y; y < box.max.y; ++y, o += std::size_t(w))
+      std::memcpy(grid_.cells().data() + grid_.index({box.min.x, y, z}), in.data() + o, std::size_t(w));
+  if (sparse_) activity_.wake(wake_bricks);
+}
+
+MaterialCounts CpuBackend::count() const {
+  const auto cells = grid_.cells();
+  const int tasks = pool_.thread_count();
+  std::vector<std::array<std::uint64_t, 256>> hist(std::size_t(tasks), std::array<std::uint64_t, 256>{});
+  pool_.run(tasks, [&](int t) {
+    const std::size_t first = cells.size() * std::size_t(t) / std::size_t(tasks);
+    const std::size_t last = cells.size() * std::size_t(t + 1) / std::size_t(tasks);
+    auto& h = hist[std::size_t(t)];
+    for (std::size_t i = first; i < last; ++i) ++h[cells[i]];
+  });
+  MaterialCounts counts{};
+  // A cell's high bits hold its motion level (motion.hpp): count by material.
+  for (const auto& h : hist)
+    for (int v = 0; v < 256; ++v) counts[v & kMaterialMask] += h[std::size_t(v)];
+  return counts;
+}
+
+std::uint64_t CpuBackend::hash() const {
+  const auto cells = grid_.cells();
+  const std::size_t words = (cells.size() + 7) / 8;
+  const int tasks = pool_.thread_count() * 4;
+  std::vector<std::uint64_t> partial(std::size_t(tasks), 0);
+  pool_.run(tasks, [&](int t) {
+    const std::size_t first = words * std::size_t(t) / std::size_t(tasks);
+    const std::size_t last = words * std::size_t(t + 1) / std::size_t(tasks);
+    partial[std::size_t(t)] = hash_words(cells, first, last - first);
+  });
+  std::uint64_t sum = 0;
+  for (auto p : partial) sum += p;
+  return finish_hash(grid_.size(), sum);
+}
+
+std::unique_ptr<Backend> make_cpu_backend(const BackendCreateInfo& info) {
+  if (info.initial.cell_count() == 0) throw InvalidArgument("cpu backend: the initial grid is empty (0 cells)");
+  if (!info.lut || info.lut->entries().size() != kBlockKeyCount)
+    throw InvalidArgument("cpu backend: BackendCreateInfo::lut must be a full transition table (16,777,216 entries)");
+  if (!info.rules) throw InvalidArgument("cpu backend: BackendCreateInfo::rules is null");
+  if (info.threads < 1 || info.threads > max_threads())
+    throw InvalidArgument("cpu backend: BackendCreateInfo::threads = " + std::to_string(info.threads) + "; use 1.." +
+                          std::to_string(max_threads()) + " (4 times the hardware threads)");
+  if (info.task_system && (info.task_system->thread_count() < 1 || info.task_system->thread_count() > max_threads()))
+    throw InvalidArgument("cpu backend: BackendCreateInfo::task_system->thread_count() = " +
+                          std::to_string(info.task_system->thread_count()) + "; use 1.." +
+                          std::to_string(max_threads()) + " (4 times the hardware threads)");
+  return std::make_unique<CpuBackend>(info);
+}
+
+}  // namespace granular

@@ -1,0 +1,64 @@
+#pragma once
+/// @file cpu_backend.hpp
+/// The multithreaded CPU reference backend.
+
+#include <memory>
+
+#include "cpu/brick_activity.hpp"
+#include "cpu/cpu_step.hpp"
+#include "granular/backend.hpp"
+#include "granular/backend_factory.hpp"
+#include "granular/grid.hpp"
+#include "granular/lut.hpp"
+#include "granular/task_system.hpp"
+
+namespace granular {
+
+/// Steps a byte-per-cell grid on the CPU. Within a tick all blocks are disjoint, so block layers
+/// are shared out among threads freely: the result never depends on the thread count.
+class CpuBackend final : public Backend {
+ public:
+  /// Takes a copy of info.initial and steps it with info.lut, the table of info.rules (its random
+  /// flags and motion model); info.sparse steps only the awake bricks. Every parallel loop runs on
+  /// info.task_system, or on a ThreadPool of info.threads (>= 1) threads when that is null. The
+  /// checks are make_cpu_backend's.
+  explicit CpuBackend(const BackendCreateInfo& info);
+
+  BackendKind kind() const override { return BackendKind::Cpu; }
+  std::string description() const override;
+  void step(std::uint64_t first_tick, int ticks) override;
+  void read(const Box& box, std::span<std::uint8_t> out) const override;
+  void write(const Box& box, std::span<const std::uint8_t> in, std::span<const std::uint32_t> wake_bricks) override;
+  MaterialCounts count() const override;
+  std::uint64_t hash() const override;
+  void take_changed_bricks(std::span<std::uint8_t> flags) override;
+  ActivityStats last_activity() const override { return last_; }
+  /// A host copy of the cells.
+  void take_checkpoint() override;
+  void read_checkpoint(const Box& box, std::span<std::uint8_t> out) const override;
+  void drop_checkpoint() override;
+  std::uint64_t checkpoint_bytes() const override { return checkpoint_.size(); }
+
+ private:
+  // Copies the cells of `box` from `cells` (this grid's layout) into `out`, x fastest.
+  void copy_box(const std::uint8_t* cells, const Box& box, std::span<std::uint8_t> out) const;
+  StepContext context(std::uint64_t tick, int substep);
+  void step_pass(const StepContext& c);
+  void step_pass_sparse(const StepContext& c);
+
+  Grid grid_;
+  std::vector<std::uint8_t> checkpoint_;  ///< the cells at take_checkpoint(); empty when there is none
+  std::shared_ptr<const Lut> lut_;
+  std::shared_ptr<const std::vector<BlockKey>> result_;  ///< per key, the key after its transition (one-step rule sets)
+  bool sparse_;
+  std::shared_ptr<const std::vector<std::uint64_t>> inert_;  ///< inert-key bits (sparse, random symmetry or motion)
+  std::vector<motion::MotionEntry> motion_table_;  ///< the motion entries (motion rule sets; motion_table.hpp)
+  StepRules step_rules_;  ///< the tables and parameters every step's Rule is made from
+  std::vector<std::uint8_t> outside_row_;  ///< a row of cells outside the grid (StepContext::outside_row)
+  BrickActivity activity_;
+  ActivityStats last_{};
+  std::shared_ptr<TaskSystem> task_system_;  ///< info.task_system, or the backend's own ThreadPool
+  TaskSystem& pool_;                         ///< *task_system_: runs every parallel loop
+};
+
+}  // namespace granular

@@ -1,0 +1,118 @@
+/// @file distributed_snapshot.cpp
+/// DistributedWorld's snapshot files: each rank compresses its slab into a frame of its own and
+/// rank `root` writes them after the header (version kSlabSnapshotVersion); each rank reads a
+/// snapshot file of either version keeping only its slab's cells.
+
+#include <algorithm>
+#include <exception>
+#include <fstream>
+#include <numeric>
+
+#include "io/file_names.hpp"
+#include "granular/distributed_world.hpp"
+#include "granular/errors.hpp"
+#include "granular/grid_io.hpp"
+#include "io/snapshot_header.hpp"
+#include "io/zstd_bytes.hpp"
+
+namespace granular {
+
+namespace {
+
+/// The header of the snapshot file at `path`, read and checked on its own.
+SnapshotHeader read_header(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw FileError("cannot read snapshot " + quoted(path) + ": it cannot be opened");
+  in.seekg(0, std::ios::end);
+  const std::uint64_t total = std::uint64_t(in.tellg());
+  in.seekg(0);
+  std::vector<std::uint8_t> head(std::size_t(std::min<std::uint64_t>(total, kSnapshotHeaderSize + kMaxSnapshotRulesName)));
+  if (!in.read(reinterpret_cast<char*>(head.data()), std::streamsize(head.size())))
+    throw FileError("cannot read snapshot " + quoted(path) + ": reading its header failed");
+  return parse_snapshot_header(head, total, path.string());
+}
+
+/// Runs `fn` on every rank and throws on every rank when it threw on any: the thrower's own error,
+/// and a CommunicatorError naming `what` on the others.
+template <class Fn>
+void on_every_rank(Communicator& comm, const char* what, Fn&& fn) {
+  std::exception_ptr failure;
+  try {
+    fn();
+  } catch (...) {
+    failure = std::current_exception();
+  }
+  if (!all_true(comm, !failure)) {
+    if (failure) std::rethrow_exception(failure);
+    throw CommunicatorError(std::string(what) + " failed on another rank");
+  }
+}
+
+}  // namespace
+
+DistributedWorld::DistributedWorld(const WorldDef& def, Communicator& comm, const std::filesystem::path& path)
+    : DistributedWorld(def, comm, read_header(path).meta.size, [&](const WorldDef& local, const Slab& slab) {
+        const SnapshotHeader h = read_header(path);
+        const Int3 size = h.meta.size;
+        WorldSnapshot part = h.meta;
+        part.size = local.size;
+        const std::size_t layer = std::size_t(size.x) * std::size_t(size.y);
+        part.cells.resize(std::size_t(slab.local_z1 - slab.local_z0) * layer);
+        std::ifstream in(path, std::ios::binary);
+        in.seekg(std::streamoff(h.body_at));
+        const std::uint64_t cells = std::uint64_t(layer) * std::uint64_t(size.z);
+        const std::uint64_t got =
+            zstd_decompress_range(in, h.packed_size, h.version == kSlabSnapshotVersion, std::uint64_t(slab.local_z0) * layer,
+                                  part.cells, path.string() + ": the compressed cells at byte " + std::to_string(h.body_at));
+        if (got != cells)
+          throw ParseError(path.string() + ": the compressed cells hold " + std::to_string(got) + " bytes; header fields nx, ny, nz (" +
+                           to_string(size) + ") say " + std::to_string(cells));
+        return std::make_unique<World>(local, part);
+      }) {
+  const std::uint64_t header_hash = read_header(path).hash;
+  const std::uint64_t found = hash();
+  if (found != header_hash) throw ParseError(path.string() + ": " + snapshot_hash_problem(found, header_hash));
+}
+
+void DistributedWorld::save(const std::filesystem::path& path, int root) {
+  if (root < 0 || root >= comm_.size())
+    throw InvalidArgument("DistributedWorld::save: root = " + std::to_string(root) + " is outside 0.." +
+                          std::to_string(comm_.size() - 1));
+  if (comm_.rank() == root) on_every_rank(comm_, "checking the snapshot path", [&] { check_snapshot_save_path(path); });
+  else on_every_rank(comm_, "checking the snapshot path", [] {});
+  const std::uint64_t cells_hash = hash();
+  std::vector<std::uint8_t> frame;
+  on_every_rank(comm_, "compressing a slab", [&] {
+    const std::size_t layer = std::size_t(layout_.size().x) * std::size_t(layout_.size().y);
+    ZstdFrameWriter writer(std::uint64_t(slab_range_.z1 - slab_range_.z0) * layer, 3, "DistributedWorld::save");
+    for_each_owned_chunk([&](int, int, std::span<const std::uint8_t> bytes) { writer.add(bytes); });
+    frame = writer.finish();
+  });
+  // The frames' sizes, then the frames to the root, in rank order.
+  const std::uint64_t mine[1] = {frame.size()};
+  std::vector<std::uint64_t> sizes(std::size_t(comm_.size()));
+  comm_.all_gather({reinterpret_cast<const std::uint8_t*>(mine), sizeof mine},
+                   {reinterpret_cast<std::uint8_t*>(sizes.data()), sizes.size() * sizeof(std::uint64_t)});
+  std::uint64_t packed = 0;
+  for (const std::uint64_t s : sizes) packed += s;
+  if (comm_.rank() != root) {
+    comm_.send_receive(root, frame, Communicator::kNoRank, {});
+    on_every_rank(comm_, "writing the snapshot file", [] {});
+    return;
+  }
+  // Every frame is received before anything can fail, so no rank waits on a send.
+  std::vector<std::uint8_t> file = snapshot_header_bytes(meta(), kSlabSnapshotVersion, cells_hash, packed);
+  const std::size_t body_at = file.size();
+  file.resize(body_at + packed);
+  for (int r = 0; r < comm_.size(); ++r) {
+    const std::size_t from = body_at + std::size_t(std::accumulate(sizes.begin(), sizes.begin() + r, std::uint64_t(0)));
+    const std::span<std::uint8_t> to = std::span(file).subspan(from, sizes[std::size_t(r)]);
+    if (r == root)
+      std::copy(frame.begin(), frame.end(), to.begin());
+    else
+      comm_.send_receive(Communicator::kNoRank, {}, r, to);
+  }
+  on_every_rank(comm_, "writing the snapshot file", [&] { write_file_atomic(path, {std::span<const std::uint8_t>(file)}); });
+}
+
+}  // namespace granular

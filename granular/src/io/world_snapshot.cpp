@@ -1,0 +1,212 @@
+#include "granular/world_snapshot.hpp"
+
+#include <algorithm>
+#include <cstring>
+#include <new>
+
+#include "io/file_names.hpp"
+#include "granular/errors.hpp"
+#include "granular/grid.hpp"
+#include "granular/grid_io.hpp"
+#include "granular/hex.hpp"
+#include "io/little_endian.hpp"
+#include "io/snapshot_header.hpp"
+#include "io/zstd_bytes.hpp"
+
+namespace granular {
+
+namespace {
+
+/// Where each field of the header lies (docs/FORMATS.md, "Snapshot format").
+struct Field {
+  const char* name;
+  std::size_t at;
+  std::size_t bytes;
+};
+constexpr Field kMagicField{"magic", 0, 4};
+constexpr Field kVersionField{"version", 4, 4};
+constexpr Field kExtentFields[3] = {{"nx", 8, 4}, {"ny", 12, 4}, {"nz", 16, 4}};
+constexpr Field kNameLengthField{"rules_length", 20, 4};
+constexpr Field kTickField{"tick", 24, 8};
+constexpr Field kSeedField{"seed", 32, 8};
+constexpr Field kToolCallsField{"tool_calls", 40, 8};
+constexpr Field kFingerprintField{"rule_fingerprint", 48, 8};
+constexpr Field kHashField{"hash", 56, 8};
+constexpr Field kPackedSizeField{"packed_size", 64, 8};
+constexpr Field kHeaderFields[] = {kMagicField,        kVersionField,   kExtentFields[0], kExtentFields[1],
+                                   kExtentFields[2],   kNameLengthField, kTickField,      kSeedField,
+                                   kToolCallsField,    kFingerprintField, kHashField,     kPackedSizeField};
+static_assert(kPackedSizeField.at + kPackedSizeField.bytes == kSnapshotHeaderSize);
+
+/// The most a zstd frame expands: a block yields at most 128 KiB and takes at least 4 bytes (an
+/// RLE block: its 3-byte header and the byte), so a body of P bytes holds at most 32768 P cells.
+constexpr std::uint64_t kMaxZstdExpansion = 32768;
+
+/// "field (bytes a..b)" for messages.
+std::string field_text(const Field& f) {
+  return std::string(f.name) + " (bytes " + std::to_string(f.at) + ".." + std::to_string(f.at + f.bytes - 1) + ")";
+}
+
+/// What keeps `name` from being a snapshot's rule set name ("is empty"), or "" when nothing does.
+std::string name_problem(const std::string& name) {
+  if (name.empty()) return "is empty";
+  if (name.size() > kMaxSnapshotRulesName)
+    return "is " + std::to_string(name.size()) + " bytes, more than " + std::to_string(kMaxSnapshotRulesName);
+  for (std::size_t i = 0; i < name.size(); ++i)
+    if (static_cast<unsigned char>(name[i]) < 0x20 || name[i] == 0x7F)
+      return "holds the control character " + printable_bytes(std::span(reinterpret_cast<const std::uint8_t*>(name.data()) + i, 1)) +
+             " at byte " + std::to_string(i);
+  return {};
+}
+
+/// The extents of the header, checked (ParseError, or OutOfMemory when the cells do not fit).
+Int3 parse_extents(std::span<const std::uint8_t> head, const std::string& src) {
+  std::uint64_t dims[3];
+  for (int a = 0; a < 3; ++a) {
+    dims[a] = get_u32(head, kExtentFields[a].at);
+    if (dims[a] == 0 || dims[a] > std::uint64_t(kMaxGridExtent))
+      throw ParseError(src + ": header field " + field_text(kExtentFields[a]) + " = " + std::to_string(dims[a]) +
+                       " is outside 1.." + std::to_string(kMaxGridExtent));
+  }
+  return {int(dims[0]), int(dims[1]), int(dims[2])};
+}
+
+}  // namespace
+
+std::uint64_t WorldSnapshot::hash() const { return hash_cells(size, cells); }
+
+std::vector<std::uint8_t> encode_snapshot(const WorldSnapshot& s) {
+  check_grid_extents(s.size, "encode_snapshot: WorldSnapshot::size");
+  const std::uint64_t cells = std::uint64_t(s.size.x) * std::uint64_t(s.size.y) * std::uint64_t(s.size.z);
+  if (s.cells.size() != cells)
+    throw InvalidArgument("encode_snapshot: WorldSnapshot::cells holds " + std::to_string(s.cells.size()) +
+                          " bytes; the " + to_string(s.size) + " grid has " + std::to_string(cells) + " cells");
+  if (const std::string problem = name_problem(s.rules); !problem.empty())
+    throw InvalidArgument("encode_snapshot: WorldSnapshot::rules '" + s.rules.substr(0, 40) + "' " + problem);
+  const std::vector<std::uint8_t> packed = zstd_compress(s.cells, 3, "encode_snapshot");
+  std::vector<std::uint8_t> out = snapshot_header_bytes(s, kSnapshotVersion, s.hash(), packed.size());
+  try {
+    out.insert(out.end(), packed.begin(), packed.end());
+  } catch (const std::bad_alloc&) {
+    throw OutOfMemory("encode_snapshot: could not allocate " + std::to_string(kSnapshotHeaderSize + packed.size()) +
+                      " bytes for the snapshot of a " + to_string(s.size) + " grid");
+  }
+  return out;
+}
+
+std::vector<std::uint8_t> snapshot_header_bytes(const WorldSnapshot& s, std::uint32_t version, std::uint64_t hash,
+                                                std::uint64_t packed_size) {
+  std::vector<std::uint8_t> out(kSnapshotHeaderSize + s.rules.size());
+  std::uint8_t* h = out.data();
+  std::copy(std::begin(kSnapshotMagic), std::end(kSnapshotMagic), h);
+  put_u32(h + kVersionField.at, version);
+  put_u32(h + kExtentFields[0].at, std::uint32_t(s.size.x));
+  put_u32(h + kExtentFields[1].at, std::uint32_t(s.size.y));
+  put_u32(h + kExtentFields[2].at, std::uint32_t(s.size.z));
+  put_u32(h + kNameLengthField.at, std::uint32_t(s.rules.size()));
+  put_u64(h + kTickField.at, s.tick);
+  put_u64(h + kSeedField.at, s.seed);
+  put_u64(h + kToolCallsField.at, s.tool_calls);
+  put_u64(h + kFingerprintField.at, s.rule_fingerprint);
+  put_u64(h + kHashField.at, hash);
+  put_u64(h + kPackedSizeField.at, packed_size);
+  std::memcpy(h + kSnapshotHeaderSize, s.rules.data(), s.rules.size());
+  return out;
+}
+
+SnapshotHeader parse_snapshot_header(std::span<const std::uint8_t> bytes, std::uint64_t total, const std::string& src) {
+  const std::size_t magic_have = std::min<std::size_t>(bytes.size(), 4);
+  if (!std::equal(bytes.begin(), bytes.begin() + std::ptrdiff_t(magic_have), kSnapshotMagic))
+    throw ParseError(src + ": not a snapshot file: bad magic " + printable_bytes(bytes.first(magic_have)) +
+                     " at byte 0 (expected \"GSNP\")");
+  if (total < kSnapshotHeaderSize) {
+    const Field* ends_in = &kHeaderFields[0];
+    for (const Field& f : kHeaderFields)
+      if (f.at < total) ends_in = &f;
+    throw ParseError(src + ": truncated header: the file has " + std::to_string(total) +
+                     " bytes and ends inside field " + field_text(*ends_in) + "; a snapshot header is " +
+                     std::to_string(kSnapshotHeaderSize) + " bytes");
+  }
+  SnapshotHeader h;
+  h.version = get_u32(bytes, kVersionField.at);
+  if (h.version != kSnapshotVersion && h.version != kSlabSnapshotVersion)
+    throw ParseError(src + ": unsupported snapshot version " + std::to_string(h.version) + " (field " +
+                     field_text(kVersionField) + "); this build reads versions " + std::to_string(kSnapshotVersion) +
+                     " and " + std::to_string(kSlabSnapshotVersion));
+  WorldSnapshot& s = h.meta;
+  s.size = parse_extents(bytes, src);
+  const std::uint32_t name_length = get_u32(bytes, kNameLengthField.at);
+  if (name_length == 0 || name_length > kMaxSnapshotRulesName)
+    throw ParseError(src + ": header field " + field_text(kNameLengthField) + " = " + std::to_string(name_length) +
+                     " is outside 1.." + std::to_string(kMaxSnapshotRulesName));
+  if (total < kSnapshotHeaderSize + name_length || bytes.size() < kSnapshotHeaderSize + name_length)
+    throw ParseError(src + ": truncated rule set name: the header says " + std::to_string(name_length) +
+                     " bytes but only " + std::to_string(total - kSnapshotHeaderSize) + " follow the " +
+                     std::to_string(kSnapshotHeaderSize) + "-byte header");
+  s.rules.assign(reinterpret_cast<const char*>(bytes.data()) + kSnapshotHeaderSize, name_length);
+  if (const std::string problem = name_problem(s.rules); !problem.empty())
+    throw ParseError(src + ": the rule set name at byte " + std::to_string(kSnapshotHeaderSize) + " " + problem);
+  s.tick = get_u64(bytes, kTickField.at);
+  s.seed = get_u64(bytes, kSeedField.at);
+  s.tool_calls = get_u64(bytes, kToolCallsField.at);
+  s.rule_fingerprint = get_u64(bytes, kFingerprintField.at);
+  h.hash = get_u64(bytes, kHashField.at);
+  h.packed_size = get_u64(bytes, kPackedSizeField.at);
+  h.body_at = kSnapshotHeaderSize + name_length;
+  const std::uint64_t body = total - h.body_at;
+  if (body < h.packed_size)
+    throw ParseError(src + ": truncated body: header field " + field_text(kPackedSizeField) + " says " +
+                     std::to_string(h.packed_size) + " bytes of compressed cells but only " + std::to_string(body) +
+                     " follow the rule set name");
+  if (body > h.packed_size)
+    throw ParseError(src + ": " + std::to_string(body - h.packed_size) + " trailing bytes after the compressed cells: " +
+                     "the file should be " + std::to_string(h.body_at + h.packed_size) + " bytes but it is " +
+                     std::to_string(total));
+  const std::uint64_t cells = std::uint64_t(s.size.x) * std::uint64_t(s.size.y) * std::uint64_t(s.size.z);
+  if (cells / kMaxZstdExpansion > h.packed_size)
+    throw ParseError(src + ": header fields nx, ny, nz (" + to_string(s.size) + " = " + std::to_string(cells) +
+                     " cells) cannot come from " + std::to_string(h.packed_size) +
+                     " bytes of compressed cells (zstd expands at most " + std::to_string(kMaxZstdExpansion) +
+                     "-fold)");
+  return h;
+}
+
+std::string snapshot_hash_problem(std::uint64_t found, std::uint64_t header) {
+  return "the cells' hash " + hex64(found) + " differs from header field " + field_text(kHashField) + " = " +
+         hex64(header) + " (the file is damaged)";
+}
+
+WorldSnapshot decode_snapshot(std::span<const std::uint8_t> bytes, const std::string& src) {
+  SnapshotHeader h = parse_snapshot_header(bytes, bytes.size(), src);
+  WorldSnapshot& s = h.meta;
+  const std::uint64_t cells = std::uint64_t(s.size.x) * std::uint64_t(s.size.y) * std::uint64_t(s.size.z);
+  check_grid_size(s.size, src + ": header fields nx, ny, nz (" + to_string(s.size) + " = " + std::to_string(cells) + " cells)");
+  s.cells = zstd_decompress(bytes.subspan(h.body_at), cells, src + ": the compressed cells at byte " + std::to_string(h.body_at),
+                            h.version == kSlabSnapshotVersion);
+  if (s.hash() != h.hash) throw ParseError(src + ": " + snapshot_hash_problem(s.hash(), h.hash));
+  return std::move(s);
+}
+
+void save_snapshot(const WorldSnapshot& snapshot, const std::filesystem::path& path) {
+  check_snapshot_save_path(path);
+  const std::vector<std::uint8_t> bytes = encode_snapshot(snapshot);
+  write_file_atomic(path, {std::span<const std::uint8_t>(bytes)});
+}
+
+WorldSnapshot load_snapshot(const std::filesystem::path& path) {
+  return decode_snapshot(read_file_bytes(path), path.string());
+}
+
+bool is_snapshot_file(const std::filesystem::path& path) { return lower_extension(path) == kSnapshotExtension; }
+
+void check_snapshot_save_path(const std::filesystem::path& path) {
+  if (!is_snapshot_file(path)) {
+    const std::string ext = path.extension().string();
+    throw InvalidArgument("cannot save snapshot " + quoted(path) + ": the file name " +
+                          (ext.empty() ? std::string("has no extension") : "has the extension '" + ext + "'") +
+                          "; a snapshot file's extension is " + kSnapshotExtension);
+  }
+  check_save_target(path);
+}
+
+}  // namespace granular
