@@ -25,7 +25,7 @@
 #include <vector>
 
 #include "granular/errors.hpp"
-#include "granular/hex.hpp"
+#include "granular/extend/hex.hpp"
 #include "granular/scene.hpp"
 #include "granular/world.hpp"
 #include "timed_step.hpp"

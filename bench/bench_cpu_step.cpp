@@ -11,7 +11,7 @@
 #include <map>
 #include <memory>
 
-#include "granular/lut.hpp"
+#include "granular/extend/lut.hpp"
 #include "granular/rule_presets.hpp"
 #include "granular/scene.hpp"
 #include "granular/world.hpp"

@@ -32,7 +32,7 @@
 #include "cuda_device.cuh"
 #include "cuda_stream.cuh"
 #include "device_buffer.cuh"
-#include "granular/block.hpp"
+#include "granular/extend/block.hpp"
 #include "granular/errors.hpp"
 #include "granular/scene.hpp"
 #include "reduce_kernels.cuh"

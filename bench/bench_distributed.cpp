@@ -18,10 +18,10 @@
 #include <string>
 #include <vector>
 
-#include "granular/distributed_world.hpp"
+#include "granular/distributed/distributed_world.hpp"
 #include "granular/errors.hpp"
-#include "granular/hex.hpp"
-#include "granular/local_group.hpp"
+#include "granular/extend/hex.hpp"
+#include "granular/distributed/local_group.hpp"
 #include "granular/scene.hpp"
 #include "granular/world.hpp"
 #include "timed_step.hpp"

@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "granular/distributed_world.hpp"
+#include "granular/distributed/distributed_world.hpp"
 #include "granular/errors.hpp"
-#include "granular/local_group.hpp"
+#include "granular/distributed/local_group.hpp"
 #include "granular/world_snapshot.hpp"
 #include "number_option.hpp"
 

@@ -11,7 +11,7 @@
 #include <exception>
 #include <string>
 
-#include "granular/communicator.hpp"
+#include "granular/distributed/communicator.hpp"
 #include "run_command.hpp"
 #include "scene_runner.hpp"
 

@@ -7,8 +7,8 @@
 #include <nlohmann/json.hpp>
 
 #include "choices_text.hpp"
-#include "granular/hex.hpp"
-#include "granular/lut.hpp"
+#include "granular/extend/hex.hpp"
+#include "granular/extend/lut.hpp"
 #include "granular/rule_presets.hpp"
 #include "granular/world_def.hpp"
 #include "number_option.hpp"

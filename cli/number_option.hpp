@@ -11,7 +11,7 @@
 #include <string>
 #include <string_view>
 
-#include "granular/threads.hpp"
+#include "granular/extend/threads.hpp"
 
 namespace granular::cli {
 

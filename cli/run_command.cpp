@@ -6,8 +6,8 @@
 #include <nlohmann/json.hpp>
 
 #include "distributed_run.hpp"
-#include "granular/hex.hpp"
-#include "granular/lut.hpp"
+#include "granular/extend/hex.hpp"
+#include "granular/extend/lut.hpp"
 #include "granular/rule_set.hpp"
 #include "granular/scene.hpp"
 #include "granular/time_scale.hpp"

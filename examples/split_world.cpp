@@ -5,6 +5,8 @@
 /// world ends with the hash of one World of the whole grid, which the program checks (exit 1 if
 /// not), so the test suite runs it as a check.
 
+#include <granular/distributed/distributed_world.hpp>
+#include <granular/distributed/local_group.hpp>
 #include <granular/granular.hpp>
 
 #include <cstdio>

@@ -6,7 +6,7 @@
 #include <random>
 #include <set>
 
-#include "granular/lut.hpp"
+#include "granular/extend/lut.hpp"
 #include "granular/rule_set.hpp"
 #include "granular/scene.hpp"
 #include "granular/world.hpp"

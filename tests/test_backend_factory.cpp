@@ -9,11 +9,11 @@
 #include <memory>
 #include <string>
 
-#include "granular/backend.hpp"
-#include "granular/backend_factory.hpp"
-#include "granular/backend_registry.hpp"
+#include "granular/extend/backend.hpp"
+#include "granular/extend/backend_factory.hpp"
+#include "granular/extend/backend_registry.hpp"
 #include "granular/errors.hpp"
-#include "granular/lut.hpp"
+#include "granular/extend/lut.hpp"
 #include "granular/rule_presets.hpp"
 #include "granular/rule_set.hpp"
 #include "granular/world.hpp"

@@ -11,11 +11,11 @@
 #include <string>
 #include <vector>
 
-#include "granular/distributed_world.hpp"
+#include "granular/distributed/distributed_world.hpp"
 #include "granular/errors.hpp"
 #include "granular/grid_io.hpp"
 #include "granular/world_snapshot.hpp"
-#include "granular/local_group.hpp"
+#include "granular/distributed/local_group.hpp"
 #include "granular/rule_presets.hpp"
 #include "granular/scene.hpp"
 #include "granular/world.hpp"

@@ -24,7 +24,7 @@
 #include "granular/errors.hpp"
 #include "granular/grid.hpp"
 #include "granular/grid_io.hpp"
-#include "granular/memory_budget.hpp"
+#include "granular/extend/memory_budget.hpp"
 #include "granular/vox_io.hpp"
 #include "test_support.hpp"
 

@@ -4,7 +4,7 @@
 #include <fstream>
 
 #include "granular/errors.hpp"
-#include "granular/lut.hpp"
+#include "granular/extend/lut.hpp"
 #include "granular/rule_presets.hpp"
 
 using namespace granular;

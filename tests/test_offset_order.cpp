@@ -2,7 +2,7 @@
 
 #include <set>
 
-#include "granular/block.hpp"
+#include "granular/extend/block.hpp"
 #include "granular/rule_presets.hpp"
 
 using namespace granular;

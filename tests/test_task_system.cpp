@@ -11,7 +11,7 @@
 
 #include "../examples/game_jobs.hpp"
 #include "granular/errors.hpp"
-#include "granular/threads.hpp"
+#include "granular/extend/threads.hpp"
 #include "granular/world.hpp"
 #include "test_support.hpp"
 

@@ -15,9 +15,9 @@
 #include <utility>
 
 #include "granular/errors.hpp"
-#include "granular/lut.hpp"
+#include "granular/extend/lut.hpp"
 #include "granular/rule_presets.hpp"
-#include "granular/threads.hpp"
+#include "granular/extend/threads.hpp"
 #include "granular/world.hpp"
 #include "test_support.hpp"
 #include "cpu/thread_pool.hpp"

@@ -16,7 +16,7 @@
 
 #include "granular/errors.hpp"
 #include "granular/grid_io.hpp"
-#include "granular/hex.hpp"
+#include "granular/extend/hex.hpp"
 #include "granular/rule_presets.hpp"
 #include "granular/rule_set.hpp"
 #include "granular/world.hpp"

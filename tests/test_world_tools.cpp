@@ -16,8 +16,8 @@
 #include <utility>
 #include <vector>
 
-#include "granular/backend.hpp"
-#include "granular/backend_factory.hpp"
+#include "granular/extend/backend.hpp"
+#include "granular/extend/backend_factory.hpp"
 #include "granular/errors.hpp"
 #include "granular/motion.hpp"
 #include "granular/rule_set.hpp"

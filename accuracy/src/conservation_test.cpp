@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "granular/hex.hpp"
+#include "granular/extend/hex.hpp"
 #include "granular/rule_presets.hpp"
 #include "granular/world.hpp"
 #include "suite_tests.hpp"

@@ -16,7 +16,7 @@
 #include <cstdint>
 
 #include "block_walk.cuh"
-#include "granular/block.hpp"
+#include "granular/extend/block.hpp"
 #include "granular/geometry.hpp"
 #include "step/brick_grid.hpp"
 

@@ -29,7 +29,7 @@
 #include <type_traits>
 
 #include "cuda_check.cuh"
-#include "granular/block.hpp"
+#include "granular/extend/block.hpp"
 #include "granular/geometry.hpp"
 #include "step/block_step.hpp"
 #include "step/brick_grid.hpp"

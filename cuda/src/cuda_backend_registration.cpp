@@ -4,7 +4,7 @@
 /// links granular_cuda keeps this object: the library's link options ask for
 /// granular_cuda_backend_registered, which only this file defines.
 
-#include "granular/backend_registry.hpp"
+#include "granular/extend/backend_registry.hpp"
 #include "granular_cuda/cuda_backend_factory.hpp"
 
 namespace {

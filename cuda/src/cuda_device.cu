@@ -4,7 +4,7 @@
 
 #include "cuda_check.cuh"
 #include "cuda_device.cuh"
-#include "granular/block.hpp"
+#include "granular/extend/block.hpp"
 #include "granular/errors.hpp"
 #include "granular/grid.hpp"
 #include "granular_cuda/cuda_backend_factory.hpp"

@@ -36,7 +36,7 @@
 
 #include "block_walk.cuh"
 #include "cuda_check.cuh"
-#include "granular/block.hpp"
+#include "granular/extend/block.hpp"
 #include "granular/geometry.hpp"
 
 namespace granular::cuda {

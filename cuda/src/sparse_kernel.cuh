@@ -26,7 +26,7 @@
 
 #include "block_walk.cuh"
 #include "cuda_check.cuh"
-#include "granular/block.hpp"
+#include "granular/extend/block.hpp"
 #include "step/brick_grid.hpp"
 #include "step/brick_reach.hpp"
 #include "step/inert_keys.hpp"

@@ -9,7 +9,7 @@
 #include <cstdint>
 
 #include "cuda_check.cuh"
-#include "granular/block.hpp"
+#include "granular/extend/block.hpp"
 #include "step/fluid_block.hpp"
 #include "step/motion_block.hpp"
 #include "step/step_materials.hpp"

@@ -4,7 +4,7 @@
 
 #include <cstdint>
 
-#include "granular/block.hpp"
+#include "granular/extend/block.hpp"
 
 namespace granular {
 

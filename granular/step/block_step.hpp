@@ -21,7 +21,7 @@
 #include <cstdint>
 #include <type_traits>
 
-#include "granular/block.hpp"
+#include "granular/extend/block.hpp"
 #include "granular/geometry.hpp"
 #include "granular/motion.hpp"
 #include "step/block_bytes.hpp"

@@ -13,8 +13,8 @@
 
 #include <cstdint>
 
-#include "granular/activity.hpp"
-#include "granular/block.hpp"
+#include "granular/bricks.hpp"
+#include "granular/extend/block.hpp"
 #include "granular/geometry.hpp"
 
 namespace granular {

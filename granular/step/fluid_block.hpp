@@ -40,7 +40,7 @@
 
 #include <cstdint>
 
-#include "granular/block.hpp"
+#include "granular/extend/block.hpp"
 #include "granular/motion.hpp"
 #include "step/block_bytes.hpp"
 #include "step/paper_rule.hpp"

@@ -14,7 +14,7 @@
 #include <span>
 #include <vector>
 
-#include "granular/block.hpp"
+#include "granular/extend/block.hpp"
 
 namespace granular {
 

@@ -49,7 +49,7 @@
 
 #include <cstdint>
 
-#include "granular/block.hpp"
+#include "granular/extend/block.hpp"
 #include "granular/motion.hpp"
 #include "step/block_bytes.hpp"
 #include "step/fluid_block.hpp"

@@ -6,7 +6,7 @@
 #include <span>
 #include <vector>
 
-#include "granular/block.hpp"
+#include "granular/extend/block.hpp"
 #include "step/motion_block.hpp"
 
 namespace granular {

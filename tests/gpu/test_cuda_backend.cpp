@@ -18,7 +18,7 @@
 #include "../test_support.hpp"
 #include "fluid_tool_place.hpp"
 #include "granular/errors.hpp"
-#include "granular/lut.hpp"
+#include "granular/extend/lut.hpp"
 #include "granular/rule_presets.hpp"
 #include "granular/rule_set.hpp"
 #include "granular/world.hpp"

@@ -8,8 +8,8 @@
 #include <mutex>
 #include <string>
 
-#include "granular/distributed_world.hpp"
-#include "granular/local_group.hpp"
+#include "granular/distributed/distributed_world.hpp"
+#include "granular/distributed/local_group.hpp"
 #include "granular/rule_presets.hpp"
 #include "granular/world.hpp"
 #include "test_support.hpp"

@@ -18,7 +18,7 @@
 
 #include "step/brick_grid.hpp"
 #include "granular/errors.hpp"
-#include "granular/lut.hpp"
+#include "granular/extend/lut.hpp"
 #include "granular/motion.hpp"
 #include "granular/rule_presets.hpp"
 #include "granular/rule_set.hpp"

@@ -19,9 +19,9 @@
 #include <cstdint>
 #include <span>
 
-#include "granular/block.hpp"
+#include "granular/extend/block.hpp"
 #include "granular/geometry.hpp"
-#include "granular/lut.hpp"
+#include "granular/extend/lut.hpp"
 #include "granular/motion.hpp"
 #include "granular/rule_set.hpp"
 

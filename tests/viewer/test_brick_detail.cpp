@@ -8,7 +8,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "cells/brick_detail.hpp"
-#include "granular/activity.hpp"
+#include "granular/bricks.hpp"
 #include "renderers/offscreen_renderer.hpp"
 #include "viewer_test_support.hpp"
 

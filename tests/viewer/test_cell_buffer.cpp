@@ -6,7 +6,7 @@
 
 #include "cells/cell_buffer.hpp"
 #include "vulkan/gpu_buffer.hpp"
-#include "granular/activity.hpp"
+#include "granular/bricks.hpp"
 #include "granular/world.hpp"
 #include "viewer_test_support.hpp"
 

@@ -15,7 +15,7 @@
 
 #include "granular/errors.hpp"
 #include "granular/grid_io.hpp"
-#include "granular/hex.hpp"
+#include "granular/extend/hex.hpp"
 #include "granular/stroke_history.hpp"
 #include "granular/world.hpp"
 #include "session/history_lines.hpp"

@@ -3,7 +3,7 @@
 /// The CUDA backend's entry points, as plain C++ (no CUDA types): the registration of the backend
 /// (cuda_backend_registration.cpp) and the GPU tests include this with an ordinary C++ compiler and
 /// link the granular_cuda library. A World finds the backend through the core's registry
-/// (granular/backend_registry.hpp), never through this header.
+/// (granular/extend/backend_registry.hpp), never through this header.
 
 #include <array>
 #include <cstdint>
@@ -11,12 +11,12 @@
 #include <string>
 #include <vector>
 
-#include "granular/backend.hpp"
-#include "granular/backend_factory.hpp"
-#include "granular/block.hpp"
+#include "granular/extend/backend.hpp"
+#include "granular/extend/backend_factory.hpp"
+#include "granular/extend/block.hpp"
 #include "granular/geometry.hpp"
 #include "granular/grid.hpp"
-#include "granular/lut.hpp"
+#include "granular/extend/lut.hpp"
 #include "granular/rule_set.hpp"
 
 namespace granular {

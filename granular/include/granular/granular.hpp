@@ -1,32 +1,33 @@
 #pragma once
 /// @file granular.hpp
-/// Everything a game needs to embed granular: World, its definition, materials, tools, scenes and
-/// grid files, and what plugs into a World (backends, the game's task system).
+/// Everything a game needs to embed granular: World and its definition, materials and rule sets,
+/// tools and what they report, scenes, grid and snapshot files, undo, ray picking, the game's task
+/// system and the tick's physical length.
+///
+/// Two further levels are included on their own:
+/// - <granular/extend/...>: what a new backend or a tool built on the table needs (the Backend
+///   interface and its factory and registry, the block and transition table, memory budget,
+///   thread limits, hash printing);
+/// - <granular/distributed/...>: a world split into slabs over ranks (DistributedWorld, the
+///   Communicator interface, in-process ranks).
 
-#include "granular/activity.hpp"
-#include "granular/backend.hpp"
-#include "granular/backend_factory.hpp"
-#include "granular/backend_registry.hpp"
-#include "granular/communicator.hpp"
+#include "granular/bricks.hpp"
+#include "granular/change_report.hpp"
 #include "granular/cuda_options.hpp"
-#include "granular/distributed_world.hpp"
 #include "granular/errors.hpp"
+#include "granular/external_memory.hpp"
 #include "granular/geometry.hpp"
 #include "granular/grid.hpp"
 #include "granular/grid_io.hpp"
-#include "granular/hex.hpp"
-#include "granular/local_group.hpp"
 #include "granular/material.hpp"
 #include "granular/motion.hpp"
 #include "granular/raycast.hpp"
 #include "granular/rule_presets.hpp"
 #include "granular/rule_set.hpp"
 #include "granular/scene.hpp"
-#include "granular/slab_layout.hpp"
 #include "granular/stroke_history.hpp"
 #include "granular/task_system.hpp"
 #include "granular/time_scale.hpp"
-#include "granular/tools.hpp"
 #include "granular/vox_io.hpp"
 #include "granular/world.hpp"
 #include "granular/world_def.hpp"

@@ -9,7 +9,7 @@
 #include <cstdint>
 #include <string>
 
-#include "granular/block.hpp"
+#include "granular/extend/block.hpp"
 #include "granular/material.hpp"
 #include "granular/motion.hpp"
 

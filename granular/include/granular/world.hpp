@@ -10,12 +10,12 @@
 #include <string>
 #include <vector>
 
-#include "granular/activity.hpp"
+#include "granular/bricks.hpp"
 #include "granular/external_memory.hpp"
 #include "granular/geometry.hpp"
 #include "granular/grid.hpp"
 #include "granular/material.hpp"
-#include "granular/tools.hpp"
+#include "granular/change_report.hpp"
 #include "granular/world_def.hpp"
 #include "granular/world_snapshot.hpp"
 

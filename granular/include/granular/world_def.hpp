@@ -6,7 +6,7 @@
 #include <memory>
 #include <string>
 
-#include "granular/backend_factory.hpp"
+#include "granular/extend/backend_factory.hpp"
 #include "granular/cuda_options.hpp"
 #include "granular/geometry.hpp"
 #include "granular/rule_set.hpp"

@@ -10,7 +10,7 @@
 #include "cpu/cpu_sparse_step.hpp"
 #include "cpu/cpu_step.hpp"
 #include "granular/errors.hpp"
-#include "granular/threads.hpp"
+#include "granular/extend/threads.hpp"
 #include "step/inert_keys.hpp"
 #include "step/motion_table.hpp"
 #include "cpu/thread_pool.hpp"

@@ -6,10 +6,10 @@
 
 #include "cpu/brick_activity.hpp"
 #include "cpu/cpu_step.hpp"
-#include "granular/backend.hpp"
-#include "granular/backend_factory.hpp"
+#include "granular/extend/backend.hpp"
+#include "granular/extend/backend_factory.hpp"
 #include "granular/grid.hpp"
-#include "granular/lut.hpp"
+#include "granular/extend/lut.hpp"
 #include "granular/task_system.hpp"
 
 namespace granular {

@@ -8,7 +8,7 @@
 #include <cstring>
 
 #include "cpu/cpu_step.hpp"
-#include "granular/block.hpp"
+#include "granular/extend/block.hpp"
 #include "step/block_step.hpp"
 
 namespace granular::cpu_ops {

@@ -14,7 +14,7 @@
 
 #include "cpu/cpu_block_ops.hpp"
 #include "cpu/cpu_step.hpp"
-#include "granular/block.hpp"
+#include "granular/extend/block.hpp"
 
 namespace granular::cpu_ops {
 

@@ -6,7 +6,7 @@
 #include <cstdint>
 
 #include "cpu/cpu_step.hpp"
-#include "granular/block.hpp"
+#include "granular/extend/block.hpp"
 #include "granular/geometry.hpp"
 
 namespace granular {

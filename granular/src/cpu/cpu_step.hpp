@@ -7,7 +7,7 @@
 #include <span>
 #include <vector>
 
-#include "granular/block.hpp"
+#include "granular/extend/block.hpp"
 #include "granular/geometry.hpp"
 #include "step/block_step.hpp"
 

@@ -12,7 +12,7 @@
 #include <atomic>
 
 #include "granular/task_system.hpp"
-#include "granular/threads.hpp"
+#include "granular/extend/threads.hpp"
 
 namespace granular {
 

@@ -1,4 +1,4 @@
-#include "granular/communicator.hpp"
+#include "granular/distributed/communicator.hpp"
 
 #include <algorithm>
 

@@ -9,7 +9,7 @@
 #include <numeric>
 
 #include "io/file_names.hpp"
-#include "granular/distributed_world.hpp"
+#include "granular/distributed/distributed_world.hpp"
 #include "granular/errors.hpp"
 #include "granular/grid_io.hpp"
 #include "io/snapshot_header.hpp"

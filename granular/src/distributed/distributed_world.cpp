@@ -1,4 +1,4 @@
-#include "granular/distributed_world.hpp"
+#include "granular/distributed/distributed_world.hpp"
 
 #include <algorithm>
 #include <array>
@@ -7,7 +7,7 @@
 #include <cstring>
 #include <string>
 
-#include "granular/backend.hpp"
+#include "granular/extend/backend.hpp"
 #include "granular/errors.hpp"
 #include "granular/rule_presets.hpp"
 #include "granular/rule_set.hpp"

@@ -1,4 +1,4 @@
-#include "granular/local_group.hpp"
+#include "granular/distributed/local_group.hpp"
 
 #include <condition_variable>
 #include <deque>

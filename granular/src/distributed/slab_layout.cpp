@@ -1,4 +1,4 @@
-#include "granular/slab_layout.hpp"
+#include "granular/distributed/slab_layout.hpp"
 
 #include <algorithm>
 #include <cstdint>

@@ -15,7 +15,7 @@
 
 #include "granular/errors.hpp"
 #include "granular/grid_io.hpp"
-#include "granular/memory_budget.hpp"
+#include "granular/extend/memory_budget.hpp"
 #include "io/file_names.hpp"
 #include "granular/vox_io.hpp"
 #include "io/little_endian.hpp"

@@ -8,7 +8,7 @@
 #include "granular/errors.hpp"
 #include "granular/grid.hpp"
 #include "granular/grid_io.hpp"
-#include "granular/hex.hpp"
+#include "granular/extend/hex.hpp"
 #include "io/little_endian.hpp"
 #include "io/snapshot_header.hpp"
 #include "io/zstd_bytes.hpp"

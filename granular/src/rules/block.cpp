@@ -1,4 +1,4 @@
-#include "granular/block.hpp"
+#include "granular/extend/block.hpp"
 
 namespace granular {
 

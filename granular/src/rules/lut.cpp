@@ -1,4 +1,4 @@
-#include "granular/lut.hpp"
+#include "granular/extend/lut.hpp"
 
 #include <atomic>
 #include <sstream>

@@ -10,8 +10,8 @@
 #include <system_error>
 
 #include "granular/errors.hpp"
-#include "granular/hex.hpp"
-#include "granular/lut.hpp"
+#include "granular/extend/hex.hpp"
+#include "granular/extend/lut.hpp"
 
 namespace granular {
 

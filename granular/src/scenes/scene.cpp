@@ -9,7 +9,7 @@
 
 #include "granular/errors.hpp"
 #include "granular/grid_io.hpp"
-#include "granular/memory_budget.hpp"
+#include "granular/extend/memory_budget.hpp"
 #include "scenes/scene_json.hpp"
 #include "scenes/scene_shapes.hpp"
 

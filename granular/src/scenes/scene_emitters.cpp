@@ -1,6 +1,6 @@
 #include <string>
 
-#include "granular/distributed_world.hpp"
+#include "granular/distributed/distributed_world.hpp"
 #include "granular/errors.hpp"
 #include "granular/scene.hpp"
 #include "granular/world.hpp"

@@ -1,4 +1,4 @@
-#include "granular/hex.hpp"
+#include "granular/extend/hex.hpp"
 
 #include <cstdio>
 

@@ -1,4 +1,4 @@
-#include "granular/memory_budget.hpp"
+#include "granular/extend/memory_budget.hpp"
 
 #include <sys/resource.h>
 #include <unistd.h>

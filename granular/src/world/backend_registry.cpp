@@ -1,4 +1,4 @@
-#include "granular/backend_registry.hpp"
+#include "granular/extend/backend_registry.hpp"
 
 #include <map>
 #include <mutex>

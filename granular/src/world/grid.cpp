@@ -7,7 +7,7 @@
 #include <stdexcept>
 
 #include "granular/errors.hpp"
-#include "granular/memory_budget.hpp"
+#include "granular/extend/memory_budget.hpp"
 
 namespace granular {
 

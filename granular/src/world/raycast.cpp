@@ -6,7 +6,7 @@
 #include <functional>
 #include <vector>
 
-#include "granular/activity.hpp"
+#include "granular/bricks.hpp"
 #include "granular/errors.hpp"
 #include "granular/grid.hpp"
 #include "granular/world.hpp"

@@ -11,11 +11,11 @@
 #include <span>
 #include <vector>
 
-#include "granular/activity.hpp"
+#include "granular/bricks.hpp"
 #include "granular/geometry.hpp"
 #include "granular/material.hpp"
 #include "granular/motion.hpp"
-#include "granular/tools.hpp"
+#include "granular/change_report.hpp"
 
 namespace granular {
 

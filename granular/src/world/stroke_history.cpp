@@ -1,6 +1,6 @@
 #include "granular/stroke_history.hpp"
 
-#include "granular/activity.hpp"
+#include "granular/bricks.hpp"
 #include "granular/errors.hpp"
 #include "granular/world.hpp"
 #include "io/zstd_bytes.hpp"

@@ -7,17 +7,17 @@
 #include <new>
 #include <tuple>
 
-#include "granular/backend.hpp"
-#include "granular/backend_factory.hpp"
-#include "granular/backend_registry.hpp"
+#include "granular/extend/backend.hpp"
+#include "granular/extend/backend_factory.hpp"
+#include "granular/extend/backend_registry.hpp"
 #include "granular/errors.hpp"
-#include "granular/hex.hpp"
-#include "granular/lut.hpp"
+#include "granular/extend/hex.hpp"
+#include "granular/extend/lut.hpp"
 #include "granular/motion.hpp"
 #include "granular/rule_presets.hpp"
 #include "granular/rule_set.hpp"
 #include "granular/task_system.hpp"
-#include "granular/threads.hpp"
+#include "granular/extend/threads.hpp"
 #include "granular/world_snapshot.hpp"
 #include "world/pour_choice.hpp"
 #include "world/region_edit.hpp"

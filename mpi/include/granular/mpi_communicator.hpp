@@ -17,7 +17,7 @@
 #include <span>
 #include <string>
 
-#include "granular/communicator.hpp"
+#include "granular/distributed/communicator.hpp"
 
 namespace granular {
 

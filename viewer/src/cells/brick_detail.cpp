@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "granular/activity.hpp"
+#include "granular/bricks.hpp"
 
 namespace viewer {
 

@@ -36,7 +36,7 @@ class BrickDetail {
   /// any level changed. An unchanged view changes nothing.
   bool update(const glm::mat4& view_projection, std::uint32_t image_height, std::vector<std::uint32_t>& rebuild);
 
-  /// Every brick's level (granular/activity.hpp numbering).
+  /// Every brick's level (granular/bricks.hpp numbering).
   std::span<const std::uint8_t> levels() const { return levels_; }
 
   /// Pixels of the image's height that a cell at clip-space depth `w` covers under

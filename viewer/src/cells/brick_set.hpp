@@ -1,6 +1,6 @@
 #pragma once
 /// @file brick_set.hpp
-/// Lists of brick indices (granular/activity.hpp numbering): all of them, a changed set grown by its
+/// Lists of brick indices (granular/bricks.hpp numbering): all of them, a changed set grown by its
 /// 26 neighbours (a brick's surface depends on its neighbours' boundary cells), and two lists united.
 
 #include <cstdint>

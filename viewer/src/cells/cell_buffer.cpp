@@ -4,7 +4,7 @@
 #include <cstring>
 #include <vector>
 
-#include "granular/activity.hpp"
+#include "granular/bricks.hpp"
 #include "granular/world.hpp"
 #include "vulkan/pipeline_builder.hpp"
 #include "renderers/view_constants.hpp"

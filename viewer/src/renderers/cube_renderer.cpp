@@ -4,7 +4,7 @@
 #include <vector>
 
 #include "cells/cell_buffer.hpp"
-#include "granular/activity.hpp"
+#include "granular/bricks.hpp"
 #include "cells/material_palette.hpp"
 #include "renderers/surface_draws.hpp"
 #include "vulkan/vulkan_check.hpp"

@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "granular/activity.hpp"
+#include "granular/bricks.hpp"
 #include "vulkan/vulkan_context.hpp"
 
 namespace viewer {

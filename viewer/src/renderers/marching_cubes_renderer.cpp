@@ -7,7 +7,7 @@
 
 #include "cells/brick_set.hpp"
 #include "cells/cell_buffer.hpp"
-#include "granular/activity.hpp"
+#include "granular/bricks.hpp"
 #include "renderers/marching_cubes_tables.hpp"
 #include "cells/material_palette.hpp"
 #include "renderers/surface_draws.hpp"

@@ -3,7 +3,7 @@
 #include <cstdint>
 
 #include "cells/cell_buffer.hpp"
-#include "granular/activity.hpp"
+#include "granular/bricks.hpp"
 #include "vulkan/gpu_buffer.hpp"
 #include "cells/material_palette.hpp"
 #include "vulkan/vulkan_check.hpp"

@@ -4,7 +4,7 @@
 #include <vector>
 
 #include "cells/brick_set.hpp"
-#include "granular/activity.hpp"
+#include "granular/bricks.hpp"
 #include "granular/world.hpp"
 #include "vulkan/render_target.hpp"
 #include "renderers/renderer_factory.hpp"

@@ -1,7 +1,7 @@
 #include "session/history_lines.hpp"
 
-#include "granular/hex.hpp"
-#include "granular/memory_budget.hpp"
+#include "granular/extend/hex.hpp"
+#include "granular/extend/memory_budget.hpp"
 
 namespace viewer {
 

@@ -1,6 +1,6 @@
 #include "session/world_files.hpp"
 
-#include "granular/hex.hpp"
+#include "granular/extend/hex.hpp"
 #include "granular/world_snapshot.hpp"
 
 namespace viewer {

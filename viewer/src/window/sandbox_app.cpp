@@ -23,7 +23,7 @@
 #include "granular/engine/granular_subsystem.hpp"
 #include "window/glfw_window.hpp"
 #include "granular/errors.hpp"
-#include "granular/hex.hpp"
+#include "granular/extend/hex.hpp"
 #include "granular/raycast.hpp"
 #include "granular/scene.hpp"
 #include "granular/stroke_history.hpp"

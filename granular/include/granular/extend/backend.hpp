@@ -1,0 +1,86 @@
+#pragma once
+/// @file extend/backend.hpp
+/// The interface a compute backend implements. World owns one and routes every read, write and
+/// step through it, so tools and queries work the same on every backend. The core library has the
+/// CPU backend; the CUDA library (granular_cuda, part of granular::granular) registers its own
+/// (backend_registry.hpp); a game may create its backend itself (WorldDef::backend_factory).
+
+#include <cstdint>
+#include <span>
+#include <string>
+
+#include "granular/bricks.hpp"
+#include "granular/errors.hpp"
+#include "granular/external_memory.hpp"
+#include "granular/geometry.hpp"
+#include "granular/material.hpp"
+#include "granular/world_def.hpp"
+
+namespace granular {
+
+/// A compute backend holding the world's cells. Boxes passed in always lie inside the grid and hold
+/// cells at least one wide; spans are exactly box.volume() bytes (or one flag per brick). Cell bytes
+/// are a material (material.hpp) in the low bits and a grain's motion state (motion.hpp) above.
+class Backend {
+ public:
+  virtual ~Backend() = default;
+  /// Which kind this is.
+  virtual BackendKind kind() const = 0;
+  /// Name and details for users ("cpu (2 threads)").
+  virtual std::string description() const = 0;
+  /// Runs ticks first_tick .. first_tick + ticks - 1.
+  virtual void step(std::uint64_t first_tick, int ticks) = 0;
+  /// Copies the cells of an in-grid box out (x fastest), every earlier write included.
+  virtual void read(const Box& box, std::span<std::uint8_t> out) const = 0;
+  /// Overwrites the cells of an in-grid box (x fastest) and wakes `wake_bricks` (activity.hpp
+  /// indices, each < the brick count): a sparse backend steps them and their neighbours again
+  /// (docs/ARCHITECTURE.md, "Activity tracking"). May return before the cells are written, once
+  /// `in` and `wake_bricks` are no longer needed: every later call sees the write.
+  virtual void write(const Box& box, std::span<const std::uint8_t> in, std::span<const std::uint32_t> wake_bricks) = 0;
+  /// Cells per material.
+  virtual MaterialCounts count() const = 0;
+  /// The grid hash (hash_cells).
+  virtual std::uint64_t hash() const = 0;
+  /// Sets flags[i] = 1 (one entry per brick) for every brick whose cells step() changed since the
+  /// last call, and forgets them. A dense backend sets every flag.
+  virtual void take_changed_bricks(std::span<std::uint8_t> flags) = 0;
+  /// What the last step() call stepped (total_bricks included).
+  virtual ActivityStats last_activity() const = 0;
+
+  /// Bytes an imported cell buffer must hold (share_cells), or 0 when this backend cannot share.
+  virtual std::uint64_t shared_cell_bytes() const { return 0; }
+  /// Moves the cells into imported external memory and steps them there from now on.
+  virtual void share_cells(const ExternalCellMemory&) { throw_not_shareable("share_cells"); }
+  /// Orders every later write of the cells with a renderer through two imported timelines.
+  virtual void attach_timelines(const ExternalTimeline&, const ExternalTimeline&) {
+    throw_not_shareable("attach_timelines");
+  }
+  /// Hands the current cells to a renderer for one read (see World::hand_off_cells).
+  virtual CellsHandoff hand_off_cells() { throw_not_shareable("hand_off_cells"); }
+
+  /// Keeps a copy of every cell as it is now, the checkpoint, where the backend keeps its cells (the
+  /// CPU backend in host memory, the CUDA backend in device memory), replacing an earlier one; the
+  /// state an undo returns to (StrokeHistory). Throws OutOfMemory when it does not fit. The default
+  /// throws BackendError: a backend that keeps no checkpoint offers no undo.
+  virtual void take_checkpoint() { throw_no_checkpoint(); }
+  /// Copies the cells of an in-grid box (x fastest) as they were at the last take_checkpoint().
+  /// Throws StateError when there is no checkpoint.
+  virtual void read_checkpoint(const Box&, std::span<std::uint8_t>) const { throw_no_checkpoint(); }
+  /// Frees the checkpoint, if any.
+  virtual void drop_checkpoint() {}
+  /// Bytes the checkpoint holds; 0 when there is none.
+  virtual std::uint64_t checkpoint_bytes() const { return 0; }
+
+ private:
+  [[noreturn]] void throw_no_checkpoint() const {
+    throw BackendError("the " + description() +
+                       " backend keeps no checkpoint of its cells (Backend::take_checkpoint), which undo needs");
+  }
+  [[noreturn]] void throw_not_shareable(const char* what) const {
+    throw BackendError(std::string("World::") + what + ": the " + description() +
+                       " backend keeps its cells in host memory; sharing them with a graphics API needs the "
+                       "CUDA backend (WorldDef::backend = cuda)");
+  }
+};
+
+}  // namespace granular
