@@ -6,6 +6,7 @@
 /// exits non-zero when the program's backends are not the ones named, or a world is not what it
 /// should be.
 
+#include <granular/extend/backend.hpp>
 #include <granular/extend/backend_registry.hpp>
 #include <granular/granular.hpp>
 
