@@ -219,9 +219,7 @@ class SandboxApp final : public granular::engine::Subsystem {
         result.device_uuid = *uuid;
       }
     }
-    result.instance_extensions = window.required_instance_extensions();
-    result.make_surface = [&window](VkInstance instance) { return window.create_surface(instance); };
-    return result;
+    return window.presenting(result);
   }
 
   granular::World& world() { return *session_->sandbox.world; }
