@@ -81,11 +81,7 @@ TEST_CASE("material choices: every non-void state of the table on its number key
 
 TEST_CASE("material panel: the HUD shows a swatch of each material's table colour, a game's own included") {
   GlfwWindow window(640, 400, "material panel test");
-  ContextOptions options;
-  options.validation = validation_layer_available();
-  options.instance_extensions = window.required_instance_extensions();
-  options.make_surface = [&](VkInstance instance) { return window.create_surface(instance); };
-  VulkanContext context(options);
+  VulkanContext context(window.presenting({.validation = validation_layer_available()}));
   Swapchain swapchain(context, window.framebuffer_extent());
   granular::WorldDef def;
   def.backend = granular::BackendKind::Cpu;

@@ -22,11 +22,7 @@ using namespace viewer;
 
 TEST_CASE("window: the swapchain follows a resize and keeps rendering") {
   GlfwWindow window(320, 240, "resize test");
-  ContextOptions options;
-  options.validation = validation_layer_available();
-  options.instance_extensions = window.required_instance_extensions();
-  options.make_surface = [&](VkInstance instance) { return window.create_surface(instance); };
-  VulkanContext context(options);
+  VulkanContext context(window.presenting({.validation = validation_layer_available()}));
   Swapchain swapchain(context, window.framebuffer_extent());
   granular::WorldDef def;
   def.backend = granular::BackendKind::Cpu;

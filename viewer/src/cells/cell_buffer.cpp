@@ -4,6 +4,7 @@
 #include <cstring>
 #include <vector>
 
+#include "vulkan/barriers.hpp"
 #include "granular/bricks.hpp"
 #include "granular/world.hpp"
 #include "vulkan/pipeline_builder.hpp"

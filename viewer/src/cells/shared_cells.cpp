@@ -7,6 +7,7 @@
 #include <string>
 #include <utility>
 
+#include "vulkan/barriers.hpp"
 #include "granular/external_memory.hpp"
 #include "granular/world.hpp"
 #include "vulkan/gpu_buffer.hpp"
@@ -38,8 +39,8 @@ struct FdGuard {
 
 }  // namespace
 
-SharedCells::SharedCells(const VulkanContext& context, granular::World& world) : context_(context), world_(world) {
-  const VkDevice device = context.device();
+SharedCells::SharedCells(const VulkanContext& context, granular::World& world)
+    : context_(context), world_(world), slots_(context) {
   try {
     create_memory(world);
     FdGuard ready_fd, released_fd;
@@ -47,16 +48,6 @@ SharedCells::SharedCells(const VulkanContext& context, granular::World& world) :
     cells_released_ = create_timeline(released_fd.fd);
     world.attach_timelines(granular::ExternalTimeline{ready_fd.fd}, granular::ExternalTimeline{released_fd.fd});
     ready_fd.fd = released_fd.fd = -1;  // granular owns them now
-    VkCommandBufferAllocateInfo allocate{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
-    allocate.commandPool = context.command_pool();
-    allocate.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-    allocate.commandBufferCount = kFramesInFlight;
-    vk_check(vkAllocateCommandBuffers(device, &allocate, commands_.data()), "vkAllocateCommandBuffers (interop)");
-    for (VkFence& fence : fences_) {
-      VkFenceCreateInfo info{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
-      info.flags = VK_FENCE_CREATE_SIGNALED_BIT;
-      vk_check(vkCreateFence(device, &info, nullptr, &fence), "vkCreateFence (interop)");
-    }
   } catch (...) {
     release();
     throw;
@@ -68,10 +59,6 @@ SharedCells::~SharedCells() { release(); }
 void SharedCells::release() noexcept {
   const VkDevice device = context_.device();
   vkDeviceWaitIdle(device);
-  for (VkFence& fence : fences_)
-    if (fence) vkDestroyFence(device, std::exchange(fence, VK_NULL_HANDLE), nullptr);
-  if (commands_[0]) vkFreeCommandBuffers(device, context_.command_pool(), kFramesInFlight, commands_.data());
-  commands_.fill(VK_NULL_HANDLE);
   if (cells_ready_) vkDestroySemaphore(device, std::exchange(cells_ready_, VK_NULL_HANDLE), nullptr);
   if (cells_released_) vkDestroySemaphore(device, std::exchange(cells_released_, VK_NULL_HANDLE), nullptr);
   if (buffer_) vkDestroyBuffer(device, std::exchange(buffer_, VK_NULL_HANDLE), nullptr);
@@ -165,33 +152,23 @@ VkSemaphore SharedCells::create_timeline(int& fd) {
 }
 
 void SharedCells::submit_snapshot(int slot, const std::function<void(VkCommandBuffer, VkBuffer)>& record_copy) {
-  const VkDevice device = context_.device();
   const granular::CellsHandoff handoff = world_.hand_off_cells();
-  vk_check(vkWaitForFences(device, 1, &fences_[slot], VK_TRUE, UINT64_MAX), "vkWaitForFences (interop)");
-  vk_check(vkResetFences(device, 1, &fences_[slot]), "vkResetFences (interop)");
-  VkCommandBuffer commands = commands_[slot];
-  vk_check(vkResetCommandBuffer(commands, 0), "vkResetCommandBuffer (interop)");
-  VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
-  begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-  vk_check(vkBeginCommandBuffer(commands, &begin), "vkBeginCommandBuffer (interop)");
+  slots_.wait(slot);
+  VkCommandBuffer commands = slots_.begin(slot);
   constexpr VkPipelineStageFlags2 kCopyStages = VK_PIPELINE_STAGE_2_COPY_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
   // Acquire the shared buffer from CUDA (queue family "external") for transfers and shaders.
   VkBufferMemoryBarrier2 acquire = whole_buffer_barrier(buffer_, VK_PIPELINE_STAGE_2_NONE, VK_ACCESS_2_NONE, kCopyStages,
                                                         VK_ACCESS_2_TRANSFER_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
   acquire.srcQueueFamilyIndex = VK_QUEUE_FAMILY_EXTERNAL;
   acquire.dstQueueFamilyIndex = context_.queue_family();
-  VkDependencyInfo dependency{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-  dependency.bufferMemoryBarrierCount = 1;
-  dependency.pBufferMemoryBarriers = &acquire;
-  vkCmdPipelineBarrier2(commands, &dependency);
+  record_barrier(commands, acquire);
   record_copy(commands, buffer_);
   // Release it back to CUDA (nothing was written: no access to make available).
   VkBufferMemoryBarrier2 release =
       whole_buffer_barrier(buffer_, kCopyStages, VK_ACCESS_2_NONE, VK_PIPELINE_STAGE_2_NONE, VK_ACCESS_2_NONE);
   release.srcQueueFamilyIndex = context_.queue_family();
   release.dstQueueFamilyIndex = VK_QUEUE_FAMILY_EXTERNAL;
-  dependency.pBufferMemoryBarriers = &release;
-  vkCmdPipelineBarrier2(commands, &dependency);
+  record_barrier(commands, release);
   vk_check(vkEndCommandBuffer(commands), "vkEndCommandBuffer (interop)");
 
   VkSemaphoreSubmitInfo wait{VK_STRUCTURE_TYPE_SEMAPHORE_SUBMIT_INFO};
@@ -211,7 +188,7 @@ void SharedCells::submit_snapshot(int slot, const std::function<void(VkCommandBu
   submit.pCommandBufferInfos = &command_info;
   submit.signalSemaphoreInfoCount = 1;
   submit.pSignalSemaphoreInfos = &signal;
-  vk_check(vkQueueSubmit2(context_.queue(), 1, &submit, fences_[slot]), "vkQueueSubmit2 (interop snapshot)");
+  vk_check(vkQueueSubmit2(context_.queue(), 1, &submit, slots_.fence(slot)), "vkQueueSubmit2 (interop snapshot)");
 }
 
 std::optional<ContextOptions> interop_context(const granular::World& world, ContextOptions options) {

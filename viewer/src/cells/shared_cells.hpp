@@ -14,6 +14,7 @@
 #include <functional>
 #include <optional>
 
+#include "vulkan/frame_slots.hpp"
 #include "vulkan/frames_in_flight.hpp"
 #include "vulkan/vulkan_context.hpp"
 
@@ -64,8 +65,7 @@ class SharedCells {
   bool dedicated_ = false;
   VkSemaphore cells_ready_ = VK_NULL_HANDLE;
   VkSemaphore cells_released_ = VK_NULL_HANDLE;
-  std::array<VkCommandBuffer, kFramesInFlight> commands_{};
-  std::array<VkFence, kFramesInFlight> fences_{};
+  FrameSlots slots_;  ///< the snapshot copies' command buffers
 };
 
 }  // namespace viewer

@@ -3,10 +3,10 @@
 #include <cstdint>
 #include <vector>
 
+#include "vulkan/barriers.hpp"
 #include "cells/cell_buffer.hpp"
 #include "granular/bricks.hpp"
 #include "cells/material_palette.hpp"
-#include "renderers/surface_draws.hpp"
 #include "vulkan/vulkan_check.hpp"
 #include "vulkan/vulkan_context.hpp"
 
@@ -14,8 +14,6 @@ namespace viewer {
 namespace {
 
 constexpr VkDeviceSize kInstancesPerBrick = 4096;
-
-std::uint32_t total_of(granular::Int3 counts) { return std::uint32_t(counts.x) * counts.y * counts.z; }
 
 /// Throws a VulkanError suggesting the ray march when `bricks` instance slots or draw commands
 /// exceed what this device allows.
@@ -38,28 +36,20 @@ std::uint32_t checked_bricks(const VulkanContext& context, std::uint32_t bricks)
 
 CubeRenderer::CubeRenderer(const VulkanContext& context, const CellBuffer& cells, const MaterialPalette& palette,
                            VkRenderPass target_pass)
-    : context_(context),
-      cells_(cells),
-      brick_counts_(granular::brick_counts(cells.size())),
-      brick_total_(checked_bricks(context, total_of(brick_counts_))),
-      instances_(context, brick_total_ * kInstancesPerBrick * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryKind::DeviceLocal),
+    : BrickSurfaceRenderer(RendererKind::Cubes, context, cells, palette, target_pass,
+                           storage_then_palette(4),  // cells, brick list, instances, draws; the palette at 4
+                           {"cube.vert", "cube.frag", true}),
+      instances_(context, checked_bricks(context, brick_total_) * kInstancesPerBrick * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                 MemoryKind::DeviceLocal),
       draws_(context, 2 * VkDeviceSize(brick_total_) * sizeof(VkDrawIndirectCommand),
              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
              MemoryKind::DeviceLocal),
-      sets_(context.device(), storage_then_palette(4)),  // cells, brick list, instances, draws; the palette at 4
-      rebuild_(context, brick_counts_, sets_, 1),
       build_(context.device(), sets_.layout(), "cube_build.comp"),
-      draw_pipeline_(context.device(), sets_.layout(), target_pass, "cube.vert", "cube.frag"),
-      translucent_pipeline_(context.device(), sets_.layout(), target_pass, "cube.vert", "cube.frag", GraphicsOptions::translucent()),
-      cap_(context, cells, palette, target_pass, true),
       compaction_(context, draws_, brick_total_) {
-  sets_.write_buffer(0, cells.buffer());
   sets_.write_buffer(2, instances_.buffer());
   sets_.write_buffer(3, draws_.buffer());
   sets_.write_buffer(4, palette.buffer());
 }
-
-CubeRenderer::~CubeRenderer() = default;
 
 std::uint64_t CubeRenderer::prepare(VkCommandBuffer commands, const FrameView& view,
                                     std::span<const std::uint32_t> changed_bricks) {
@@ -80,11 +70,6 @@ std::uint64_t CubeRenderer::prepare(VkCommandBuffer commands, const FrameView& v
                  VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
   compaction_.record(commands, view.raster, true);
   return bricks;
-}
-
-void CubeRenderer::draw(VkCommandBuffer commands, const FrameView& view) {
-  record_surface_draws(commands, view,
-                       {draw_pipeline_, translucent_pipeline_, sets_.set(view.slot), compaction_, cap_});
 }
 
 }  // namespace viewer

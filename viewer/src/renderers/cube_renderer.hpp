@@ -13,13 +13,10 @@
 #include <cstdint>
 #include <memory>
 
+#include "renderers/brick_surface_renderer.hpp"
 #include "renderers/draw_compaction.hpp"
 #include "vulkan/gpu_buffer.hpp"
-#include "granular/geometry.hpp"
-#include "cells/brick_rebuild_list.hpp"
 #include "vulkan/pipeline_builder.hpp"
-#include "renderers/renderer.hpp"
-#include "section/section_cap.hpp"
 
 namespace viewer {
 
@@ -28,38 +25,23 @@ class CellBuffer;
 class MaterialPalette;
 
 /// The instanced-cube renderer.
-class CubeRenderer final : public Renderer {
+class CubeRenderer final : public BrickSurfaceRenderer {
  public:
   /// Reads `cells` and `palette` (which must outlive it) and draws into passes compatible with
   /// `target_pass`.
   CubeRenderer(const VulkanContext& context, const CellBuffer& cells, const MaterialPalette& palette,
                VkRenderPass target_pass);
-  /// Destroys its Vulkan objects (after the GPU is done with them).
-  ~CubeRenderer() override;
 
-  /// See Renderer (renderer.hpp).
-  RendererKind kind() const override { return RendererKind::Cubes; }
-  /// See Renderer (renderer.hpp).
-  void invalidate() override { rebuild_.invalidate(); }
-  /// See Renderer (renderer.hpp).
+  /// See Renderer (renderer.hpp): lists the changed bricks' instances and writes their commands.
   std::uint64_t prepare(VkCommandBuffer commands, const FrameView& view,
                         std::span<const std::uint32_t> changed_bricks) override;
-  /// See Renderer (renderer.hpp).
-  void draw(VkCommandBuffer commands, const FrameView& view) override;
 
  private:
-  const VulkanContext& context_;
-  const CellBuffer& cells_;
-  granular::Int3 brick_counts_;
-  std::uint32_t brick_total_;
+  const DrawCompaction& compaction() const override { return compaction_; }
+
   GpuBuffer instances_;
   GpuBuffer draws_;  ///< brick_total_ opaque commands, then brick_total_ translucent ones
-  DescriptorSets sets_;
-  BrickRebuildList rebuild_;  ///< after sets_: binds its lists there
   Pipeline build_;
-  Pipeline draw_pipeline_;
-  Pipeline translucent_pipeline_;
-  SectionCap cap_;
   DrawCompaction compaction_;  ///< draws_ compacted to the bricks that draw something
 };
 

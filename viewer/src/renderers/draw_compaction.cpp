@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "vulkan/barriers.hpp"
 #include "granular/bricks.hpp"
 #include "vulkan/vulkan_context.hpp"
 

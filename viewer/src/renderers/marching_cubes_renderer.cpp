@@ -5,12 +5,12 @@
 #include <cstring>
 #include <vector>
 
+#include "vulkan/barriers.hpp"
 #include "cells/brick_set.hpp"
 #include "cells/cell_buffer.hpp"
 #include "granular/bricks.hpp"
 #include "renderers/marching_cubes_tables.hpp"
 #include "cells/material_palette.hpp"
-#include "renderers/surface_draws.hpp"
 #include "vulkan/vulkan_check.hpp"
 #include "vulkan/vulkan_context.hpp"
 
@@ -47,8 +47,6 @@ std::uint32_t build_workgroup_size(const VulkanContext& context) {
   return properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU ? 64 : 256;
 }
 
-std::uint32_t total_of(granular::Int3 counts) { return std::uint32_t(counts.x) * counts.y * counts.z; }
-
 /// The descriptor types of the classify, build and draw passes: cells, brick list, vertices, draws,
 /// case table; the palette at 5; the brick levels at 6, the indices at 7, the mesh list at 8.
 std::vector<VkDescriptorType> marching_bindings() {
@@ -74,8 +72,8 @@ std::vector<std::uint32_t> gpu_case_table() {
 MarchingCubesRenderer::MarchingCubesRenderer(const VulkanContext& context, const CellBuffer& cells,
                                              const MaterialPalette& palette, VkRenderPass target_pass,
                                              const RenderDetail& detail)
-    : brick_counts_(granular::brick_counts(cells.size())),
-      brick_total_(total_of(brick_counts_)),
+    : BrickSurfaceRenderer(RendererKind::Marching, context, cells, palette, target_pass, marching_bindings(),
+                           {"mc.vert", "mc.frag", false}),
       triangles_per_brick_(triangles_per_brick(context, brick_total_)),
       vertices_(context, VkDeviceSize(brick_total_) * triangles_per_brick_ * kVertexBytes,
                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryKind::DeviceLocal),
@@ -83,22 +81,17 @@ MarchingCubesRenderer::MarchingCubesRenderer(const VulkanContext& context, const
                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDEX_BUFFER_BIT, MemoryKind::DeviceLocal),
       draws_(context, 2 * VkDeviceSize(brick_total_) * sizeof(VkDrawIndexedIndirectCommand),
              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, MemoryKind::DeviceLocal),
+      mesh_list_(context, (3 + VkDeviceSize(brick_total_)) * 4,
+                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                 MemoryKind::DeviceLocal),
       cases_(context, 256 * 16 * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
              MemoryKind::DeviceLocal),
       detail_(brick_counts_, detail.coarse_below_pixels),
       level_staging_(context, VK_BUFFER_USAGE_TRANSFER_SRC_BIT),
       levels_(context, (VkDeviceSize(brick_total_) + 3) / 4 * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
               MemoryKind::DeviceLocal),
-      mesh_list_(context, (3 + VkDeviceSize(brick_total_)) * 4,
-                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                 MemoryKind::DeviceLocal),
-      sets_(context.device(), marching_bindings()),
-      rebuild_(context, brick_counts_, sets_, 1),
       classify_(context.device(), sets_.layout(), "mc_classify.comp"),
       build_(context.device(), sets_.layout(), "mc_build.comp", build_workgroup_size(context)),
-      draw_pipeline_(context.device(), sets_.layout(), target_pass, "mc.vert", "mc.frag"),
-      translucent_pipeline_(context.device(), sets_.layout(), target_pass, "mc.vert", "mc.frag", GraphicsOptions::translucent()),
-      cap_(context, cells, palette, target_pass, false),
       compaction_(context, draws_, brick_total_, &indices_) {
   const std::vector<std::uint32_t> table = gpu_case_table();
   GpuBuffer staging(context, table.size() * 4, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryKind::HostVisible);
@@ -108,7 +101,6 @@ MarchingCubesRenderer::MarchingCubesRenderer(const VulkanContext& context, const
     vkCmdCopyBuffer(commands, staging.buffer(), cases_.buffer(), 1, &region);
     vkCmdFillBuffer(commands, levels_.buffer(), 0, VK_WHOLE_SIZE, 0);  // every brick fine, as detail_ starts
   });
-  sets_.write_buffer(0, cells.buffer());
   sets_.write_buffer(2, vertices_.buffer());
   sets_.write_buffer(3, draws_.buffer());
   sets_.write_buffer(4, cases_.buffer());
@@ -117,8 +109,6 @@ MarchingCubesRenderer::MarchingCubesRenderer(const VulkanContext& context, const
   sets_.write_buffer(7, indices_.buffer());
   sets_.write_buffer(8, mesh_list_.buffer());
 }
-
-MarchingCubesRenderer::~MarchingCubesRenderer() = default;
 
 std::uint64_t MarchingCubesRenderer::prepare(VkCommandBuffer commands, const FrameView& view,
                                              std::span<const std::uint32_t> changed_bricks) {
@@ -175,11 +165,6 @@ void MarchingCubesRenderer::upload_levels(VkCommandBuffer commands, int slot) {
   vkCmdCopyBuffer(commands, level_staging_.at(slot).buffer(), levels_.buffer(), 1, &region);
   memory_barrier(commands, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
                  VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
-}
-
-void MarchingCubesRenderer::draw(VkCommandBuffer commands, const FrameView& view) {
-  record_surface_draws(commands, view,
-                       {draw_pipeline_, translucent_pipeline_, sets_.set(view.slot), compaction_, cap_});
 }
 
 }  // namespace viewer

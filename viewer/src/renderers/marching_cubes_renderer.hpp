@@ -15,15 +15,12 @@
 
 #include <cstdint>
 
+#include "cells/brick_detail.hpp"
+#include "renderers/brick_surface_renderer.hpp"
 #include "renderers/draw_compaction.hpp"
 #include "vulkan/gpu_buffer.hpp"
-#include "granular/geometry.hpp"
-#include "cells/brick_detail.hpp"
-#include "cells/brick_rebuild_list.hpp"
 #include "vulkan/host_buffer_slots.hpp"
 #include "vulkan/pipeline_builder.hpp"
-#include "renderers/renderer.hpp"
-#include "section/section_cap.hpp"
 
 namespace viewer {
 
@@ -32,31 +29,24 @@ class CellBuffer;
 class MaterialPalette;
 
 /// The marching-cubes renderer.
-class MarchingCubesRenderer final : public Renderer {
+class MarchingCubesRenderer final : public BrickSurfaceRenderer {
  public:
   /// Reads `cells` and `palette` (which must outlive it) and draws into passes compatible with
   /// `target_pass`, keeping `detail`.
   MarchingCubesRenderer(const VulkanContext& context, const CellBuffer& cells, const MaterialPalette& palette,
                         VkRenderPass target_pass, const RenderDetail& detail);
-  /// Destroys its Vulkan objects (after the GPU is done with them).
-  ~MarchingCubesRenderer() override;
 
-  /// See Renderer (renderer.hpp).
-  RendererKind kind() const override { return RendererKind::Marching; }
-  /// See Renderer (renderer.hpp).
-  void invalidate() override { rebuild_.invalidate(); }
-  /// See Renderer (renderer.hpp).
+  /// See Renderer (renderer.hpp): classifies and meshes the changed bricks (and those whose level
+  /// of detail changed).
   std::uint64_t prepare(VkCommandBuffer commands, const FrameView& view,
                         std::span<const std::uint32_t> changed_bricks) override;
-  /// See Renderer (renderer.hpp).
-  void draw(VkCommandBuffer commands, const FrameView& view) override;
 
  private:
+  const DrawCompaction& compaction() const override { return compaction_; }
+
   /// Records the copy of detail_'s levels into levels_ through slot `slot`'s staging buffer.
   void upload_levels(VkCommandBuffer commands, int slot);
 
-  granular::Int3 brick_counts_;
-  std::uint32_t brick_total_;
   std::uint32_t triangles_per_brick_;
   GpuBuffer vertices_;  ///< triangles_per_brick_ vertices a brick
   GpuBuffer indices_;   ///< triangles_per_brick_ x 3 indices a brick, into its vertices
@@ -67,13 +57,8 @@ class MarchingCubesRenderer final : public Renderer {
   HostBufferSlots level_staging_;  ///< detail_'s levels on their way to levels_
   GpuBuffer levels_;               ///< a byte per brick: the level it is meshed at (mc_build.comp)
   std::vector<std::uint32_t> level_rebuild_;  ///< bricks to re-mesh for a change of level
-  DescriptorSets sets_;
-  BrickRebuildList rebuild_;  ///< after sets_: binds its lists there
   Pipeline classify_;
   Pipeline build_;
-  Pipeline draw_pipeline_;
-  Pipeline translucent_pipeline_;
-  SectionCap cap_;
   DrawCompaction compaction_;  ///< draws_ compacted to the bricks that draw something
 };
 

@@ -9,6 +9,7 @@
 #include <memory>
 #include <vector>
 
+#include "vulkan/frame_slots.hpp"
 #include "vulkan/frames_in_flight.hpp"
 #include "vulkan/render_target.hpp"
 #include "renderers/world_renderer.hpp"
@@ -52,8 +53,7 @@ class OffscreenRenderer {
   const VulkanContext& context_;
   std::unique_ptr<RenderTarget> target_;
   std::unique_ptr<WorldRenderer> renderer_;
-  std::array<VkCommandBuffer, kFramesInFlight> commands_{};
-  std::array<VkFence, kFramesInFlight> fences_{};
+  FrameSlots slots_;
   std::array<bool, kFramesInFlight> in_use_{};
   std::vector<GpuTimings> finished_;
   int slot_ = 0;

@@ -11,6 +11,7 @@
 
 #include <cstdint>
 
+#include "vulkan/device_image.hpp"
 #include "vulkan/gpu_buffer.hpp"
 #include "granular/geometry.hpp"
 #include "cells/brick_rebuild_list.hpp"
@@ -55,9 +56,7 @@ class RaymarchRenderer final : public Renderer {
   Pipeline occupancy_pass_;
   Pipeline march_;
   VkExtent2D extent_{};
-  VkImage image_ = VK_NULL_HANDLE;
-  VkDeviceMemory memory_ = VK_NULL_HANDLE;
-  VkImageView view_ = VK_NULL_HANDLE;
+  DeviceImage image_;  ///< the storage image the march writes, at extent_
 };
 
 }  // namespace viewer

@@ -49,11 +49,4 @@ class GpuBuffer {
   void* mapped_ = nullptr;
 };
 
-/// A buffer memory barrier over the whole of `buffer` (synchronization2).
-VkBufferMemoryBarrier2 whole_buffer_barrier(VkBuffer buffer, VkPipelineStageFlags2 src_stage, VkAccessFlags2 src_access,
-                                            VkPipelineStageFlags2 dst_stage, VkAccessFlags2 dst_access);
-/// Records a global memory barrier (synchronization2) from (src_stage, src_access) to (dst_stage, dst_access).
-void memory_barrier(VkCommandBuffer commands, VkPipelineStageFlags2 src_stage, VkAccessFlags2 src_access,
-                    VkPipelineStageFlags2 dst_stage, VkAccessFlags2 dst_access);
-
 }  // namespace viewer

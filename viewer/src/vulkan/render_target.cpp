@@ -5,51 +5,14 @@
 #include <cstring>
 #include <utility>
 
+#include "vulkan/barriers.hpp"
+#include "vulkan/device_image.hpp"
 #include "vulkan/gpu_buffer.hpp"
 #include "vulkan/vulkan_check.hpp"
 #include "vulkan/vulkan_context.hpp"
 
 namespace viewer {
 namespace {
-
-struct Image {
-  VkImage image = VK_NULL_HANDLE;
-  VkDeviceMemory memory = VK_NULL_HANDLE;
-};
-
-Image create_image(const VulkanContext& context, VkExtent2D extent, VkFormat format, VkImageUsageFlags usage) {
-  VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
-  info.imageType = VK_IMAGE_TYPE_2D;
-  info.format = format;
-  info.extent = {extent.width, extent.height, 1};
-  info.mipLevels = 1;
-  info.arrayLayers = 1;
-  info.samples = VK_SAMPLE_COUNT_1_BIT;
-  info.tiling = VK_IMAGE_TILING_OPTIMAL;
-  info.usage = usage;
-  info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-  Image result;
-  vk_check(vkCreateImage(context.device(), &info, nullptr, &result.image), "vkCreateImage");
-  VkMemoryRequirements requirements;
-  vkGetImageMemoryRequirements(context.device(), result.image, &requirements);
-  VkMemoryAllocateInfo allocate{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-  allocate.allocationSize = requirements.size;
-  allocate.memoryTypeIndex = context.memory_type(requirements.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
-  vk_check(vkAllocateMemory(context.device(), &allocate, nullptr, &result.memory), "vkAllocateMemory (image)");
-  vk_check(vkBindImageMemory(context.device(), result.image, result.memory, 0), "vkBindImageMemory");
-  return result;
-}
-
-VkImageView create_view(VkDevice device, VkImage image, VkFormat format, VkImageAspectFlags aspect) {
-  VkImageViewCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
-  info.image = image;
-  info.viewType = VK_IMAGE_VIEW_TYPE_2D;
-  info.format = format;
-  info.subresourceRange = {aspect, 0, 1, 0, 1};
-  VkImageView view = VK_NULL_HANDLE;
-  vk_check(vkCreateImageView(device, &info, nullptr, &view), "vkCreateImageView");
-  return view;
-}
 
 VkRenderPass create_pass(VkDevice device, VkFormat color, VkFormat depth, ColorLoad load, VkImageLayout final_layout) {
   std::array<VkAttachmentDescription, 2> attachments{};
@@ -111,12 +74,10 @@ VkRenderPass create_pass(VkDevice device, VkFormat color, VkFormat depth, ColorL
 
 RenderTarget::RenderTarget(const VulkanContext& context, VkExtent2D extent) : device_(context.device()), extent_(extent) {
   try {
-    const Image color = create_image(context, extent, color_format_,
-                                     VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
-                                         VK_IMAGE_USAGE_TRANSFER_DST_BIT);
-    owned_color_ = color.image;
-    owned_color_memory_ = color.memory;
-    color_images_.push_back(owned_color_);
+    owned_color_ = create_device_image(context, extent, color_format_,
+                                       VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
+                                           VK_IMAGE_USAGE_TRANSFER_DST_BIT);
+    color_images_.push_back(owned_color_.image);
     create_common(context, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
   } catch (...) {
     release();
@@ -136,15 +97,13 @@ RenderTarget::RenderTarget(const VulkanContext& context, VkExtent2D extent, VkFo
 }
 
 void RenderTarget::create_common(const VulkanContext& context, VkImageLayout final_layout) {
-  for (VkImage image : color_images_) color_views_.push_back(create_view(device_, image, color_format_, VK_IMAGE_ASPECT_COLOR_BIT));
-  const Image depth = create_image(context, extent_, depth_format_, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT);
-  depth_image_ = depth.image;
-  depth_memory_ = depth.memory;
-  depth_view_ = create_view(device_, depth_image_, depth_format_, VK_IMAGE_ASPECT_DEPTH_BIT);
+  for (VkImage image : color_images_) color_views_.push_back(create_image_view(device_, image, color_format_, VK_IMAGE_ASPECT_COLOR_BIT));
+  depth_ = create_device_image(context, extent_, depth_format_, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT);
+  depth_.view = create_image_view(device_, depth_.image, depth_format_, VK_IMAGE_ASPECT_DEPTH_BIT);
   clear_pass_ = create_pass(device_, color_format_, depth_format_, ColorLoad::Clear, final_layout);
   load_pass_ = create_pass(device_, color_format_, depth_format_, ColorLoad::Load, final_layout);
   for (VkImageView view : color_views_) {
-    const std::array<VkImageView, 2> attachments{view, depth_view_};
+    const std::array<VkImageView, 2> attachments{view, depth_.view};
     VkFramebufferCreateInfo info{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
     info.renderPass = clear_pass_;
     info.attachmentCount = 2;
@@ -166,18 +125,10 @@ void RenderTarget::release() noexcept {
   if (clear_pass_) vkDestroyRenderPass(device_, clear_pass_, nullptr);
   if (load_pass_) vkDestroyRenderPass(device_, load_pass_, nullptr);
   clear_pass_ = load_pass_ = VK_NULL_HANDLE;
-  if (depth_view_) vkDestroyImageView(device_, depth_view_, nullptr);
-  if (depth_image_) vkDestroyImage(device_, depth_image_, nullptr);
-  if (depth_memory_) vkFreeMemory(device_, depth_memory_, nullptr);
-  depth_view_ = VK_NULL_HANDLE;
-  depth_image_ = VK_NULL_HANDLE;
-  depth_memory_ = VK_NULL_HANDLE;
+  destroy_device_image(device_, depth_);
   for (VkImageView view : color_views_) vkDestroyImageView(device_, view, nullptr);
   color_views_.clear();
-  if (owned_color_) vkDestroyImage(device_, owned_color_, nullptr);
-  if (owned_color_memory_) vkFreeMemory(device_, owned_color_memory_, nullptr);
-  owned_color_ = VK_NULL_HANDLE;
-  owned_color_memory_ = VK_NULL_HANDLE;
+  destroy_device_image(device_, owned_color_);
 }
 
 void RenderTarget::begin(VkCommandBuffer commands, std::uint32_t index, ColorLoad load) const {
@@ -222,21 +173,15 @@ std::vector<std::uint8_t> RenderTarget::read_pixels(const VulkanContext& context
 }
 
 void transition_color_image(VkCommandBuffer commands, VkImage image, VkImageLayout from, VkImageLayout to) {
-  VkImageMemoryBarrier2 barrier{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
-  barrier.srcStageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT;
-  barrier.srcAccessMask = VK_ACCESS_2_MEMORY_WRITE_BIT;
-  barrier.dstStageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT;
-  barrier.dstAccessMask = VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT;
+  VkImageMemoryBarrier2 barrier = scoped(VkImageMemoryBarrier2{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2},
+                                         {VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_WRITE_BIT,
+                                          VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+                                          VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT});
   barrier.oldLayout = from;
   barrier.newLayout = to;
-  barrier.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-  barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
   barrier.image = image;
   barrier.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-  VkDependencyInfo dependency{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-  dependency.imageMemoryBarrierCount = 1;
-  dependency.pImageMemoryBarriers = &barrier;
-  vkCmdPipelineBarrier2(commands, &dependency);
+  record_barrier(commands, barrier);
 }
 
 }  // namespace viewer

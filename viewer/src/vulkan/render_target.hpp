@@ -9,6 +9,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "vulkan/device_image.hpp"
+
 namespace viewer {
 
 class VulkanContext;
@@ -60,12 +62,9 @@ class RenderTarget {
   VkFormat color_format_ = VK_FORMAT_R8G8B8A8_UNORM;
   VkFormat depth_format_ = VK_FORMAT_D32_SFLOAT;
   std::vector<VkImage> color_images_;
-  VkImage owned_color_ = VK_NULL_HANDLE;
-  VkDeviceMemory owned_color_memory_ = VK_NULL_HANDLE;
+  DeviceImage owned_color_;  ///< the offscreen target's colour image (its view is in color_views_)
   std::vector<VkImageView> color_views_;
-  VkImage depth_image_ = VK_NULL_HANDLE;
-  VkDeviceMemory depth_memory_ = VK_NULL_HANDLE;
-  VkImageView depth_view_ = VK_NULL_HANDLE;
+  DeviceImage depth_;
   VkRenderPass clear_pass_ = VK_NULL_HANDLE;
   VkRenderPass load_pass_ = VK_NULL_HANDLE;
   std::vector<VkFramebuffer> framebuffers_;

@@ -40,10 +40,12 @@ GlfwWindow::~GlfwWindow() {
   glfwTerminate();
 }
 
-std::vector<std::string> GlfwWindow::required_instance_extensions() const {
+ContextOptions GlfwWindow::presenting(ContextOptions options) const {
   std::uint32_t count = 0;
   const char** names = glfwGetRequiredInstanceExtensions(&count);
-  return std::vector<std::string>(names, names + count);
+  options.instance_extensions.insert(options.instance_extensions.end(), names, names + count);
+  options.make_surface = [this](VkInstance instance) { return create_surface(instance); };
+  return options;
 }
 
 VkSurfaceKHR GlfwWindow::create_surface(VkInstance instance) const {

@@ -6,7 +6,8 @@
 #include <vulkan/vulkan.h>
 
 #include <string>
-#include <vector>
+
+#include "vulkan/vulkan_context.hpp"
 
 struct GLFWwindow;
 
@@ -25,16 +26,17 @@ class GlfwWindow {
 
   /// The GLFW handle.
   GLFWwindow* handle() const { return window_; }
-  /// Instance extensions needed to create a surface for it.
-  std::vector<std::string> required_instance_extensions() const;
-  /// Creates a surface for the window on `instance`.
-  VkSurfaceKHR create_surface(VkInstance instance) const;
+  /// `options` with what a context that presents to this window needs: GLFW's instance extensions
+  /// (added to those asked for) and the window's surface (the window must outlive the context).
+  ContextOptions presenting(ContextOptions options) const;
   /// Framebuffer size in pixels (0 x 0 while minimised).
   VkExtent2D framebuffer_extent() const;
   /// True once the user asked to close it.
   bool should_close() const;
 
  private:
+  VkSurfaceKHR create_surface(VkInstance instance) const;
+
   GLFWwindow* window_ = nullptr;
 };
 

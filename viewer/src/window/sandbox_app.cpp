@@ -6,6 +6,7 @@
 #include <cstdarg>
 #include <cstdio>
 #include <optional>
+#include <stdexcept>
 #include <memory>
 #include <string>
 #include <utility>
@@ -17,6 +18,7 @@
 
 #include "session/camera.hpp"
 #include "session/content_framing.hpp"
+#include "window/control_dispatch.hpp"
 #include "window/controls.hpp"
 #include "granular/engine/clock.hpp"
 #include "granular/engine/engine_loop.hpp"
@@ -112,10 +114,11 @@ class SandboxApp final : public granular::engine::Subsystem {
         swapchain_(context_, window_.framebuffer_extent()),
         input_(window_.handle()),
         hud_(context_, window_, swapchain_.target().compatible_pass(), swapchain_.min_image_count(), swapchain_.image_count()),
-        kind_(options.renderer == "auto" ? choice_of_renderer_.first() : *parse_renderer_kind(options.renderer)),
+        kind_(options.renderer == "auto" ? automatic_renderer_.first() : *parse_renderer_kind(options.renderer)),
         inside_(options.inside),
         requested_extent_(window_.framebuffer_extent()),
         snapshot_file_(snapshot_file(options)) {
+    bind_controls();
     load(start_choice(options));
     camera_ = initial_camera(options.camera, world(), aspect());
   }
@@ -124,11 +127,11 @@ class SandboxApp final : public granular::engine::Subsystem {
     std::printf("device         %s\n", context_.device_name().c_str());
     std::printf("scene          %s (N=%d), backend %s\n", session_->sandbox.scene_name.c_str(), session_->sandbox.n,
                 world().backend_description().c_str());
-    report("materials      %s (number keys; the right button pours or paints the chosen one)", describe(choices_).c_str());
+    report("materials      %s (number keys; the right button pours or paints the chosen one)", describe(offered_materials_).c_str());
     report("window         %ux%u, renderer %s; Esc or closing the window quits", swapchain_.target().extent().width,
            swapchain_.target().extent().height, to_string(kind_));
     report("snapshots      %s (Ctrl+S saves, Ctrl+O loads)", snapshot_file_.c_str());
-    if (granular::is_snapshot_file(choice_.scene)) report("%s", loaded_line(world(), choice_.scene).c_str());
+    if (granular::is_snapshot_file(world_choice_.scene)) report("%s", loaded_line(world(), world_choice_.scene).c_str());
     std::uint64_t frames = 0;
     const double start = clock_.now_seconds();
     while (!window_.should_close()) {
@@ -142,8 +145,8 @@ class SandboxApp final : public granular::engine::Subsystem {
       if (options_.frames && frames >= std::uint64_t(*options_.frames)) break;
       if (pending_load_) {
         pending_load_ = false;
-        const bool same_scene = choice_.scene == session_->sandbox.scene_name && choice_.size == session_->sandbox.n;
-        load(choice_);
+        const bool same_scene = world_choice_.scene == session_->sandbox.scene_name && world_choice_.size == session_->sandbox.n;
+        load(world_choice_);
         report("%s %s (N=%d)", same_scene ? "reset:" : "scene:", session_->sandbox.scene_name.c_str(), session_->sandbox.n);
         if (!same_scene) camera_ = frame_content(world(), aspect());
       }
@@ -167,16 +170,16 @@ class SandboxApp final : public granular::engine::Subsystem {
     input_.sample();
     frame_seconds_ = frame_seconds;
     if (frame_seconds > 0) fps_ = fps_ * 0.95 + 0.05 / frame_seconds;
-    if (options_.renderer == "auto" && choice_of_renderer_.measuring()) {
-      if (const auto now = choice_of_renderer_.advance(
+    if (options_.renderer == "auto" && automatic_renderer_.measuring()) {
+      if (const auto now = automatic_renderer_.advance(
               frame_seconds, [this](RendererKind kind) { renderer_->set_kind(kind); },
               [this](const std::string& line) { report("%s", line.c_str()); }))
         kind_ = *now;
-      if (!choice_of_renderer_.measuring()) renderer_->release_inactive();
+      if (!automatic_renderer_.measuring()) renderer_->release_inactive();
     }
     pick();
     handle_events();
-    handle_held_input(frame_seconds);
+    controls_.dispatch_held(input_, frame_seconds, claims());
   }
 
   void render(double) override {
@@ -216,9 +219,7 @@ class SandboxApp final : public granular::engine::Subsystem {
         result.device_uuid = *uuid;
       }
     }
-    result.instance_extensions = window.required_instance_extensions();
-    result.make_surface = [&window](VkInstance instance) { return window.create_surface(instance); };
-    return result;
+    return window.presenting(result);
   }
 
   granular::World& world() { return *session_->sandbox.world; }
@@ -276,13 +277,13 @@ class SandboxApp final : public granular::engine::Subsystem {
     session_ = std::move(session);
     const std::vector<Tool> offered = left_button_tools(world().rules());
     if (std::find(offered.begin(), offered.end(), left_tool_) == offered.end()) left_tool_ = Tool::Dig;
-    choices_ = material_choices(world().rules().materials);
+    offered_materials_ = material_choices(world().rules().materials);
     ToolState& tools = session_->tools->state();
-    if (std::none_of(choices_.begin(), choices_.end(), [&](const MaterialChoice& c) { return c.material == tools.material; }))
-      tools.material = choices_.front().material;
-    choice_ = choice;
-    choice_.scene = session_->sandbox.scene_name;
-    choice_.size = session_->sandbox.n;
+    if (std::none_of(offered_materials_.begin(), offered_materials_.end(), [&](const MaterialChoice& c) { return c.material == tools.material; }))
+      tools.material = offered_materials_.front().material;
+    world_choice_ = choice;
+    world_choice_.scene = session_->sandbox.scene_name;
+    world_choice_.size = session_->sandbox.n;
     renderer_ = std::make_unique<WorldRenderer>(context_, world(), swapchain_.target().compatible_pass(), kind_,
                                                 session_->shared.get(), options_.detail);
     renderer_->set_see_inside(inside_);
@@ -303,7 +304,7 @@ class SandboxApp final : public granular::engine::Subsystem {
   /// Loads the world file `path` (a snapshot, or a .raw/.vox grid) and reports it; a file that
   /// cannot be loaded is reported and the world stays.
   void open_file(const std::string& path) {
-    WorldChoice choice = choice_;
+    WorldChoice choice = world_choice_;
     choice.scene = path;
     choice.size = 0;
     const granular::Int3 before = world().size();
@@ -350,7 +351,7 @@ class SandboxApp final : public granular::engine::Subsystem {
 
   /// The user's choice of renderer: it ends the automatic one.
   void set_renderer(RendererKind kind) {
-    choice_of_renderer_.stop();
+    automatic_renderer_.stop();
     try {
       renderer_->set_kind(kind);
     } catch (const VulkanError& e) {
@@ -366,84 +367,94 @@ class SandboxApp final : public granular::engine::Subsystem {
     return extent.height ? float(extent.width) / float(extent.height) : 1.0f;
   }
 
+  /// What each command of the controls table does here; every row's commands have one (the
+  /// constructor checks).
+  void bind_controls() {
+    controls_.handle(Command::UseLeftTool, [this](const Activation&) { start_stroke(GLFW_MOUSE_BUTTON_LEFT, left_tool_); });
+    controls_.handle(Command::UseRightTool, [this](const Activation&) {
+      const MaterialUse use = choice_of(offered_materials_, session_->tools->state().material).use;
+      start_stroke(GLFW_MOUSE_BUTTON_RIGHT, use == MaterialUse::Pour ? Tool::Pour : Tool::Place);
+    });
+    controls_.handle(Command::BrushRadius, [this](const Activation& a) {
+      ToolState& tool = session_->tools->state();
+      tool.radius = std::clamp(tool.radius + a.steps, 1.0, 64.0);
+      report("brush radius: %.0f", tool.radius);
+    });
+    controls_.handle(Command::Orbit, [this](const Activation& a) { camera_.orbit(float(a.dx), float(a.dy)); });
+    controls_.handle(Command::Pan, [this](const Activation& a) { camera_.pan(float(a.dx), float(a.dy)); });
+    controls_.handle(Command::Zoom, [this](const Activation& a) {
+      camera_.zoom(float(std::pow(a.argument < 0 ? 0.4 : 2.5, a.seconds)));
+    });
+    controls_.handle(Command::WheelZoom, [this](const Activation& a) { camera_.zoom(float(std::pow(0.9, a.steps))); });
+    controls_.handle(Command::Fly, [this](const Activation& a) { fly(FlyDirection(a.argument), a.seconds); });
+    controls_.handle(Command::FrameContent, [this](const Activation&) {
+      camera_ = frame_content(world(), aspect());
+      report("camera: framing the content");
+    });
+    controls_.handle(Command::CycleLeftTool, [this](const Activation&) {
+      left_tool_ = next_left_tool(left_tool_, world().rules());
+      report("left button: %s", left_button_description(left_tool_, world().rules()).c_str());
+    });
+    controls_.handle(Command::ChooseMaterial, [this](const Activation& a) {
+      if (const auto choice = choice_of_key(offered_materials_, a.argument)) choose(session_->tools->state(), *choice);
+    });
+    controls_.handle(Command::PauseResume, [this](const Activation&) {
+      session_->simulation->set_paused(!session_->simulation->paused());
+      report("%s", session_->simulation->paused() ? "paused" : "running");
+    });
+    controls_.handle(Command::Step, [this](const Activation&) {
+      if (!session_->simulation->paused()) return;
+      session_->simulation->request_step(session_->simulation->ticks_per_fixed_update());
+      report("step");
+    });
+    controls_.handle(Command::ChangeTicks, [this](const Activation& a) { change_ticks(a.argument); });
+    controls_.handle(Command::NextRenderer, [this](const Activation&) { set_renderer(RendererKind((int(kind_) + 1) % 3)); });
+    controls_.handle(Command::CycleSection, [this](const Activation&) { set_section(inside_.section.cycled()); });
+    controls_.handle(Command::MoveSection, [this](const Activation& a) { set_section(inside_.section.moved(a.argument)); });
+    controls_.handle(Command::XRay, [this](const Activation&) {
+      inside_.xray = !inside_.xray;
+      renderer_->set_see_inside(inside_);
+      report("x-ray: %s", inside_.xray ? "on" : "off");
+    });
+    controls_.handle(Command::Screenshot, [this](const Activation&) { screenshot_requested_ = true; });
+    controls_.handle(Command::Reset, [this](const Activation&) { pending_load_ = true; });
+    controls_.handle(Command::Undo, [this](const Activation&) { undo(); });
+    controls_.handle(Command::Redo, [this](const Activation&) { redo(); });
+    controls_.handle(Command::Save, [this](const Activation&) { save(); });
+    controls_.handle(Command::Load, [this](const Activation&) { pending_file_ = snapshot_file_; });
+    controls_.handle(Command::OpenDropped, [this](const Activation& a) {
+      if (is_world_file(std::string(a.path))) pending_file_ = a.path;  // the last file dropped wins
+      else report("drop: %s is not a world file (.gsnap, .raw or .vox)", std::string(a.path).c_str());
+    });
+    controls_.handle(Command::Quit, [this](const Activation&) { glfwSetWindowShouldClose(window_.handle(), GLFW_TRUE); });
+    if (const std::vector<std::string> rows = controls_.unhandled(); !rows.empty())
+      throw std::logic_error("controls: no handler for the row '" + rows.front() + "' of the controls table");
+  }
+
+  /// Which inputs this frame the HUD takes, and which button holds a stroke.
+  InputClaims claims() const {
+    return InputClaims{hud_.wants_keyboard(), hud_.wants_mouse(), stroke_ ? stroke_->button : -1};
+  }
+
   /// This frame's key presses, typed characters, button presses and releases and dropped files, in
-  /// order: each one acts once, however short.
+  /// order, through the controls table: each one acts once, however short.
   void handle_events() {
     for (const InputEvent& event : input_.events()) {
-      switch (event.kind) {
-        case InputEvent::Kind::KeyPress:
-          if (hud_.wants_keyboard()) break;
-          if (event.mods & GLFW_MOD_CONTROL) on_control_key(event.code, event.mods);
-          else on_key(event.code);
-          break;
-        case InputEvent::Kind::Character:
-          if (!hud_.wants_keyboard()) on_character(event.code);
-          break;
-        case InputEvent::Kind::ButtonPress:
-          if (!hud_.wants_mouse()) on_button_press(event.code, event.mods);
-          break;
-        case InputEvent::Kind::ButtonRelease:
-          if (stroke_ && stroke_->button == event.code) end_stroke();
-          break;
-        case InputEvent::Kind::Drop:
-          if (is_world_file(event.path)) pending_file_ = event.path;  // the last file dropped wins
-          else report("drop: %s is not a world file (.gsnap, .raw or .vox)", event.path.c_str());
-          break;
-      }
+      if (event.kind == InputEvent::Kind::ButtonRelease && stroke_ && stroke_->button == event.code) end_stroke();
+      else controls_.dispatch(event, claims());
     }
   }
 
-  /// Ctrl + key: save, load, undo and redo.
-  void on_control_key(int key, int mods) {
-    switch (key) {
-      case GLFW_KEY_S: save(); break;
-      case GLFW_KEY_O: pending_file_ = snapshot_file_; break;
-      case GLFW_KEY_Z:
-        if (mods & GLFW_MOD_SHIFT) redo();
-        else undo();
-        break;
-      case GLFW_KEY_Y: redo(); break;
-      default: break;
-    }
-  }
-
-  void on_key(int key) {
-    ToolState& tool = session_->tools->state();
-    switch (key) {
-      case GLFW_KEY_F:
-        camera_ = frame_content(world(), aspect());
-        report("camera: framing the content");
-        break;
-      case GLFW_KEY_TAB:
-        left_tool_ = next_left_tool(left_tool_, world().rules());
-        report("left button: %s", left_button_description(left_tool_, world().rules()).c_str());
-        break;
-      case GLFW_KEY_SPACE:
-        session_->simulation->set_paused(!session_->simulation->paused());
-        report("%s", session_->simulation->paused() ? "paused" : "running");
-        break;
-      case GLFW_KEY_N:
-        if (session_->simulation->paused()) {
-          session_->simulation->request_step(session_->simulation->ticks_per_fixed_update());
-          report("step");
-        }
-        break;
-      case GLFW_KEY_C:
-        set_renderer(RendererKind((int(kind_) + 1) % 3));
-        break;
-      case GLFW_KEY_V: set_section(inside_.section.cycled()); break;
-      case GLFW_KEY_B:
-        inside_.xray = !inside_.xray;
-        renderer_->set_see_inside(inside_);
-        report("x-ray: %s", inside_.xray ? "on" : "off");
-        break;
-      case GLFW_KEY_P: screenshot_requested_ = true; break;
-      case GLFW_KEY_R: pending_load_ = true; break;
-      case GLFW_KEY_ESCAPE: glfwSetWindowShouldClose(window_.handle(), GLFW_TRUE); break;
-      default:
-        if (key >= GLFW_KEY_1 && key <= GLFW_KEY_9)
-          if (const auto choice = choice_of_key(choices_, key - GLFW_KEY_0)) choose(tool, *choice);
-        break;
+  /// Moves the camera towards `direction` for `seconds`, at its distance per second.
+  void fly(FlyDirection direction, double seconds) {
+    const float step = camera_.distance * float(seconds);
+    switch (direction) {
+      case FlyForward: camera_.fly(step, 0, 0); break;
+      case FlyBack: camera_.fly(-step, 0, 0); break;
+      case FlyRight: camera_.fly(0, step, 0); break;
+      case FlyLeft: camera_.fly(0, -step, 0); break;
+      case FlyUp: camera_.fly(0, 0, step); break;
+      case FlyDown: camera_.fly(0, 0, -step); break;
     }
   }
 
@@ -454,27 +465,13 @@ class SandboxApp final : public granular::engine::Subsystem {
   }
 
   /// The table's name of `material`.
-  const char* name_of(granular::Material material) const { return choice_of(choices_, material).name.c_str(); }
+  const char* name_of(granular::Material material) const { return choice_of(offered_materials_, material).name.c_str(); }
 
-  /// Characters rather than keys where the symbol matters more than its place on the keyboard.
-  void on_character(int character) {
-    if (character == '[') change_ticks(-1);
-    if (character == ']') change_ticks(+1);
-    if (character == ',') set_section(inside_.section.moved(-1));
-    if (character == '.') set_section(inside_.section.moved(+1));
-  }
-
-  void on_button_press(int button, int mods) {
-    if (stroke_) return;  // one tool at a time
-    ToolState& tool = session_->tools->state();
-    if (button == GLFW_MOUSE_BUTTON_LEFT && !(mods & GLFW_MOD_ALT)) {
-      tool.tool = left_tool_;
-    } else if (button == GLFW_MOUSE_BUTTON_RIGHT) {
-      tool.tool = choice_of(choices_, tool.material).use == MaterialUse::Pour ? Tool::Pour : Tool::Place;
-    } else {
-      return;
-    }
-    tool.held = true;
+  /// Starts a stroke of `tool` held by mouse button `button` (one stroke at a time).
+  void start_stroke(int button, Tool tool) {
+    if (stroke_) return;
+    session_->tools->state().tool = tool;
+    session_->tools->state().held = true;
     session_->history->begin_stroke();
     stroke_ = Stroke{button, session_->tools->cells_changed(), session_->tools->applications(), world().tick(),
                      world().hash()};
@@ -506,37 +503,6 @@ class SandboxApp final : public granular::engine::Subsystem {
     const int ticks = std::clamp(session_->simulation->ticks_per_fixed_update() + delta, 1, 64);
     session_->simulation->set_ticks_per_fixed_update(ticks);
     report("ticks per update: %d", ticks);
-  }
-
-  /// What acts for as long as it is held: flying, zooming, orbiting, panning, and the wheel.
-  void handle_held_input(double seconds) {
-    const bool ctrl = input_.held(GLFW_KEY_LEFT_CONTROL) || input_.held(GLFW_KEY_RIGHT_CONTROL);
-    if (!hud_.wants_keyboard() && !ctrl) {  // Ctrl + S, Z, ... are commands, not flying or zooming
-      const float speed = camera_.distance * float(seconds);
-      const float forward = float(input_.held(GLFW_KEY_W) - input_.held(GLFW_KEY_S));
-      const float right = float(input_.held(GLFW_KEY_D) - input_.held(GLFW_KEY_A));
-      const float up = float(input_.held(GLFW_KEY_E) - input_.held(GLFW_KEY_Q));
-      if (forward != 0 || right != 0 || up != 0) camera_.fly(forward * speed, right * speed, up * speed);
-      if (input_.held(GLFW_KEY_Z)) camera_.zoom(float(std::pow(0.4, seconds)));
-      if (input_.held(GLFW_KEY_X)) camera_.zoom(float(std::pow(2.5, seconds)));
-    }
-    if (hud_.wants_mouse()) return;
-    const bool alt = input_.held(GLFW_KEY_LEFT_ALT) || input_.held(GLFW_KEY_RIGHT_ALT);
-    const bool shift = input_.held(GLFW_KEY_LEFT_SHIFT) || input_.held(GLFW_KEY_RIGHT_SHIFT);
-    const float dx = float(input_.dx()), dy = float(input_.dy());
-    const bool middle = input_.button(GLFW_MOUSE_BUTTON_MIDDLE);
-    const bool left_orbit = input_.button(GLFW_MOUSE_BUTTON_LEFT) && alt && !stroke_;
-    if (middle && shift) camera_.pan(dx, dy);
-    else if (middle || left_orbit) camera_.orbit(dx, dy);
-    if (input_.scroll() != 0) {
-      ToolState& tool = session_->tools->state();
-      if (ctrl) {
-        camera_.zoom(float(std::pow(0.9, input_.scroll())));
-      } else {
-        tool.radius = std::clamp(tool.radius + input_.scroll(), 1.0, 64.0);
-        report("brush radius: %.0f", tool.radius);
-      }
-    }
   }
 
   void pick() {
@@ -575,7 +541,7 @@ class SandboxApp final : public granular::engine::Subsystem {
     ImGui::Text("active bricks %llu / %llu, tick %llu", static_cast<unsigned long long>(activity.active_bricks),
                 static_cast<unsigned long long>(activity.total_bricks), static_cast<unsigned long long>(world().tick()));
     ImGui::Separator();
-    const MaterialChoice& chosen = choice_of(choices_, tool.material);
+    const MaterialChoice& chosen = choice_of(offered_materials_, tool.material);
     ImGui::Text("left button: %s (Tab cycles %s)", to_string(left_tool_), left_button_cycle(world().rules()).c_str());
     if (shake_level(world().rules()) == 0)
       ImGui::Text("no shake tool: rules '%s' have no motion model", world().rules().name.c_str());
@@ -584,8 +550,8 @@ class SandboxApp final : public granular::engine::Subsystem {
     ImGui::Text("section %s (V, comma, period), x-ray %s (B)", inside_.section.describe().c_str(), inside_.xray ? "on" : "off");
     ImGui::Text("%s (Ctrl+Z / Ctrl+Shift+Z)", history_line(*session_->history).c_str());
     ImGui::Text("snapshot file: %s (Ctrl+S / Ctrl+O)", snapshot_file_.c_str());
-    if (const auto clicked = draw_material_panel(choices_, tool.material, counts_))
-      choose(session_->tools->state(), choice_of(choices_, *clicked));
+    if (const auto clicked = draw_material_panel(offered_materials_, tool.material, counts_))
+      choose(session_->tools->state(), choice_of(offered_materials_, *clicked));
     int kind = int(kind_);
     ImGui::Text("renderer");
     for (RendererKind k : {RendererKind::Cubes, RendererKind::Marching, RendererKind::Raymarch}) {
@@ -602,8 +568,8 @@ class SandboxApp final : public granular::engine::Subsystem {
     if (ImGui::BeginCombo("scene", session_->sandbox.scene_name.c_str())) {
       for (const std::string& name : scenes)
         if (ImGui::Selectable(name.c_str(), name == session_->sandbox.scene_name)) {
-          choice_.scene = name;
-          choice_.size = options_.world.size;
+          world_choice_.scene = name;
+          world_choice_.size = options_.world.size;
           pending_load_ = true;
         }
       ImGui::EndCombo();
@@ -611,7 +577,7 @@ class SandboxApp final : public granular::engine::Subsystem {
     ImGui::SameLine();
     if (ImGui::Button("reset")) pending_load_ = true;
     if (ImGui::CollapsingHeader("controls"))
-      for (const Control& control : kControls) ImGui::BulletText("%s: %s", control.input, control.action);
+      for (const Control& control : kControls) ImGui::BulletText("%s: %s", control.text.input, control.text.action);
     ImGui::End();
   }
 
@@ -621,7 +587,8 @@ class SandboxApp final : public granular::engine::Subsystem {
   Swapchain swapchain_;
   InputTracker input_;
   Hud hud_;
-  RendererChoice choice_of_renderer_;  ///< measures the renderers while --renderer is auto
+  ControlDispatch controls_;  ///< the controls table's commands and what they do here
+  RendererChoice automatic_renderer_;  ///< measures the renderers while --renderer is auto
   RendererKind kind_;
   SeeInside inside_;  ///< the section plane (V, comma, period) and x-ray (B) of every frame
   VkExtent2D requested_extent_;
@@ -630,14 +597,14 @@ class SandboxApp final : public granular::engine::Subsystem {
   std::unique_ptr<WorldRenderer> renderer_;
   std::unique_ptr<granular::engine::EngineLoop> loop_;
   OrbitCamera camera_;
-  WorldChoice choice_;
+  WorldChoice world_choice_;  ///< the world loaded last: what R and the HUD's reset load again, a scene pick changes
   bool pending_load_ = false;
   bool screenshot_requested_ = false;  ///< P was pressed: write the frame once it is presented
   std::string snapshot_file_;  ///< the file of Ctrl+S and Ctrl+O (--save, else kDefaultSnapshotFile)
   std::string pending_file_;   ///< a world file to load after this frame (Ctrl+O, a drop); "" for none
   std::optional<Stroke> stroke_;
   Tool left_tool_ = Tool::Dig;  ///< the left button's tool, one of left_button_tools(world().rules())
-  std::vector<MaterialChoice> choices_;  ///< the materials of the world's table, on keys 1..7
+  std::vector<MaterialChoice> offered_materials_;  ///< the materials of the world's table, on keys 1..7
   double frame_seconds_ = 0;
   double fps_ = 0;
   double counts_age_ = 1e9;

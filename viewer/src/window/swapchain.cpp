@@ -18,18 +18,8 @@ VkSemaphore make_semaphore(VkDevice device) {
 
 }  // namespace
 
-Swapchain::Swapchain(const VulkanContext& context, VkExtent2D extent) : context_(context) {
-  VkCommandBufferAllocateInfo allocate{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
-  allocate.commandPool = context.command_pool();
-  allocate.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-  allocate.commandBufferCount = kFramesInFlight;
-  vk_check(vkAllocateCommandBuffers(context.device(), &allocate, commands_.data()), "vkAllocateCommandBuffers");
-  for (int slot = 0; slot < kFramesInFlight; ++slot) {
-    VkFenceCreateInfo fence{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
-    fence.flags = VK_FENCE_CREATE_SIGNALED_BIT;
-    vk_check(vkCreateFence(context.device(), &fence, nullptr, &fences_[slot]), "vkCreateFence");
-    image_available_[slot] = make_semaphore(context.device());
-  }
+Swapchain::Swapchain(const VulkanContext& context, VkExtent2D extent) : context_(context), slots_(context) {
+  for (VkSemaphore& semaphore : image_available_) semaphore = make_semaphore(context.device());
   create(extent);
 }
 
@@ -37,11 +27,7 @@ Swapchain::~Swapchain() {
   const VkDevice device = context_.device();
   vkDeviceWaitIdle(device);
   destroy_swapchain();
-  for (int slot = 0; slot < kFramesInFlight; ++slot) {
-    vkDestroyFence(device, fences_[slot], nullptr);
-    vkDestroySemaphore(device, image_available_[slot], nullptr);
-  }
-  vkFreeCommandBuffers(device, context_.command_pool(), kFramesInFlight, commands_.data());
+  for (VkSemaphore semaphore : image_available_) vkDestroySemaphore(device, semaphore, nullptr);
 }
 
 void Swapchain::destroy_swapchain() {
@@ -106,19 +92,14 @@ void Swapchain::recreate(VkExtent2D extent) {
 
 std::optional<AcquiredFrame> Swapchain::begin_frame() {
   const VkDevice device = context_.device();
-  vk_check(vkWaitForFences(device, 1, &fences_[slot_], VK_TRUE, UINT64_MAX), "vkWaitForFences");
+  slots_.wait(slot_);
   AcquiredFrame frame;
   frame.slot = slot_;
   const VkResult acquired =
       vkAcquireNextImageKHR(device, swapchain_, UINT64_MAX, image_available_[slot_], VK_NULL_HANDLE, &frame.image_index);
   if (acquired == VK_ERROR_OUT_OF_DATE_KHR) return std::nullopt;
   vk_check(acquired, "vkAcquireNextImageKHR");
-  vk_check(vkResetFences(device, 1, &fences_[slot_]), "vkResetFences");
-  frame.commands = commands_[slot_];
-  vk_check(vkResetCommandBuffer(frame.commands, 0), "vkResetCommandBuffer");
-  VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
-  begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-  vk_check(vkBeginCommandBuffer(frame.commands, &begin), "vkBeginCommandBuffer");
+  frame.commands = slots_.begin(slot_);
   return frame;
 }
 
@@ -134,7 +115,7 @@ bool Swapchain::end_frame(const AcquiredFrame& frame) {
   submit.pCommandBuffers = &frame.commands;
   submit.signalSemaphoreCount = 1;
   submit.pSignalSemaphores = &render_finished_[frame.image_index];
-  vk_check(vkQueueSubmit(context_.queue(), 1, &submit, fences_[frame.slot]), "vkQueueSubmit");
+  vk_check(vkQueueSubmit(context_.queue(), 1, &submit, slots_.fence(frame.slot)), "vkQueueSubmit");
   VkPresentInfoKHR present{VK_STRUCTURE_TYPE_PRESENT_INFO_KHR};
   present.waitSemaphoreCount = 1;
   present.pWaitSemaphores = &render_finished_[frame.image_index];

@@ -12,6 +12,7 @@
 #include <optional>
 #include <vector>
 
+#include "vulkan/frame_slots.hpp"
 #include "vulkan/frames_in_flight.hpp"
 #include "vulkan/render_target.hpp"
 
@@ -62,8 +63,7 @@ class Swapchain {
   std::vector<VkImage> images_;
   std::uint32_t min_image_count_ = 2;
   std::unique_ptr<RenderTarget> target_;
-  std::array<VkCommandBuffer, kFramesInFlight> commands_{};
-  std::array<VkFence, kFramesInFlight> fences_{};
+  FrameSlots slots_;
   std::array<VkSemaphore, kFramesInFlight> image_available_{};
   std::vector<VkSemaphore> render_finished_;
   int slot_ = 0;
