@@ -109,8 +109,12 @@ class World {
   std::vector<std::uint8_t> read_region(const Box& box) const;
   /// Copies the cells of `box` into `out` (size box.volume()).
   void read_region(const Box& box, std::span<std::uint8_t> out) const;
-  /// A copy of the whole grid's materials (grains restart at rest when it is loaded).
-  Grid snapshot() const;
+  /// Copies the whole grid's materials into a Grid, without the grains' motion state (a World made
+  /// from it starts its grains at rest); capture() gives the whole state, motion included.
+  Grid read_grid() const;
+  /// Deprecated name of read_grid(), which copies the cells into a Grid (a WorldSnapshot is
+  /// capture()'s).
+  [[deprecated("use read_grid(); capture() gives the WorldSnapshot")]] Grid snapshot() const { return read_grid(); }
   /// Replaces every cell with those of `grid`, which must have this world's size (a grain whose
   /// material is unchanged keeps its motion state).
   void load(const Grid& grid);

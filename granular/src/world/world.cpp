@@ -291,7 +291,7 @@ void World::read_region(const Box& box, std::span<std::uint8_t> out) const {
   strip_motion(out);
 }
 
-Grid World::snapshot() const {
+Grid World::read_grid() const {
   Grid g(size_);
   live().read(g.bounds(), g.cells());
   strip_motion(g.cells());
