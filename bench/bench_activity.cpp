@@ -147,7 +147,7 @@ int run(const Options& o) {
           << a.total_bricks << '\n';
       quiet_windows = a.brick_ticks == 0 ? quiet_windows + 1 : 0;
     }
-    dense.load(sparse.snapshot());
+    dense.load(sparse.read_grid());
   }
   csv.close();
   const ActivityStats end = sparse.activity();

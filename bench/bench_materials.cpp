@@ -186,7 +186,7 @@ int run(const Options& o) {
   const bool comparable = take_over || dense.tick() == sparse.tick();
   std::optional<World> fresh_dense, fresh_sparse;
   if (take_over) {
-    const Grid resting = sparse.snapshot();
+    const Grid resting = sparse.read_grid();
     fresh_dense.emplace(def_for(o, size, false), resting);
     fresh_sparse.emplace(def_for(o, size, true), resting);
   }

@@ -160,14 +160,14 @@ void run(BackendKind kind, const Options& o) {
   });
 
   // The whole grid: load alternates two grids so each call changes cells.
-  Grid a = world.snapshot(), b = a;
+  Grid a = world.read_grid(), b = a;
   b.set({0, 0, o.size.z - 1}, Material::Solid);
   const int whole = 3;
   time_calls(name, "load (whole grid)", world, whole, [&](int i) {
     world.load(i % 2 == 0 ? b : a);
     return true;
   });
-  time_calls(name, "snapshot (whole grid)", world, whole, [&](int) { return world.snapshot().cell_count() > 0; });
+  time_calls(name, "snapshot (whole grid)", world, whole, [&](int) { return world.read_grid().cell_count() > 0; });
 
   // The game's loop: a tick alone, and a tick with a pour, by turns.
   const int ticks = std::max(1, o.calls / 10);

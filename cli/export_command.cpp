@@ -22,7 +22,7 @@ void run(const ExportOptions& o) {
   check_grid_save_path(o.out);
   PreparedWorld p = prepare_world(o.world, kExportBytesPerCell);
   run_ticks(p, o.ticks, !o.no_progress);
-  const Grid grid = p.world->snapshot();
+  const Grid grid = p.world->read_grid();
   save_grid(grid, o.out);
   const MaterialCounts c = grid.count();
   std::printf("wrote %s: %s after %llu ticks, %llu solid, %llu granular, hash %016llx\n", o.out.c_str(),

@@ -56,7 +56,7 @@ inline std::string departure_from_plain_loop(World& world, const PlainTrajectory
                         ", the plain loop's " + hex64(want) + "; ";
     std::vector<std::uint8_t> materials(expected.size());
     for (std::size_t i = 0; i < expected.size(); ++i) materials[i] = cell_material(expected[i]);
-    const Grid snapshot = world.snapshot();
+    const Grid snapshot = world.read_grid();
     const std::string cell = first_differing_cell(plain.size, materials, snapshot.cells(), "plain loop", "world");
     return where + (cell.empty() ? "every material agrees, so they differ in grains' motion bits only"
                                  : "materials only (World reads no motion bits): " + cell);

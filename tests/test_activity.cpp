@@ -86,7 +86,7 @@ TEST_CASE("activity: sparse stepping gives the dense hash on random scenes, odd 
       if (rng() % 3 == 0) random_tool(rng, dense, sparse);
       REQUIRE(sparse.hash() == dense.hash());
     }
-    CHECK(sparse.snapshot().cells().size() == dense.snapshot().cells().size());
+    CHECK(sparse.read_grid().cells().size() == dense.read_grid().cells().size());
     CHECK(slept < sparse.activity().total_bricks);  // sparse stepping did skip bricks
   }
 }
@@ -216,7 +216,7 @@ TEST_CASE("activity: bricks_changed_since lists exactly the bricks whose cells c
     World world(test_def(size, rules, 2, 3), random_grid(size, 8, 5, 15));
     std::mt19937_64 rng(5);
     for (int t = 0; t < 120; ++t) {
-      const Grid before = world.snapshot();
+      const Grid before = world.read_grid();
       const std::uint64_t version = world.change_version();
       if (t % 10 == 5) {
         World twin(test_def(size, rules, 2, 3), before);
@@ -226,7 +226,7 @@ TEST_CASE("activity: bricks_changed_since lists exactly the bricks whose cells c
       }
       const auto listed = world.bricks_changed_since(version);
       const std::set<std::uint32_t> got(listed.begin(), listed.end());
-      const std::set<std::uint32_t> differing = differing_bricks(before, world.snapshot());
+      const std::set<std::uint32_t> differing = differing_bricks(before, world.read_grid());
       if (world.rules().motion.enabled()) {
         // Cell bytes also hold the grains' motion state, which a snapshot leaves out: the list
         // holds every brick whose materials changed, and those where only a grain's motion did.

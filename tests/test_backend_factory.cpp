@@ -7,6 +7,7 @@
 #include <doctest/doctest.h>
 
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "granular/extend/backend.hpp"
@@ -28,18 +29,12 @@ TEST_CASE("backend factory: the game's factory creates the world's backend from 
   def.sparse = false;
   def.cuda.dense_fraction = 0.5;
   int calls = 0;
-  BackendCreateInfo seen{.initial = initial};
+  std::optional<BackendCreateInfo> seen;
   WorldDef own = def;
   own.backend = BackendKind::Cuda;  // the factory wins over the kind
   own.backend_factory = [&](const BackendCreateInfo& info) {
     ++calls;
-    seen.lut = info.lut;
-    seen.rules = info.rules;
-    seen.seed = info.seed;
-    seen.sparse = info.sparse;
-    seen.threads = info.threads;
-    seen.task_system = info.task_system;
-    seen.cuda = info.cuda;
+    seen.emplace(info);
     CHECK(info.initial.hash() == initial.hash());
     BackendCreateInfo one_thread = info;
     one_thread.threads = 1;
@@ -48,14 +43,15 @@ TEST_CASE("backend factory: the game's factory creates the world's backend from 
   World mine(own, initial);
   World plain(def, initial);
   CHECK(calls == 1);
-  CHECK(seen.lut.get() == &mine.lut());
-  CHECK(seen.rules.get() == &mine.rules());
-  CHECK(seen.rules->name == "inertial-24");
-  CHECK(seen.seed == 41u);
-  CHECK_FALSE(seen.sparse);
-  CHECK(seen.threads == 2);
-  CHECK(seen.task_system == nullptr);
-  CHECK(seen.cuda.dense_fraction == 0.5);
+  REQUIRE(seen.has_value());
+  CHECK(seen->lut.get() == &mine.lut());
+  CHECK(seen->rules.get() == &mine.rules());
+  CHECK(seen->rules->name == "inertial-24");
+  CHECK(seen->seed == 41u);
+  CHECK_FALSE(seen->sparse);
+  CHECK(seen->threads == 2);
+  CHECK(seen->task_system == nullptr);
+  CHECK(seen->cuda.dense_fraction == 0.5);
   CHECK(mine.backend() == BackendKind::Cpu);
   CHECK(mine.backend_description() == "cpu (1 thread)");
   CHECK(plain.backend_description() == "cpu (2 threads)");

@@ -30,7 +30,7 @@ TEST_CASE("bowl: the paper's benchmark ends with the bowl filled and buried (Fig
     World world(test::test_def(start.size()), start);
     const std::uint64_t ticks = run_until_settled(world, 20000);
     CHECK(ticks < 20000);  // it comes to rest
-    const Grid end = world.snapshot();
+    const Grid end = world.read_grid();
     CHECK(end.count() == start.count());
 
     int rim = -1;

@@ -30,7 +30,7 @@ TEST_CASE("entrain: a bed tilted at 40 degrees stands under inertial-24 and aval
   World lever(entrain_def(bed.size(), "inertial-24-entrain", true), bed);
   plain.step(2000);
   lever.step(2000);
-  const Grid plain_grid = plain.snapshot(), lever_grid = lever.snapshot();
+  const Grid plain_grid = plain.read_grid(), lever_grid = lever.read_grid();
   const double plain_moved = accuracy::moved_fraction(bed, plain_grid);
   const double lever_moved = accuracy::moved_fraction(bed, lever_grid);
   const double built = accuracy::tilted_bed_slope_deg(bed, kBed);
@@ -60,7 +60,7 @@ TEST_CASE("entrain: sparse equals dense while the avalanche runs, and the settle
     sparse.step(ticks);
     REQUIRE(sparse.hash() == dense.hash());
   }
-  CHECK(accuracy::moved_fraction(bed, dense.snapshot()) > 0.01);  // the lever was at work
+  CHECK(accuracy::moved_fraction(bed, dense.read_grid()) > 0.01);  // the lever was at work
   dense.step(3000);
   sparse.step(3000);
   CHECK(sparse.hash() == dense.hash());

@@ -145,14 +145,14 @@ TEST_CASE("fluid scenes: dam_break: the released column runs out along the chann
   SceneRun run("dam_break", n);
   const int length = run.size().x;
   auto front = [&] {
-    const Grid g = run.world().snapshot();
+    const Grid g = run.world().read_grid();
     int f = 0;
     for (int x = 0; x < length; ++x)
       if (slab_depth(g, x, Material::Liquid) >= 1.0) f = x + 1;
     return f;
   };
   auto depth_range = [&] {
-    const Grid g = run.world().snapshot();
+    const Grid g = run.world().read_grid();
     double lo = 1e9, hi = 0;
     for (int x = 0; x < length; ++x) {
       const double d = slab_depth(g, x, Material::Liquid);
@@ -163,7 +163,7 @@ TEST_CASE("fluid scenes: dam_break: the released column runs out along the chann
   };
   // The column: 0.25 N long, 0.5 N high, on the floor at the x = 0 end.
   REQUIRE(front() == face(0.25, n));
-  CHECK(slab_depth(run.world().snapshot(), 0, Material::Liquid) == doctest::Approx(0.5 * n));
+  CHECK(slab_depth(run.world().read_grid(), 0, Material::Liquid) == doctest::Approx(0.5 * n));
 
   std::vector<int> fronts;
   for (std::uint64_t t : {25, 50, 100}) {
@@ -211,7 +211,7 @@ const UTubeRun& u_tube_run() {
     UTubeRun r;
     const int left_end = face(0.4, n), right_start = face(0.6, n), width = run.size().x;
     auto read = [&] {
-      const Grid g = run.world().snapshot();
+      const Grid g = run.world().read_grid();
       r.ticks.push_back(run.world().tick());
       r.left.push_back(surface_height(g, 0, left_end));
       r.right.push_back(surface_height(g, right_start, width));
@@ -290,7 +290,7 @@ TEST_CASE("fluid scenes: sand_into_water: the sand sinks to the tank's floor and
   SceneRun run("sand_into_water", n);
   const Int3 size = run.size();
   const int floor = face(0.04, n);
-  const Grid start = run.world().snapshot();
+  const Grid start = run.world().read_grid();
   const double surface0 = surface_height(start, 0, size.x);
   std::int64_t water_columns = 0;  // the tank's area, in columns
   for (int y = 0; y < size.y; ++y)
@@ -302,7 +302,7 @@ TEST_CASE("fluid scenes: sand_into_water: the sand sinks to the tank's floor and
   const Emitter& emitter = run.instance().emitters[0];
   CHECK(emitter.material == Material::Granular);
   const bool rested = run.run_to_rest(emitter.stop + 1200);
-  const Grid end = run.world().snapshot();
+  const Grid end = run.world().read_grid();
   run.check_conserved();
   const double surface = surface_height(end, 0, size.x);
 
@@ -329,7 +329,7 @@ TEST_CASE("fluid scenes: sand_into_water: the sand sinks to the tank's floor and
   // The sand comes to rest under the water; the water itself rests only when its surface ends in
   // whole layers (a partly filled top layer keeps walking: docs/ARCHITECTURE.md, "Materials").
   auto sand_cells = [&] {
-    const Grid g = run.world().snapshot();
+    const Grid g = run.world().read_grid();
     std::vector<std::size_t> at;
     for (std::size_t i = 0; i < g.cells().size(); ++i)
       if (g.cells()[i] == to_cell(Material::Granular)) at.push_back(i);
@@ -364,7 +364,7 @@ TEST_CASE("fluid scenes: bubbles: free gas rises above the water; the cup keeps 
     int cup_gas_bottom = 1 << 30, cup_water_top = -1;   // the same inside the cup
   };
   auto census = [&] {
-    const Grid g = run.world().snapshot();
+    const Grid g = run.world().read_grid();
     Census c;
     for (int z = 0; z < size.z; ++z)
       for (int y = 0; y < size.y; ++y)
@@ -429,7 +429,7 @@ TEST_CASE("fluid scenes: gravel_and_sand: from the same stream the gravel heaps 
   const bool rested = run.run_to_rest(stop + 1500);
   CHECK(rested);
   run.check_conserved();
-  const Grid end = run.world().snapshot();
+  const Grid end = run.world().read_grid();
   const int floor = face(0.04, n);
   constexpr double kPi = 3.14159265358979323846, kDeg = 180.0 / kPi;
   struct Heap {

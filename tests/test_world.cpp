@@ -18,7 +18,7 @@ using granular::test::test_def;
 namespace {
 
 int height_of_single_grain(const World& w) {
-  const Grid g = w.snapshot();
+  const Grid g = w.read_grid();
   for (int z = 0; z < g.size().z; ++z)
     for (int y = 0; y < g.size().y; ++y)
       for (int x = 0; x < g.size().x; ++x)
@@ -79,7 +79,7 @@ TEST_CASE("world: same seed gives the same hash; the thread count never changes 
       else
         CHECK(world.hash() == reference);
       // The hash covers whole cell bytes, motion state included (motion.hpp); a snapshot holds materials.
-      if (!world.rules().motion.enabled()) CHECK(world.hash() == world.snapshot().hash());
+      if (!world.rules().motion.enabled()) CHECK(world.hash() == world.read_grid().hash());
     }
     World again(test_def(size, rules, 2, 99), initial);
     again.step(600);
@@ -117,7 +117,7 @@ TEST_CASE("world: blocks that straddle the boundary update: a grain in any top c
       }
       world.step(1);
       CHECK(height_of_single_grain(world) == 0);
-      const Grid g = world.snapshot();
+      const Grid g = world.read_grid();
       CHECK(g.at({cx, cy, 0}) == Material::Granular);  // a lone grain on the floor does not wander
     }
 }
@@ -127,7 +127,7 @@ TEST_CASE("world: a poured column piles into a heap, not a tower") {
   World world(test_def(size, "isotropic"));
   world.paint(Box{{14, 14, 8}, {19, 19, 40}}, Material::Granular);  // a 5x5x32 column
   world.step(2000);
-  const Grid g = world.snapshot();
+  const Grid g = world.read_grid();
   int top = 0;
   std::int64_t floor_cells = 0;
   for (int y = 0; y < size.y; ++y)
@@ -285,10 +285,10 @@ TEST_CASE("world: bricks_changed_since lists every brick a step or a tool change
 
   // A grain falling through brick boundaries: every brick it was in must be listed.
   world.paint(Box{{5, 5, 30}, {6, 6, 31}}, Material::Granular);
-  const Grid before = world.snapshot();
+  const Grid before = world.read_grid();
   const std::uint64_t v2 = world.change_version();
   world.step(40);
-  const Grid after = world.snapshot();
+  const Grid after = world.read_grid();
   const auto listed = world.bricks_changed_since(v2);
   for (std::uint32_t b = 0; b < std::uint32_t(n.x * n.y * n.z); ++b) {
     const Box box = brick_box(size, b);

@@ -145,7 +145,7 @@ TEST_CASE("bad input: a moved-from World throws StateError instead of crashing")
   CHECK_THROWS_WITH_AS(world.step(1), doctest::Contains("moved from"), StateError);
   CHECK_THROWS_AS(world.count(), StateError);
   CHECK_THROWS_AS(world.hash(), StateError);
-  CHECK_THROWS_AS(world.snapshot(), StateError);
+  CHECK_THROWS_AS(world.read_grid(), StateError);
   CHECK_THROWS_AS(world.rules(), StateError);
   CHECK_THROWS_AS(world.lut(), StateError);
   CHECK_THROWS_AS(world.backend(), StateError);

@@ -117,7 +117,7 @@ TEST_CASE("world tools: each tool reads its region once and writes it at most on
 
   // Each call: the same tools and load, with steps between some of them.
   const Grid loaded = [&] {
-    Grid g = world.snapshot();
+    Grid g = world.read_grid();
     g.set({20, 20, 30}, Material::Granular);
     g.set({1, 1, 1}, Material::Solid);
     return g;

@@ -109,7 +109,7 @@ TestReport run_buoyancy_test(const SuiteOptions& o) {
   while (ticks < limit) {
     world.step(8);
     ticks += 8;
-    sample(ticks, world.snapshot());
+    sample(ticks, world.read_grid());
     const std::uint64_t h = world.hash();
     if (h == previous) {
       settled = true;
@@ -117,7 +117,7 @@ TestReport run_buoyancy_test(const SuiteOptions& o) {
     }
     previous = h;
   }
-  const Grid final_grid = world.snapshot();
+  const Grid final_grid = world.read_grid();
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   r.ticks = ticks;
   r.cell_updates = double(initial.cell_count()) * double(ticks);

@@ -77,7 +77,7 @@ TestReport run_collapse_test(const SuiteOptions& o) {
     const MaterialCounts before = world.count();
     const auto start = std::chrono::steady_clock::now();
     const SettleResult rest = settle(world, 64ull * std::uint64_t(h0 + half) + 1024);
-    const Grid final_grid = world.snapshot();
+    const Grid final_grid = world.read_grid();
     r.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     r.ticks += rest.ticks + 8;
     r.cell_updates += double(size.x) * size.y * size.z * double(rest.ticks + 8);

@@ -90,9 +90,9 @@ TestReport run_dug_slope_test(const SuiteOptions& o) {
   const SettleResult bed_rest = settle(world, limit);
   const MaterialCounts before = world.count();
   const ChangeReport dug = world.dig(bed.crater());
-  const Grid as_dug = world.snapshot();
+  const Grid as_dug = world.read_grid();
   const SettleResult rest = settle(world, limit);
-  const Grid settled = world.snapshot();
+  const Grid settled = world.read_grid();
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   r.ticks = world.tick();
   r.cell_updates = double(s.x) * s.y * s.z * double(r.ticks);

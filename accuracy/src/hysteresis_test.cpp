@@ -32,7 +32,7 @@ TestReport run_hysteresis_test(const SuiteOptions& o) {
     world.step(4 * bed.slope_length);
     r.ticks += 4 * std::uint64_t(bed.slope_length);
     r.cell_updates += double(s.x) * s.y * s.z * 4 * bed.slope_length;
-    const Grid after = world.snapshot();
+    const Grid after = world.read_grid();
     r.conserved = r.conserved && after.count() == before;
     const double fraction = moved_fraction(initial, after);
     moved_series.x.push_back(deg);
@@ -43,7 +43,7 @@ TestReport run_hysteresis_test(const SuiteOptions& o) {
       const SettleResult rest = settle(world, limit);
       r.ticks += rest.ticks + 8;
       r.cell_updates += double(s.x) * s.y * s.z * double(rest.ticks + 8);
-      const Grid final_grid = world.snapshot();
+      const Grid final_grid = world.read_grid();
       r.conserved = r.conserved && final_grid.count() == before;
       theta_stop = tilted_bed_slope_deg(final_grid, bed);
       if (!rest.settled) r.notes.push_back("the avalanche had not stopped after " + std::to_string(limit) + " ticks");

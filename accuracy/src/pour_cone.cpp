@@ -43,7 +43,7 @@ PourResult pour_cone(const WorldDef& base, int floor_size, int height, std::int6
   result.settled = settle(world, settle_ticks).settled;
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   result.ticks = world.tick();
-  result.grid = world.snapshot();
+  result.grid = world.read_grid();
   result.after = result.grid.count();
   result.conserved = true;
   for (int m = 0; m < kMaterialCount; ++m)

@@ -32,7 +32,7 @@
 #include "sparse_kernel.cuh"
 #include "step/block_step.hpp"
 #include "step/motion_table.hpp"
-#include "step/step_materials.hpp"
+#include "step/step_rules_builder.hpp"
 #include "table_kernels.cuh"
 
 namespace granular {
@@ -92,18 +92,15 @@ class CudaBackend final : public Backend {
     cuda::check(cudaMemcpyAsync(table.data(), info.lut->entries().data(), table.bytes(), cudaMemcpyHostToDevice, s),
                 "cudaMemcpyAsync (upload transition table)");
     cuda::launch_result_table(table.data(), result_.data(), s);
-    const RuleSet& rules = *info.rules;
-    step_rules_.seed = info.seed;
-    step_rules_.random_symmetry = rules.random_symmetry;
-    step_rules_.random_axis_order = rules.random_axis_order;
-    step_rules_.motion = rules.motion;
-    step_rules_.materials = step_materials(rules.materials);
-    step_rules_.origin = block_position_offset(info.domain_origin.x, info.domain_origin.y, info.domain_origin.z);
-    step_rules_.result = result_.data();
+    // The sparse state is made for the Rules' type (init_sparse), so the inert-key table and the
+    // motion entries made after it are pointed to once they exist.
+    StepTables tables;
+    tables.result = result_.data();
+    step_rules_ = make_step_rules(info, tables);
     if (sparse_) init_sparse(s);
     step_rules_.inert = inert_.data();
     stream_.synchronize("building the result table");
-    if (rules.motion.enabled()) {
+    if (info.rules->motion.enabled()) {
       // The motion model looks up the motion entries (2 MiB, cache-resident on the device).
       const std::vector<motion::MotionEntry> motion_table = derive_motion_table(info.lut->entries());
       table_ = cuda::DeviceBuffer<motion::MotionEntry>(motion_table.size(), "the motion entries");

@@ -4,60 +4,49 @@
 
 #include <cuda_runtime.h>
 
-#include <utility>
-
 #include "cuda_check.cuh"
+#include "owned_handle.cuh"
 
 namespace granular::cuda {
 
-/// A stream of its own (ordered with the legacy default stream, so nothing races it).
+/// A stream of its own (ordered with the legacy default stream, so nothing races it). Move-only.
 class Stream {
  public:
   /// Creates the stream on the current device. Throws BackendError.
-  Stream() { check(cudaStreamCreate(&stream_), "cudaStreamCreate"); }
-  ~Stream() {
-    if (stream_ != nullptr) cudaStreamDestroy(stream_);
-  }
-  Stream(Stream&& other) noexcept : stream_(std::exchange(other.stream_, nullptr)) {}
-  Stream& operator=(Stream&&) = delete;
-  Stream(const Stream&) = delete;
-  Stream& operator=(const Stream&) = delete;
+  Stream()
+      : stream_(create_owned<cudaStream_t, cudaStreamDestroy>([](cudaStream_t* s) { return cudaStreamCreate(s); },
+                                                               "cudaStreamCreate")) {}
 
   /// The raw handle.
-  cudaStream_t get() const { return stream_; }
+  cudaStream_t get() const { return stream_.get(); }
   /// Waits for everything enqueued so far; throws BackendError naming `what` on any error,
   /// including a kernel that failed asynchronously.
-  void synchronize(const char* what) const { check(cudaStreamSynchronize(stream_), what); }
+  void synchronize(const char* what) const { check(cudaStreamSynchronize(stream_.get()), what); }
 
  private:
-  cudaStream_t stream_ = nullptr;
+  OwnedHandle<cudaStream_t, cudaStreamDestroy> stream_;
 };
 
-/// A timing event.
+/// A timing event. Move-only.
 class Event {
  public:
   /// Creates the event on the current device. Throws BackendError.
-  Event() { check(cudaEventCreate(&event_), "cudaEventCreate"); }
-  ~Event() {
-    if (event_ != nullptr) cudaEventDestroy(event_);
-  }
-  Event(Event&& other) noexcept : event_(std::exchange(other.event_, nullptr)) {}
-  Event& operator=(Event&&) = delete;
-  Event(const Event&) = delete;
-  Event& operator=(const Event&) = delete;
+  Event()
+      : event_(create_owned<cudaEvent_t, cudaEventDestroy>([](cudaEvent_t* e) { return cudaEventCreate(e); },
+                                                            "cudaEventCreate")) {}
 
   /// Records the event on `stream`.
-  void record(cudaStream_t stream) { check(cudaEventRecord(event_, stream), "cudaEventRecord"); }
+  void record(cudaStream_t stream) { check(cudaEventRecord(event_.get(), stream), "cudaEventRecord"); }
   /// Milliseconds from `start` to this event; waits for this event to complete.
   float ms_since(const Event& start) const {
-    check(cudaEventSynchronize(event_), "cudaEventSynchronize");
+    check(cudaEventSynchronize(event_.get()), "cudaEventSynchronize");
     float ms = 0;
-    check(cudaEventElapsedTime(&ms, start.event_, event_), "cudaEventElapsedTime");
+    check(cudaEventElapsedTime(&ms, start.event_.get(), event_.get()), "cudaEventElapsedTime");
     return ms;
   }
 
  private:
-  cudaEvent_t event_ = nullptr;
+  OwnedHandle<cudaEvent_t, cudaEventDestroy> event_;
 };
 
 }  // namespace granular::cuda

@@ -8,11 +8,11 @@
 
 #include <cstdint>
 #include <string>
-#include <utility>
 
 #include "cuda_check.cuh"
 #include "granular/errors.hpp"
 #include "granular/external_memory.hpp"
+#include "owned_handle.cuh"
 
 namespace granular::cuda {
 
@@ -22,74 +22,71 @@ class ImportedMemory {
  public:
   /// Imports `memory` and maps `bytes` from its offset. On success CUDA owns memory.fd; on failure
   /// (BackendError naming the CUDA error) the fd is still the caller's.
-  ImportedMemory(const ExternalCellMemory& memory, std::uint64_t bytes) {
+  ImportedMemory(const ExternalCellMemory& memory, std::uint64_t bytes)
+      : external_(import_memory(memory)), data_(map_buffer(external_.get(), memory.offset, bytes)) {}
+
+  /// The mapped device pointer.
+  std::uint8_t* data() const { return data_.get(); }
+
+ private:
+  using Memory = OwnedHandle<cudaExternalMemory_t, cudaDestroyExternalMemory>;
+  static Memory import_memory(const ExternalCellMemory& memory) {
     cudaExternalMemoryHandleDesc handle{};
     handle.type = cudaExternalMemoryHandleTypeOpaqueFd;
     handle.handle.fd = memory.fd;
     handle.size = memory.allocation_size;
     handle.flags = memory.dedicated ? cudaExternalMemoryDedicated : 0u;
-    check(cudaImportExternalMemory(&external_, &handle), "cudaImportExternalMemory (shared cell buffer)");
+    return create_owned<cudaExternalMemory_t, cudaDestroyExternalMemory>(
+        [&](cudaExternalMemory_t* external) { return cudaImportExternalMemory(external, &handle); },
+        "cudaImportExternalMemory (shared cell buffer)");
+  }
+  static std::uint8_t* map_buffer(cudaExternalMemory_t external, std::uint64_t offset, std::uint64_t bytes) {
     cudaExternalMemoryBufferDesc buffer{};
-    buffer.offset = memory.offset;
+    buffer.offset = offset;
     buffer.size = bytes;
     void* mapped = nullptr;
-    const cudaError_t status = cudaExternalMemoryGetMappedBuffer(&mapped, external_, &buffer);
-    if (status != cudaSuccess) {
-      cudaDestroyExternalMemory(external_);
-      check(status, "cudaExternalMemoryGetMappedBuffer (shared cell buffer)");
-    }
-    data_ = static_cast<std::uint8_t*>(mapped);
+    check(cudaExternalMemoryGetMappedBuffer(&mapped, external, &buffer),
+          "cudaExternalMemoryGetMappedBuffer (shared cell buffer)");
+    return static_cast<std::uint8_t*>(mapped);
   }
-  ~ImportedMemory() {
-    if (data_ != nullptr) cudaFree(data_);
-    if (external_ != nullptr) cudaDestroyExternalMemory(external_);
-  }
-  ImportedMemory(ImportedMemory&& other) noexcept
-      : external_(std::exchange(other.external_, nullptr)), data_(std::exchange(other.data_, nullptr)) {}
-  ImportedMemory& operator=(ImportedMemory&&) = delete;
-  ImportedMemory(const ImportedMemory&) = delete;
-  ImportedMemory& operator=(const ImportedMemory&) = delete;
-  /// The mapped device pointer.
-  std::uint8_t* data() const { return data_; }
-
- private:
-  cudaExternalMemory_t external_ = nullptr;
-  std::uint8_t* data_ = nullptr;
+  // Declared in this order so that the mapping is freed before the memory is released; when the
+  // mapping fails, the imported memory is released as the constructor throws.
+  Memory external_;
+  OwnedHandle<std::uint8_t*, cudaFree> data_;
 };
 
 /// An imported timeline semaphore. Move-only.
 class ImportedTimeline {
  public:
   /// Imports `timeline`. On success CUDA owns timeline.fd; BackendError otherwise.
-  ImportedTimeline(const ExternalTimeline& timeline, const char* what) {
-    cudaExternalSemaphoreHandleDesc handle{};
-    handle.type = cudaExternalSemaphoreHandleTypeTimelineSemaphoreFd;
-    handle.handle.fd = timeline.fd;
-    check(cudaImportExternalSemaphore(&semaphore_, &handle), what);
-  }
-  ~ImportedTimeline() {
-    if (semaphore_ != nullptr) cudaDestroyExternalSemaphore(semaphore_);
-  }
-  ImportedTimeline(ImportedTimeline&& other) noexcept : semaphore_(std::exchange(other.semaphore_, nullptr)) {}
-  ImportedTimeline& operator=(ImportedTimeline&&) = delete;
-  ImportedTimeline(const ImportedTimeline&) = delete;
-  ImportedTimeline& operator=(const ImportedTimeline&) = delete;
+  ImportedTimeline(const ExternalTimeline& timeline, const char* what)
+      : semaphore_(import_semaphore(timeline, what)) {}
 
   /// Makes work enqueued on `stream` after this wait until the semaphore reaches `value`.
   void wait(std::uint64_t value, cudaStream_t stream) const {
+    const cudaExternalSemaphore_t semaphore = semaphore_.get();
     cudaExternalSemaphoreWaitParams params{};
     params.params.fence.value = value;
-    check(cudaWaitExternalSemaphoresAsync(&semaphore_, &params, 1, stream), "cudaWaitExternalSemaphoresAsync");
+    check(cudaWaitExternalSemaphoresAsync(&semaphore, &params, 1, stream), "cudaWaitExternalSemaphoresAsync");
   }
   /// Sets the semaphore to `value` once the work enqueued on `stream` so far is done.
   void signal(std::uint64_t value, cudaStream_t stream) const {
+    const cudaExternalSemaphore_t semaphore = semaphore_.get();
     cudaExternalSemaphoreSignalParams params{};
     params.params.fence.value = value;
-    check(cudaSignalExternalSemaphoresAsync(&semaphore_, &params, 1, stream), "cudaSignalExternalSemaphoresAsync");
+    check(cudaSignalExternalSemaphoresAsync(&semaphore, &params, 1, stream), "cudaSignalExternalSemaphoresAsync");
   }
 
  private:
-  cudaExternalSemaphore_t semaphore_ = nullptr;
+  using Semaphore = OwnedHandle<cudaExternalSemaphore_t, cudaDestroyExternalSemaphore>;
+  static Semaphore import_semaphore(const ExternalTimeline& timeline, const char* what) {
+    cudaExternalSemaphoreHandleDesc handle{};
+    handle.type = cudaExternalSemaphoreHandleTypeTimelineSemaphoreFd;
+    handle.handle.fd = timeline.fd;
+    return create_owned<cudaExternalSemaphore_t, cudaDestroyExternalSemaphore>(
+        [&](cudaExternalSemaphore_t* semaphore) { return cudaImportExternalSemaphore(semaphore, &handle); }, what);
+  }
+  Semaphore semaphore_;
 };
 
 }  // namespace granular::cuda

@@ -76,7 +76,7 @@ struct Trio {
 
 /// "" when both worlds hold the same cells, else the first differing cell and both values.
 std::string first_difference(const World& a, const World& b) {
-  const Grid x = a.snapshot(), y = b.snapshot();
+  const Grid x = a.read_grid(), y = b.read_grid();
   for (int k = 0; k < x.size().z; ++k)
     for (int j = 0; j < x.size().y; ++j)
       for (int i = 0; i < x.size().x; ++i)

@@ -58,7 +58,7 @@ struct WorldPair {
 
 /// "" when both worlds hold the same cells, else the first differing cell and both values.
 std::string first_difference(const World& cpu, const World& gpu) {
-  const Grid a = cpu.snapshot(), b = gpu.snapshot();
+  const Grid a = cpu.read_grid(), b = gpu.read_grid();
   for (int z = 0; z < a.size().z; ++z)
     for (int y = 0; y < a.size().y; ++y)
       for (int x = 0; x < a.size().x; ++x)
@@ -316,8 +316,8 @@ TEST_CASE("cuda: count, read_region, snapshot and load agree with the CPU") {
     w.step(37);
     require_same(w);
     CHECK(w.gpu.count() == w.cpu.count());
-    CHECK(w.gpu.snapshot().hash() == w.gpu.hash());
-    CHECK(w.gpu.snapshot().count() == w.gpu.count());
+    CHECK(w.gpu.read_grid().hash() == w.gpu.hash());
+    CHECK(w.gpu.read_grid().count() == w.gpu.count());
     for (int i = 0; i < 25; ++i) {
       std::uniform_int_distribution<int> dx(0, size.x - 1), dy(0, size.y - 1), dz(0, size.z - 1);
       const int x0 = dx(rng), y0 = dy(rng), z0 = dz(rng);
@@ -453,7 +453,7 @@ TEST_CASE("cuda: reads and writes of boxes larger than one staging chunk agree w
       w.gpu.load(other);
       CHECK(w.gpu.hash() == other.hash());
       require_same(w);
-      CHECK(w.gpu.snapshot().hash() == other.hash());
+      CHECK(w.gpu.read_grid().hash() == other.hash());
       const Box big{{1, 2, 0}, {size.x - 1, size.y - 3, size.z}};
       CHECK(w.gpu.read_region(big) == w.cpu.read_region(big));
       const ChangeReport a = w.cpu.paint(big, Material::Granular), b = w.gpu.paint(big, Material::Granular);

@@ -8,7 +8,7 @@
 /// Margolus sub-steps, so it falls up to that many cells per tick; the phase says whether that window
 /// starts at sub-step 0 or 1 (the grain's layer in its block at sub-step 0, noted then).
 /// Every block transition is a permutation, so a grain's level travels with it. World::read_region,
-/// snapshot() and count() report materials only; World::hash() covers the whole byte.
+/// read_grid() and count() report materials only; World::hash() covers the whole byte.
 
 #include <cstdint>
 

@@ -26,8 +26,10 @@ class Lut;
 class RegionEdit;
 struct RuleSet;
 
-/// A block-cellular-automaton world of sand. Not thread-safe: call it from one thread; it uses its
-/// own worker threads inside step().
+/// A block-cellular-automaton world of sand. Not thread-safe: call it from one thread. step() runs
+/// on the backend: the CPU backend's parallel loops run on WorldDef::task_system when the game
+/// passes one, else on the CPU backend's own pool of WorldDef::threads worker threads; the CUDA
+/// backend steps on the GPU.
 class World {
  public:
   /// Creates a world of `def.size` void cells. Throws InvalidArgument for a bad def, OutOfMemory
@@ -50,7 +52,10 @@ class World {
   World(const World&) = delete;
   World& operator=(const World&) = delete;
 
-  /// Advances `ticks` fixed ticks (each one Margolus partition of the 8-offset cycle). ticks >= 0.
+  /// Advances `ticks` fixed ticks. ticks >= 0. A tick is one Margolus step (one partition of the
+  /// 8-offset cycle) under a rule set without a motion model (paper, isotropic, d4), and
+  /// MotionParams::substeps Margolus sub-steps under one: 24 for the default rules
+  /// (inertial-24-flow, and every inertial-24 preset), 16 for inertial.
   void step(int ticks = 1);
 
   /// Ticks done since creation (the position in the offset cycle is tick() % 8), or since the tick
@@ -107,10 +112,15 @@ class World {
   /// Copies the materials of the cells of `box` (which must lie inside the grid) into a vector, x
   /// fastest (the motion state of grains is internal, motion.hpp).
   std::vector<std::uint8_t> read_region(const Box& box) const;
-  /// Copies the cells of `box` into `out` (size box.volume()).
+  /// Copies the materials of the cells of `box` into `out` (size box.volume()), as the other
+  /// read_region.
   void read_region(const Box& box, std::span<std::uint8_t> out) const;
-  /// A copy of the whole grid's materials (grains restart at rest when it is loaded).
-  Grid snapshot() const;
+  /// Copies the whole grid's materials into a Grid, without the grains' motion state (a World made
+  /// from it starts its grains at rest); capture() gives the whole state, motion included.
+  Grid read_grid() const;
+  /// Deprecated name of read_grid(), which copies the cells into a Grid (a WorldSnapshot is
+  /// capture()'s).
+  [[deprecated("use read_grid(); capture() gives the WorldSnapshot")]] Grid snapshot() const { return read_grid(); }
   /// Replaces every cell with those of `grid`, which must have this world's size (a grain whose
   /// material is unchanged keeps its motion state).
   void load(const Grid& grid);
@@ -126,7 +136,7 @@ class World {
   /// MotionParams::max_level()); the world is unchanged then. Every brick wakes, as after load().
   void restore(const WorldSnapshot& snapshot);
 
-  /// Copies the cell bytes (motion state included) of the bricks `bricks` (activity.hpp indices)
+  /// Copies the cell bytes (motion state included) of the bricks `bricks` (bricks.hpp indices)
   /// into `out`: brick after brick in the list's order, each brick's cells (brick_box) x fastest.
   /// `out` holds brick_cells(size(), bricks) bytes.
   void read_bricks(std::span<const std::uint32_t> bricks, std::span<std::uint8_t> out) const;
@@ -148,15 +158,16 @@ class World {
   /// Bytes the checkpoint holds; 0 when there is none.
   std::uint64_t checkpoint_bytes() const;
 
-  /// A counter that grows with every call that changes cells (step, tools, load). Pass a value
-  /// read earlier to bricks_changed_since() to learn what changed after it.
+  /// A counter that grows with every call that changes cells (step, tools, load, restore and
+  /// restore_bricks). Pass a value read earlier to bricks_changed_since() to learn what changed
+  /// after it.
   std::uint64_t change_version() const;
   /// Indices (x fastest, see brick_box) of the bricks whose cells changed after change_version()
   /// returned `version`. Never misses a changed brick. Exact with sparse stepping and for tools
   /// (with a motion model, a brick where only a grain's motion state changed counts as changed);
   /// with dense stepping (WorldDef::sparse = false) a step lists every brick.
   std::vector<std::uint32_t> bricks_changed_since(std::uint64_t version) const;
-  /// Bricks per axis (see activity.hpp).
+  /// Bricks per axis (see bricks.hpp).
   Int3 brick_counts() const { return granular::brick_counts(size_); }
   /// How much of the grid the last step() call stepped: its last tick, and sums over its ticks.
   ActivityStats activity() const;

@@ -41,7 +41,9 @@ struct WorldDef {
                                 ///< thread_count() counts instead
   std::shared_ptr<TaskSystem> task_system;  ///< the game's threads (task_system.hpp): when set, the
                                             ///< CPU backend runs every parallel loop of a step on it
-                                            ///< and starts no threads; null = its own pool of `threads`
+                                            ///< and starts no threads for stepping (creating the world
+                                            ///< still builds its tables on short-lived threads, up to
+                                            ///< thread_count() of them); null = its own pool of `threads`
   bool use_lut_cache = true;    ///< load/save the transition table from/to the on-disk cache
   std::string lut_cache_dir;    ///< cache folder; empty = $GRANULAR_CACHE_DIR, else $XDG_CACHE_HOME/granular, else ~/.cache/granular
   bool sparse = true;           ///< step only bricks where something may move (same result as dense;

@@ -13,6 +13,7 @@
 #include "granular/extend/threads.hpp"
 #include "step/inert_keys.hpp"
 #include "step/motion_table.hpp"
+#include "step/step_rules_builder.hpp"
 #include "cpu/thread_pool.hpp"
 
 namespace granular {
@@ -62,19 +63,11 @@ CpuBackend::CpuBackend(const BackendCreateInfo& info)
       pool_(*task_system_) {
   const Int3 b = activity_.bricks();
   last_.total_bricks = std::uint64_t(b.x) * std::uint64_t(b.y) * std::uint64_t(b.z);
-  const RuleSet& rules = *info.rules;
-  step_rules_.result = result_ ? result_->data() : nullptr;
-  if (rules.motion.enabled()) {
-    motion_table_ = derive_motion_table(lut_->entries());
-    step_rules_.transitions = motion_table_.data();
-  }
-  step_rules_.inert = inert_ ? inert_->data() : nullptr;
-  step_rules_.seed = info.seed;
-  step_rules_.random_symmetry = rules.random_symmetry;
-  step_rules_.random_axis_order = rules.random_axis_order;
-  step_rules_.motion = rules.motion;
-  step_rules_.materials = step_materials(rules.materials);
-  step_rules_.origin = block_position_offset(info.domain_origin.x, info.domain_origin.y, info.domain_origin.z);
+  const bool motion = info.rules->motion.enabled();
+  if (motion) motion_table_ = derive_motion_table(lut_->entries());
+  step_rules_ = make_step_rules(info, StepTables{.result = result_ ? result_->data() : nullptr,
+                                                 .transitions = motion ? motion_table_.data() : nullptr,
+                                                 .inert = inert_ ? inert_->data() : nullptr});
   outside_row_.assign(std::size_t(grid_.size().x), std::uint8_t(step_rules_.materials.outside));
 }
 
