@@ -135,7 +135,7 @@ TEST_CASE("tools: shake sets the grains at the brush moving, so a resting slope 
   shaken->step(60);
   still->step(60);
   auto cells_moved = [&](const granular::World& world) {
-    const granular::Grid now = world.snapshot();
+    const granular::Grid now = world.read_grid();
     std::int64_t moved = 0;
     for (std::size_t i = 0; i < rest.cells().size(); ++i) moved += rest.cells()[i] != now.cells()[i];
     return moved;
