@@ -197,3 +197,49 @@ TEST_CASE("history: a stroke that changed no cell still rewinds its ticks and to
   REQUIRE(history.redo());
   CHECK(state_of(world) == end);
 }
+
+TEST_CASE("history: a checkpoint replaced under a history makes it refuse, never undo to other cells") {
+  WorldDef def = test_def(kSize, "inertial-24", 2, 3);
+  SUBCASE("a second history on the same world") {
+    World world(def, fluid_scene(kSize));
+    StrokeHistory first(world);
+    stroke(world, first, 4, 12.0);
+    StrokeHistory second(world);
+    stroke(world, second, 4, 28.0);
+    check_has(error_of<StateError>([&] { first.undo(); }), {"StrokeHistory::undo", "checkpoint", "another StrokeHistory"});
+    // The second history owns the checkpoint now and undoes its stroke exactly.
+    const std::uint64_t end_of_stroke = world.hash();
+    CHECK(second.undo());
+    first.clear();  // forgets its strokes without dropping the second's checkpoint
+    CHECK(second.redo());
+    CHECK(world.hash() == end_of_stroke);
+    // Destroying the stale history leaves the owner's checkpoint alone.
+    CHECK(world.checkpoint_bytes() > 0);
+  }
+  SUBCASE("the game's own take_checkpoint during a stroke") {
+    World world(def, fluid_scene(kSize));
+    StrokeHistory history(world);
+    history.begin_stroke();
+    world.dig(Sphere{{20.0, 18.0, 24.0}, 5.0});
+    world.step(2);
+    world.take_checkpoint();
+    world.dig(Sphere{{20.0, 18.0, 30.0}, 4.0});
+    check_has(error_of<StateError>([&] { history.end_stroke(); }), {"StrokeHistory::end_stroke", "take_checkpoint"});
+    check_has(error_of<StateError>([&] { history.undo(); }), {"StrokeHistory::undo"});
+    check_has(error_of<StateError>([&] { history.begin_stroke(); }), {"StrokeHistory::begin_stroke"});
+    // clear() starts it again: a new stroke undoes exactly.
+    history.clear();
+    const std::uint64_t start = world.hash();
+    stroke(world, history, 3, 20.0);
+    CHECK(history.undo());
+    CHECK(world.hash() == start);
+  }
+  SUBCASE("the game's drop_checkpoint") {
+    World world(def, fluid_scene(kSize));
+    StrokeHistory history(world);
+    stroke(world, history, 3, 20.0);
+    world.drop_checkpoint();
+    CHECK(world.checkpoint_id() == 0);
+    check_has(error_of<StateError>([&] { history.undo(); }), {"StrokeHistory::undo", "drop_checkpoint"});
+  }
+}

@@ -12,6 +12,7 @@
 #include <cstdlib>
 #include <cstdio>
 #include <fstream>
+#include <limits>
 #include <utility>
 
 #include "granular/errors.hpp"
@@ -166,4 +167,25 @@ TEST_CASE("bad input: a World is checked for the memory its backend copy needs, 
   const Grid grid({64, 64, 64});
   World small(test_def({64, 64, 64}), grid);
   CHECK(small.count()[to_cell(Material::Void)] == 64 * 64 * 64);
+}
+
+TEST_CASE("bad input: the tick and tool-call counters are refused before they wrap, and nothing changes") {
+  World world(test_def({16, 16, 16}, "paper", 1, 1), Grid({16, 16, 16}));
+  world.paint(Box{{4, 4, 4}, {12, 12, 12}}, Material::Granular);
+  WorldSnapshot near_end = world.capture();
+  constexpr std::uint64_t kMax = std::numeric_limits<std::uint64_t>::max();
+  near_end.tick = kMax - 1;
+  near_end.tool_calls = kMax;
+  world.restore(near_end);
+  const std::uint64_t hash = world.hash();
+  granular::test::check_has(granular::test::error_of<StateError>([&] { world.step(2); }), {"World::step", "ticks = 2", "wrap"});
+  CHECK(world.tick() == kMax - 1);
+  CHECK(world.hash() == hash);
+  world.step(1);
+  CHECK(world.tick() == kMax);
+  granular::test::check_has(granular::test::error_of<StateError>([&] { world.step(1); }), {"World::step", "wrap"});
+  const std::uint64_t stepped = world.hash();
+  granular::test::check_has(granular::test::error_of<StateError>([&] { world.dig(Sphere{{8.0, 8.0, 8.0}, 3.0}); }), {"tool-call counter", "no cell was changed"});
+  CHECK(world.hash() == stepped);
+  CHECK(world.tool_calls() == kMax);
 }

@@ -29,7 +29,9 @@ struct HistoryMove {
 /// Redo returns to a stroke's end only while the world has not changed since the undo (no tick, no
 /// tool): a game pauses after an undo, as the sandbox does. Any change after an undo, and any new
 /// stroke, forgets what could be redone. Borrows the world, which must outlive it; a world holds one
-/// checkpoint, so it takes one history at a time.
+/// checkpoint, so it takes one history at a time: when another history or the game replaces or
+/// drops the checkpoint this one took, its begin_stroke, end_stroke, undo and redo throw StateError
+/// (undo never puts back other cells) until clear().
 class StrokeHistory {
  public:
   /// Bytes of history kept by default: 256 MiB.
@@ -98,6 +100,11 @@ class StrokeHistory {
   void record_tail();
   // The world is exactly at marks_[at_]: a checkpoint of it, and the change version to compare with.
   void settle();
+  // True when the history has marks and the world's checkpoint is the one settle() last took.
+  bool owns_checkpoint() const;
+  // Throws StateError, naming `what`, when the history has marks but the world's checkpoint was
+  // replaced or dropped by someone else since settle(): undo would put back other cells.
+  void check_checkpoint(const char* what) const;
   // Forgets the marks after marks_[at_] (what could be redone).
   void forget_redo();
   // Moves the world across deltas_[i] (to marks_[i] when `back`, else to marks_[i + 1]), keeping
@@ -113,6 +120,7 @@ class StrokeHistory {
   std::deque<Delta> deltas_;  ///< deltas_[i] lies between marks_[i] and marks_[i + 1]
   std::size_t at_ = 0;        ///< the mark the world was at when it last settled
   std::uint64_t version_ = 0; ///< World::change_version() then
+  std::uint64_t checkpoint_id_ = 0;  ///< World::checkpoint_id() of the checkpoint settle() took
   bool open_ = false;
   std::uint64_t bytes_ = 0;
 };

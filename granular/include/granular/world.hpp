@@ -157,6 +157,9 @@ class World {
   void drop_checkpoint();
   /// Bytes the checkpoint holds; 0 when there is none.
   std::uint64_t checkpoint_bytes() const;
+  /// Which take_checkpoint() the checkpoint is from, counting this world's calls from 1; 0 when
+  /// there is none. A StrokeHistory compares it with its own to notice a checkpoint replaced under it.
+  std::uint64_t checkpoint_id() const { return checkpoint_id_; }
 
   /// A counter that grows with every call that changes cells (step, tools, load, restore and
   /// restore_bricks). Pass a value read earlier to bricks_changed_since() to learn what changed
@@ -250,6 +253,8 @@ class World {
   Int3 size_{};
   std::uint64_t tick_ = 0;
   std::uint64_t tool_calls_ = 0;
+  std::uint64_t checkpoint_id_ = 0;      ///< checkpoint_id()
+  std::uint64_t checkpoints_taken_ = 0;  ///< take_checkpoint() calls so far
   std::shared_ptr<const RuleSet> rules_;
   std::uint64_t rule_fingerprint_ = 0;  ///< rule_fingerprint(*rules_)
   std::shared_ptr<const Lut> lut_;

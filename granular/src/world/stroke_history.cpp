@@ -1,5 +1,7 @@
 #include "granular/stroke_history.hpp"
 
+#include <string>
+
 #include "granular/bricks.hpp"
 #include "granular/errors.hpp"
 #include "granular/world.hpp"
@@ -20,7 +22,7 @@ StrokeHistory::StrokeHistory(World& world, std::uint64_t max_bytes) : world_(wor
 
 StrokeHistory::~StrokeHistory() {
   try {
-    if (!marks_.empty()) world_.drop_checkpoint();
+    if (owns_checkpoint()) world_.drop_checkpoint();
   } catch (const Error&) {
     // The world was moved from: it holds no checkpoint any more.
   }
@@ -35,7 +37,20 @@ bool StrokeHistory::changed() const {
 
 void StrokeHistory::settle() {
   world_.take_checkpoint();
+  checkpoint_id_ = world_.checkpoint_id();
   version_ = world_.change_version();
+}
+
+bool StrokeHistory::owns_checkpoint() const {
+  return !marks_.empty() && checkpoint_id_ != 0 && world_.checkpoint_id() == checkpoint_id_;
+}
+
+void StrokeHistory::check_checkpoint(const char* what) const {
+  if (marks_.empty() || owns_checkpoint()) return;
+  throw StateError(std::string("StrokeHistory::") + what +
+                   ": the world's checkpoint is no longer the one this history took (another StrokeHistory on "
+                   "this world, or the game's own World::take_checkpoint or drop_checkpoint, replaced it), so "
+                   "undo and redo would put back other cells; clear() this history to start it again");
 }
 
 std::uint64_t StrokeHistory::delta_bytes(const Delta& d) const {
@@ -73,6 +88,7 @@ void StrokeHistory::record_tail() {
 }
 
 void StrokeHistory::begin_stroke() {
+  check_checkpoint("begin_stroke");
   if (open_) end_stroke();
   if (!marks_.empty()) forget_redo();
   record_tail();
@@ -82,6 +98,7 @@ void StrokeHistory::begin_stroke() {
 
 void StrokeHistory::end_stroke() {
   if (!open_) return;
+  check_checkpoint("end_stroke");
   open_ = false;
   if (!changed()) {
     // Nothing happened in the stroke (no tool call, no tick): nothing to undo.
@@ -107,6 +124,7 @@ std::uint64_t StrokeHistory::cross(std::size_t i, bool back) {
 }
 
 std::optional<HistoryMove> StrokeHistory::undo() {
+  check_checkpoint("undo");
   if (open_) end_stroke();
   if (marks_.empty()) return std::nullopt;
   const bool moved = changed();
@@ -128,6 +146,7 @@ std::optional<HistoryMove> StrokeHistory::undo() {
 }
 
 std::optional<HistoryMove> StrokeHistory::redo() {
+  check_checkpoint("redo");
   if (open_ || marks_.empty()) return std::nullopt;
   if (changed()) {
     forget_redo();
@@ -184,12 +203,14 @@ void StrokeHistory::enforce_bound() {
 std::uint64_t StrokeHistory::checkpoint_bytes() const { return world_.checkpoint_bytes(); }
 
 void StrokeHistory::clear() {
+  const bool owned = owns_checkpoint();
   marks_.clear();
   deltas_.clear();
   at_ = 0;
   bytes_ = 0;
   open_ = false;
-  world_.drop_checkpoint();
+  checkpoint_id_ = 0;
+  if (owned) world_.drop_checkpoint();
 }
 
 }  // namespace granular

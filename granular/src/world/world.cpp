@@ -184,6 +184,9 @@ void World::step(int ticks) {
   live();
   if (ticks < 0) throw InvalidArgument("World::step: ticks = " + std::to_string(ticks) + " must be >= 0");
   if (ticks == 0) return;
+  if (std::uint64_t(ticks) > std::numeric_limits<std::uint64_t>::max() - tick_)
+    throw StateError("World::step: ticks = " + std::to_string(ticks) + " from tick " + std::to_string(tick_) +
+                     " would wrap the 64-bit tick counter");
   live().step(tick_, ticks);
   tick_ += std::uint64_t(ticks);
   activity_pending_ = true;

@@ -62,8 +62,14 @@ void World::read_checkpoint_bricks(std::span<const std::uint32_t> bricks, std::s
   });
 }
 
-void World::take_checkpoint() { live().take_checkpoint(); }
-void World::drop_checkpoint() { live().drop_checkpoint(); }
+void World::take_checkpoint() {
+  live().take_checkpoint();
+  checkpoint_id_ = ++checkpoints_taken_;
+}
+void World::drop_checkpoint() {
+  live().drop_checkpoint();
+  checkpoint_id_ = 0;
+}
 std::uint64_t World::checkpoint_bytes() const { return live().checkpoint_bytes(); }
 
 void World::check_bricks(std::span<const std::uint32_t> bricks, std::size_t bytes, const char* what) const {

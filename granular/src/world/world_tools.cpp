@@ -2,6 +2,8 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <limits>
+#include <string>
 #include <vector>
 
 #include "granular/errors.hpp"
@@ -17,6 +19,9 @@
 namespace granular {
 
 ChangeReport World::finish_tool(bool clipped) {
+  if (tool_calls_ == std::numeric_limits<std::uint64_t>::max())
+    throw StateError("World: a tool call after " + std::to_string(tool_calls_) +
+                     " would wrap the 64-bit tool-call counter; no cell was changed");
   write_edit();
   ChangeReport report = scratch_->edit.report();
   report.region = scratch_->edit.region();
