@@ -288,6 +288,11 @@ def test_names(configurations):
     return names
 
 
+def runs_of(name, configurations):
+    """(index, configuration, test result) of every run of the test `name`, in the configurations' order."""
+    return [(ci, c, t) for ci, c in enumerate(configurations) for t in c["tests"] if t["test"] == name]
+
+
 def log_axes(x_label, y_label):
     """Power laws (fits against D, H, H0, a, t, h; a front against time) are drawn on log-log axes."""
     return (any(w in x_label for w in ("D (cells)", "H (cells)", "H0 (cells)", "aspect ratio", "ticks t", "head h (cells)"))
@@ -302,48 +307,42 @@ def log_x_axis(x_label):
 def plot_test(name, configurations, out_dir):
     """One figure per test: a panel per (x label, y label) pair of its series."""
     panels = []
-    for c in configurations:
-        for t in c["tests"]:
-            if t["test"] != name:
-                continue
-            for s in t["series"]:
-                key = (s["x_label"], s["y_label"])
-                if key not in panels:
-                    panels.append(key)
+    for _, c, t in runs_of(name, configurations):
+        for s in t["series"]:
+            key = (s["x_label"], s["y_label"])
+            if key not in panels:
+                panels.append(key)
     if not panels:
         return None
     fig, axes = plt.subplots(1, len(panels), figsize=(5.2 * len(panels), 4.0), squeeze=False)
     title = name
     references_drawn = {}
-    for ci, c in enumerate(configurations):
-        for t in c["tests"]:
-            if t["test"] != name:
+    for ci, c, t in runs_of(name, configurations):
+        title = t["title"]
+        for s in t["series"]:
+            ax = axes[0][panels.index((s["x_label"], s["y_label"]))]
+            log = log_axes(s["x_label"], s["y_label"])
+            pts = [(x, y) for x, y in zip(s["x"], s["y"])
+                   if finite(x) and finite(y) and (not log or (x > 0 and y > 0))
+                   and (not log_x_axis(s["x_label"]) or x > 0)]
+            if not pts:
                 continue
-            title = t["title"]
-            for s in t["series"]:
-                ax = axes[0][panels.index((s["x_label"], s["y_label"]))]
-                log = log_axes(s["x_label"], s["y_label"])
-                pts = [(x, y) for x, y in zip(s["x"], s["y"])
-                       if finite(x) and finite(y) and (not log or (x > 0 and y > 0))
-                       and (not log_x_axis(s["x_label"]) or x > 0)]
-                if not pts:
+            xs, ys = zip(*pts)
+            if s["reference"]:
+                # A reference shared by configurations is drawn once; one that depends on the
+                # configuration (a fit) is drawn for each configuration it differs in, in its colour.
+                key = (s["x_label"], s["y_label"], s["name"])
+                data = (tuple(xs), tuple(ys))
+                if data in references_drawn.get(key, []):
                     continue
-                xs, ys = zip(*pts)
-                if s["reference"]:
-                    # A reference shared by configurations is drawn once; one that depends on the
-                    # configuration (a fit) is drawn for each configuration it differs in, in its colour.
-                    key = (s["x_label"], s["y_label"], s["name"])
-                    data = (tuple(xs), tuple(ys))
-                    if data in references_drawn.get(key, []):
-                        continue
-                    if key in references_drawn:
-                        ax.plot(xs, ys, "--", color=f"C{ci % 10}", lw=1, label=f'{label(c)}: {s["name"]}')
-                    else:
-                        ax.plot(xs, ys, "k--", lw=1.2, label=s["name"])
-                    references_drawn.setdefault(key, []).append(data)
+                if key in references_drawn:
+                    ax.plot(xs, ys, "--", color=f"C{ci % 10}", lw=1, label=f'{label(c)}: {s["name"]}')
                 else:
-                    ax.plot(xs, ys, marker=MARKERS[ci % len(MARKERS)], ms=4, lw=1,
-                            label=f'{label(c)}: {s["name"]}')
+                    ax.plot(xs, ys, "k--", lw=1.2, label=s["name"])
+                references_drawn.setdefault(key, []).append(data)
+            else:
+                ax.plot(xs, ys, marker=MARKERS[ci % len(MARKERS)], ms=4, lw=1,
+                        label=f'{label(c)}: {s["name"]}')
     for (xl, yl), ax in zip(panels, axes[0]):
         ax.set_xlabel(xl)
         ax.set_ylabel(yl)
@@ -464,19 +463,16 @@ def write_markdown(md_path, calibration, configurations, commands, images, out_d
                   "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
         sources = []
         notes = []
-        for c in configurations:
-            for t in c["tests"]:
-                if t["test"] != name:
-                    continue
-                for m in t["metrics"]:
-                    unit = f" ({m['unit']})" if m["unit"] else ""
-                    lines.append(f"| {label(c)} | {m['name']}{unit} | {fmt(m['measured'])} | {fmt(m['reference'])} | "
-                                 f"{fmt(m['error'])} | {fmt(m['tolerance'])} | {fmt(m['normalized_error'])} | "
-                                 f"{'yes' if m['met'] else '**no**'} | {t['seconds']:.2f} |")
-                    if (m["name"], m["source"]) not in sources:
-                        sources.append((m["name"], m["source"]))
-                for n in t["notes"]:
-                    notes.append(f"{label(c)}: {n}")
+        for _, c, t in runs_of(name, configurations):
+            for m in t["metrics"]:
+                unit = f" ({m['unit']})" if m["unit"] else ""
+                lines.append(f"| {label(c)} | {m['name']}{unit} | {fmt(m['measured'])} | {fmt(m['reference'])} | "
+                             f"{fmt(m['error'])} | {fmt(m['tolerance'])} | {fmt(m['normalized_error'])} | "
+                             f"{'yes' if m['met'] else '**no**'} | {t['seconds']:.2f} |")
+                if (m["name"], m["source"]) not in sources:
+                    sources.append((m["name"], m["source"]))
+            for n in t["notes"]:
+                notes.append(f"{label(c)}: {n}")
         lines += ["", "References:", ""]
         lines += [f"* {n}: {s}" for n, s in sources]
         if notes:
