@@ -77,15 +77,12 @@ TestReport run_buoyancy_test(const SuiteOptions& o) {
   // Time enough for the slowest rules (one cell per tick) to carry the sand and the gas across the
   // box many times over.
   const std::uint64_t limit = 16 * std::uint64_t(box.height);
-  TestReport r;
-  r.test = "buoyancy";
-  r.title = "Buoyancy: sand sinks, gas rises, every material conserved";
-  r.scene = "closed box " + std::to_string(box.side) + "^2 x " + std::to_string(box.height) + ": liquid " +
-            std::to_string(box.depth) + " deep, a block of sand " + std::to_string(box.side / 3) + "^2 x " +
-            std::to_string(box.sand_layers) + " released " + std::to_string(box.drop) + " above it, a gas pocket " +
-            std::to_string(box.side / 6) + "^2 x 2 on the floor under the liquid; run until at rest or " +
-            std::to_string(limit) + " ticks";
-  log_line(o, "buoyancy: " + r.scene);
+  std::string scene = "closed box " + std::to_string(box.side) + "^2 x " + std::to_string(box.height) + ": liquid " +
+                      std::to_string(box.depth) + " deep, a block of sand " + std::to_string(box.side / 3) + "^2 x " +
+                      std::to_string(box.sand_layers) + " released " + std::to_string(box.drop) + " above it, a gas pocket " +
+                      std::to_string(box.side / 6) + "^2 x 2 on the floor under the liquid; run until at rest or " +
+                      std::to_string(limit) + " ticks";
+  TestReport r = open_report(o, "buoyancy", "Buoyancy: sand sinks, gas rises, every material conserved", scene);
   const Grid initial = box.build();
   World world(test_world_def(o, box.size()), initial);
   const MaterialCounts before = world.count();

@@ -48,12 +48,10 @@ double deposit_radius(const Grid& g, double c, bool& touches_edge) {
 TestReport run_collapse_test(const SuiteOptions& o) {
   const int r0 = o.quick ? 8 : 32;
   const std::vector<double> ratios{0.5, 1, 2, 4, 8};
-  TestReport r;
-  r.test = "collapse";
-  r.title = "Column collapse: normalised runout against aspect ratio (Lube et al. 2004)";
-  r.scene = "cylinder of radius R0 = " + std::to_string(r0) +
-            " cells on a floor, height a R0 for a in {0.5, 1, 2, 4, 8}, released at once, run until at rest";
-  log_line(o, "collapse: " + r.scene);
+  std::string scene = "cylinder of radius R0 = " + std::to_string(r0) +
+                      " cells on a floor, height a R0 for a in {0.5, 1, 2, 4, 8}, released at once, run until at rest";
+  TestReport r = open_report(o, "collapse",
+                             "Column collapse: normalised runout against aspect ratio (Lube et al. 2004)", scene);
   Series runout{"measured", "aspect ratio a = H0 / R0", "(R_inf - R0) / R0", {}, {}, false};
   Series reference{"Lube et al. 2004", "aspect ratio a = H0 / R0", "(R_inf - R0) / R0", {}, {}, true};
   Series stop{"stop time", "H0 (cells)", "ticks to rest", {}, {}, false};

@@ -55,15 +55,13 @@ TestReport run_communicating_vessels_test(const SuiteOptions& o) {
   const double column = tube.head + tube.leg + tube.wall;
   const double period = 2 * std::numbers::pi * std::sqrt(column / (2 * g));
   const std::uint64_t limit = std::max<std::uint64_t>(256, std::uint64_t(std::ceil(20 * period / 8)) * 8);
-  TestReport r;
-  r.test = "communicating_vessels";
-  r.title = "Communicating vessels: the two legs of a U-tube level out";
-  r.scene = "U-tube " + std::to_string(s.x) + "x" + std::to_string(s.y) + "x" + std::to_string(s.z) + ": legs of " +
-            std::to_string(tube.leg) + "^2 cells parted by a wall " + std::to_string(tube.wall) + " thick over a channel " +
-            std::to_string(tube.channel) + " high; the channel and the left leg full of liquid " +
-            std::to_string(tube.head) + " cells above the channel, the right leg empty; run until at rest or " +
-            std::to_string(limit) + " ticks (20 oscillation periods)";
-  log_line(o, "communicating_vessels: " + r.scene);
+  std::string scene = "U-tube " + std::to_string(s.x) + "x" + std::to_string(s.y) + "x" + std::to_string(s.z) + ": legs of " +
+                      std::to_string(tube.leg) + "^2 cells parted by a wall " + std::to_string(tube.wall) + " thick over a channel " +
+                      std::to_string(tube.channel) + " high; the channel and the left leg full of liquid " +
+                      std::to_string(tube.head) + " cells above the channel, the right leg empty; run until at rest or " +
+                      std::to_string(limit) + " ticks (20 oscillation periods)";
+  TestReport r = open_report(o, "communicating_vessels",
+                             "Communicating vessels: the two legs of a U-tube level out", scene);
   const Grid initial = tube.build();
   World world(test_world_def(o, s), initial);
   const MaterialCounts before = world.count();

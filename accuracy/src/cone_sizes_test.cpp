@@ -46,14 +46,12 @@ TestReport run_cone_sizes_test(const SuiteOptions& o) {
   const std::vector<std::uint64_t> sizes =
       o.quick ? std::vector<std::uint64_t>{10000, 56234, 316228} : std::vector<std::uint64_t>{10000, 100000, 1000000};
   const std::vector<std::string> names{"small", "medium", "large"};
-  TestReport r;
-  r.test = "cone_sizes";
-  r.title = "Poured cones of three sizes: one angle of repose at every size";
-  r.scene = "the cone test's pour scaled to piles of ";
-  for (std::size_t i = 0; i < sizes.size(); ++i) r.scene += (i ? ", " : "") + std::to_string(sizes[i]);
-  r.scene += " grains (floor 2.6 r + 8, height 2 h + 2 spout + 8, spout radius max(1, r / 20), r and h those of a "
-             "33-degree cone of that many grains), poured until every grain is in, then settled";
-  log_line(o, "cone_sizes: " + r.scene);
+  std::string scene = "the cone test's pour scaled to piles of ";
+  for (std::size_t i = 0; i < sizes.size(); ++i) scene += (i ? ", " : "") + std::to_string(sizes[i]);
+  scene += " grains (floor 2.6 r + 8, height 2 h + 2 spout + 8, spout radius max(1, r / 20), r and h those of a "
+           "33-degree cone of that many grains), poured until every grain is in, then settled";
+  TestReport r = open_report(o, "cone_sizes",
+                             "Poured cones of three sizes: one angle of repose at every size", scene);
   Series angles{"angle of repose", "grains in the pile", "angle of repose (deg)", {}, {}, false};
   const std::string ideal = "ideal: the angle of repose is the material's, the same for every pile many grains wide (" +
                             o.material.name + ", the cone test's target)";

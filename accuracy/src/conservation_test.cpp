@@ -42,25 +42,23 @@ TestReport run_conservation_test(const SuiteOptions& o, const std::vector<TestRe
   const std::vector<Scene> scenes =
       o.quick ? std::vector<Scene>{{{24, 24, 24}, false, 20000, {1, 2, 3}}, {{23, 17, 29}, true, 20000, {1, 2, 3}}}
               : std::vector<Scene>{{{32, 32, 32}, false, 1000000, {1}}, {{31, 29, 33}, true, 100000, {1, 3}}};
-  TestReport r;
-  r.test = "conservation";
-  r.title = "Conservation and stability: exact counts, one hash per seed on every thread count and backend";
-  r.scene = "random scenes";
+  std::string scene = "random scenes";
   for (std::size_t i = 0; i < scenes.size(); ++i) {
     const Scene& sc = scenes[i];
-    r.scene += std::string(i ? ";" : "") + " " + std::to_string(sc.size.x) + "x" + std::to_string(sc.size.y) + "x" +
-               std::to_string(sc.size.z) + (sc.all_states ? " (all 8 states, " : " (void/solid/granular, ") +
-               std::to_string(sc.ticks) + " ticks) on the configured backend and the CPU with";
+    scene += std::string(i ? ";" : "") + " " + std::to_string(sc.size.x) + "x" + std::to_string(sc.size.y) + "x" +
+             std::to_string(sc.size.z) + (sc.all_states ? " (all 8 states, " : " (void/solid/granular, ") +
+             std::to_string(sc.ticks) + " ticks) on the configured backend and the CPU with";
     for (std::size_t k = 0; k < sc.cpu_threads.size(); ++k)
-      r.scene += (k == 0 ? " " : ", ") + std::to_string(sc.cpu_threads[k]);
-    r.scene += std::string(sc.cpu_threads.size() == 1 ? " thread" : " threads") + " (and the last with the other stepping)";
+      scene += (k == 0 ? " " : ", ") + std::to_string(sc.cpu_threads[k]);
+    scene += std::string(sc.cpu_threads.size() == 1 ? " thread" : " threads") + " (and the last with the other stepping)";
   }
   const int rule_substeps = std::max(1, make_rule_set(o.rules)->motion.substeps);
   if (rule_substeps > 1)
-    r.scene += "; with " + std::to_string(rule_substeps) +
-               " sub-steps per tick the other runs stop, and all hashes are compared, after ticks / " +
-               std::to_string(rule_substeps) + " ticks (the same number of Margolus steps)";
-  log_line(o, "conservation: " + r.scene);
+    scene += "; with " + std::to_string(rule_substeps) +
+             " sub-steps per tick the other runs stop, and all hashes are compared, after ticks / " +
+             std::to_string(rule_substeps) + " ticks (the same number of Margolus steps)";
+  TestReport r = open_report(o, "conservation",
+                             "Conservation and stability: exact counts, one hash per seed on every thread count and backend", scene);
   double count_errors = 0, hash_mismatches = 0;
   Series runs{"hash agreement per run (1 = same as the first)", "run", "agrees", {}, {}, false};
   const auto start = std::chrono::steady_clock::now();

@@ -53,14 +53,11 @@ TestReport run_dam_break_test(const SuiteOptions& o) {
   const std::vector<int> heads = o.quick ? std::vector<int>{16, 32} : std::vector<int>{32, 64, 128};
   const int width = o.quick ? 8 : 32;
   const double g = o.calibration.gravity_cells();
-  TestReport r;
-  r.test = "dam_break";
-  r.title = "Dam break: the front on a dry floor against Ritter's solution";
-  r.scene = "a liquid column H0 high and 2 H0 long at the closed end of a dry channel " + std::to_string(width) +
-            " cells wide, released at once, H0 in {";
-  for (std::size_t i = 0; i < heads.size(); ++i) r.scene += (i ? ", " : "") + std::to_string(heads[i]);
-  r.scene += "} cells; the front (the end of the wet floor) every tick over its first 2 H0 of travel";
-  log_line(o, "dam_break: " + r.scene);
+  std::string scene = "a liquid column H0 high and 2 H0 long at the closed end of a dry channel " + std::to_string(width) +
+                      " cells wide, released at once, H0 in {";
+  for (std::size_t i = 0; i < heads.size(); ++i) scene += (i ? ", " : "") + std::to_string(heads[i]);
+  scene += "} cells; the front (the end of the wet floor) every tick over its first 2 H0 of travel";
+  TestReport r = open_report(o, "dam_break", "Dam break: the front on a dry floor against Ritter's solution", scene);
   const std::string x_label = "time t sqrt(g / H0)", y_label = "front travel (x_f - x_dam) / H0";
   // Arrival times at travel 2 H0 k / 8 (k = 1..8), in units of sqrt(H0 / g), over every height.
   std::vector<double> t_all, d_all;

@@ -73,16 +73,14 @@ double finite_mean(const std::array<double, kConeAzimuthBins>& v) {
 TestReport run_dug_slope_test(const SuiteOptions& o) {
   const DugBed bed = o.quick ? DugBed{40, 24, 16} : DugBed{104, 56, 48};
   const Int3 s = bed.size();
-  TestReport r;
-  r.test = "dug_slope";
-  r.title = "Dug crater: the walls of a crater dug into a settled bed relax to the angle of repose";
-  r.scene = "a bed of sand " + std::to_string(s.x) + "^2 x " + std::to_string(bed.depth) +
-            " cells (the box's walls hold it), settled; a hemisphere of radius " + std::to_string(bed.radius) +
-            " centred on its surface dug out (World::dig), then settled again; the walls' angle is measure_cone's on the "
-            "crater's depth map (bed level minus column height): per 10-degree azimuth bin, the least-squares line of the "
-            "depth against the distance from the axis over the columns between 20% and 80% of the crater's depth, "
-            "averaged over the bins";
-  log_line(o, "dug_slope: " + r.scene);
+  std::string scene = "a bed of sand " + std::to_string(s.x) + "^2 x " + std::to_string(bed.depth) +
+                      " cells (the box's walls hold it), settled; a hemisphere of radius " + std::to_string(bed.radius) +
+                      " centred on its surface dug out (World::dig), then settled again; the walls' angle is measure_cone's on the "
+                      "crater's depth map (bed level minus column height): per 10-degree azimuth bin, the least-squares line of the "
+                      "depth against the distance from the axis over the columns between 20% and 80% of the crater's depth, "
+                      "averaged over the bins";
+  TestReport r = open_report(o, "dug_slope",
+                             "Dug crater: the walls of a crater dug into a settled bed relax to the angle of repose", scene);
   World world(test_world_def(o, s));
   world.paint(Box{{0, 0, 0}, {s.x, s.y, bed.depth}}, Material::Granular);
   const auto start = std::chrono::steady_clock::now();

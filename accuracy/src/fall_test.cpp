@@ -26,13 +26,10 @@ TestReport run_fall_test(const SuiteOptions& o, const TestReport* collapse) {
   const std::vector<int> heights = o.quick ? std::vector<int>{16, 32, 64, 128} : std::vector<int>{16, 32, 64, 128, 256};
   const Calibration& cal = o.calibration;
   const double g_cells = cal.gravity * cal.tick_s() * cal.tick_s() / cal.cell_m;  // cells per tick^2
-  TestReport r;
-  r.test = "fall";
-  r.title = "Free fall and time scales";
-  r.scene = "one grain dropped in a 4x4 column onto a solid floor from H in {";
-  for (std::size_t i = 0; i < heights.size(); ++i) r.scene += (i ? ", " : "") + std::to_string(heights[i]);
-  r.scene += "} cells";
-  log_line(o, "fall: " + r.scene);
+  std::string scene = "one grain dropped in a 4x4 column onto a solid floor from H in {";
+  for (std::size_t i = 0; i < heights.size(); ++i) scene += (i ? ", " : "") + std::to_string(heights[i]);
+  scene += "} cells";
+  TestReport r = open_report(o, "fall", "Free fall and time scales", scene);
   Series fall_time{"fall time", "drop height H (cells)", "ticks to land", {}, {}, false};
   Series fall_ref{"sqrt(2 H / g) (calibrated g)", "drop height H (cells)", "ticks to land", {}, {}, true};
   Series distance{"distance fallen (highest drop)", "ticks t", "distance fallen (cells)", {}, {}, false};

@@ -92,13 +92,10 @@ TestReport run_falling_block_test(const SuiteOptions& o) {
   const Int3 s = b.size();
   const double g_cells = o.calibration.gravity_cells();
   const int footprint = b.side * b.side;
-  TestReport r;
-  r.test = "falling_block";
-  r.title = "Falling block: a released block of sand falls as a block";
-  r.scene = "a cube of sand " + std::to_string(b.side) + " cells wide released at rest " + std::to_string(b.clearance) +
-            " cells above the floor of a " + std::to_string(s.x) + "x" + std::to_string(s.y) + "x" + std::to_string(s.z) +
-            " void box, watched every tick until its centre has fallen 2 block heights";
-  log_line(o, "falling_block: " + r.scene);
+  std::string scene = "a cube of sand " + std::to_string(b.side) + " cells wide released at rest " + std::to_string(b.clearance) +
+                      " cells above the floor of a " + std::to_string(s.x) + "x" + std::to_string(s.y) + "x" + std::to_string(s.z) +
+                      " void box, watched every tick until its centre has fallen 2 block heights";
+  TestReport r = open_report(o, "falling_block", "Falling block: a released block of sand falls as a block", scene);
   World world(test_world_def(o, s));
   world.paint(b.block(), Material::Granular);
   const MaterialCounts before = world.count();

@@ -12,15 +12,13 @@ namespace granular::accuracy {
 TestReport run_hysteresis_test(const SuiteOptions& o) {
   const TiltedBed bed = o.quick ? TiltedBed{32, 12, 48, 2, 62} : TiltedBed{96, 32, 144, 2, 62};
   const double first_deg = 20, step_deg = o.quick ? 1.0 : 0.5, threshold = 0.01;
-  TestReport r;
-  r.test = "hysteresis";
-  r.title = "Hysteresis: angle of the first avalanche against the angle after it stops";
   const Int3 s = bed.size();
-  r.scene = "walled box " + std::to_string(s.x) + "x" + std::to_string(s.y) + "x" + std::to_string(s.z) + ", a bed " +
-            std::to_string(bed.slope_length) + " cells long inclined at theta along x, a run-out of " +
-            std::to_string(bed.runout) + "; theta from 20 deg in steps of " + std::to_string(step_deg) +
-            " deg, a fresh bed per step, " + std::to_string(4 * bed.slope_length) + " ticks each";
-  log_line(o, "hysteresis: " + r.scene);
+  std::string scene = "walled box " + std::to_string(s.x) + "x" + std::to_string(s.y) + "x" + std::to_string(s.z) + ", a bed " +
+                      std::to_string(bed.slope_length) + " cells long inclined at theta along x, a run-out of " +
+                      std::to_string(bed.runout) + "; theta from 20 deg in steps of " + std::to_string(step_deg) +
+                      " deg, a fresh bed per step, " + std::to_string(4 * bed.slope_length) + " ticks each";
+  TestReport r = open_report(o, "hysteresis",
+                             "Hysteresis: angle of the first avalanche against the angle after it stops", scene);
   const auto start = std::chrono::steady_clock::now();
   Series moved_series{"grains moved", "bed angle theta (deg)", "fraction of grains moved", {}, {}, false};
   double theta_start = std::nan(""), theta_stop = std::nan("");

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "granular/accuracy/pour_cone.hpp"
+#include "suite_tests.hpp"
 
 namespace granular::accuracy {
 
@@ -22,13 +23,10 @@ TestReport run_poured_cone(const SuiteOptions& o, const ConeTarget& target) {
   const double spout = o.quick ? 2.0 : 4.0;
   const std::uint64_t pour_ticks = o.quick ? 4000 : 16000, settle_ticks = o.quick ? 4000 : 20000;
   const std::int64_t per_tick = o.quick ? 60 : 400;
-  TestReport r;
-  r.test = target.test;
-  r.title = target.title;
-  r.scene = std::to_string(floor) + "^2 floor x " + std::to_string(height) + " cells, spout of radius " +
-            std::to_string(int(spout)) + " at the centre, " + std::to_string(pour_ticks) + " ticks of pouring (at most " +
-            std::to_string(per_tick) + " grains per tick) then settling";
-  log_line(o, target.test + ": " + r.scene);
+  std::string scene = std::to_string(floor) + "^2 floor x " + std::to_string(height) + " cells, spout of radius " +
+                      std::to_string(int(spout)) + " at the centre, " + std::to_string(pour_ticks) + " ticks of pouring (at most " +
+                      std::to_string(per_tick) + " grains per tick) then settling";
+  TestReport r = open_report(o, target.test, target.title, scene);
   const PourResult p =
       pour_cone(test_world_def(o, {floor, floor, height}), floor, height, per_tick, pour_ticks, settle_ticks, spout, target.material);
   const ConeMetrics& m = p.metrics;

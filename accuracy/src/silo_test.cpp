@@ -110,15 +110,13 @@ Discharge discharge(const SuiteOptions& o, const Silo& silo) {
 
 TestReport run_silo_test(const SuiteOptions& o) {
   const std::vector<int> orifices = o.quick ? std::vector<int>{4, 6, 8, 12} : std::vector<int>{4, 6, 8, 12, 16, 24};
-  TestReport r;
-  r.test = "silo";
-  r.title = "Silo and hourglass discharge: flow rate against orifice (Beverloo) and fill level";
-  r.scene = "flat-bottomed cylindrical silo of radius R = 1.5 D + " + std::string(o.quick ? "6" : "8") +
-            ", filled 5 silo diameters (10 R) high, centred orifice D in {";
-  for (std::size_t i = 0; i < orifices.size(); ++i) r.scene += (i ? ", " : "") + std::to_string(orifices[i]);
-  r.scene += "}; grains leaving are removed 8 cells below and counted; W is measured while the fill height (the grains "
-             "left over the silo's cross-section) falls from 3 to 2 silo diameters";
-  log_line(o, "silo: " + r.scene);
+  std::string scene = "flat-bottomed cylindrical silo of radius R = 1.5 D + " + std::string(o.quick ? "6" : "8") +
+                      ", filled 5 silo diameters (10 R) high, centred orifice D in {";
+  for (std::size_t i = 0; i < orifices.size(); ++i) scene += (i ? ", " : "") + std::to_string(orifices[i]);
+  scene += "}; grains leaving are removed 8 cells below and counted; W is measured while the fill height (the grains "
+           "left over the silo's cross-section) falls from 3 to 2 silo diameters";
+  TestReport r = open_report(o, "silo",
+                             "Silo and hourglass discharge: flow rate against orifice (Beverloo) and fill level", scene);
   r.notes.push_back("the silo is filled 5 silo diameters high and W measured from 3 to 2 diameters of fill, where "
                     "Janssen's screening holds and the flow has had two diameters of drainage to become steady");
   Series w_d{"W against D", "orifice D (cells)", "W (grains per tick)", {}, {}, false};

@@ -1,12 +1,23 @@
 #include "granular/accuracy/suite.hpp"
 
 #include <algorithm>
+#include <string>
+#include <utility>
 
 #include "granular/errors.hpp"
 #include "granular/world.hpp"
 #include "suite_tests.hpp"
 
 namespace granular::accuracy {
+
+TestReport open_report(const SuiteOptions& options, std::string test, std::string title, std::string scene) {
+  log_line(options, test + ": " + scene);
+  TestReport r;
+  r.test = std::move(test);
+  r.title = std::move(title);
+  r.scene = std::move(scene);
+  return r;
+}
 
 std::vector<std::string> suite_test_names() {
   return {"cone",          "cone_sizes",            "gravel_cone", "hysteresis", "dug_slope",

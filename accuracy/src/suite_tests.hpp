@@ -4,12 +4,17 @@
 /// SuiteOptions::quick), runs them on the configured backend, measures from the grid and returns
 /// a TestReport with measured values, references and their sources, and the series of its plot.
 
+#include <string>
 #include <vector>
 
 #include "granular/accuracy/report.hpp"
 #include "granular/accuracy/suite_options.hpp"
 
 namespace granular::accuracy {
+
+/// A test's report as every test opens it: its name, title and scene set, and the scene logged
+/// as "<test>: <scene>" (log_line).
+TestReport open_report(const SuiteOptions& options, std::string test, std::string title, std::string scene);
 
 /// 1. Poured cone: sand poured from a spout onto a floor (quick 96^2, full 256^2), measured with
 /// measure_cone: the angle of repose against the material's target, r_max / r_min at half height

@@ -36,14 +36,12 @@ TestReport run_torricelli_test(const SuiteOptions& o) {
   // window edges, from 90% to 20% of the fill: the start's transient and the last few orifice
   // diameters (where h ~ D) are left out.
   const std::vector<double> edges{0.9, 0.8, 0.7, 0.6, 0.5, 0.4, 0.3, 0.2};
-  TestReport r;
-  r.test = "torricelli";
-  r.title = "Torricelli: a tank drains through a bottom orifice at a rate growing as the square root of the head";
-  r.scene = "cylindrical tank of radius " + std::to_string(tank.radius) + " filled " + std::to_string(tank.fill) +
-            " cells high with liquid, a centred orifice of diameter " + std::to_string(tank.orifice) +
-            " in its flat bottom; liquid leaving is removed 8 cells below; the rate Q in 7 windows of the head h from 90% "
-            "to 20% of the fill";
-  log_line(o, "torricelli: " + r.scene);
+  std::string scene = "cylindrical tank of radius " + std::to_string(tank.radius) + " filled " + std::to_string(tank.fill) +
+                      " cells high with liquid, a centred orifice of diameter " + std::to_string(tank.orifice) +
+                      " in its flat bottom; liquid leaving is removed 8 cells below; the rate Q in 7 windows of the head h from 90% "
+                      "to 20% of the fill";
+  TestReport r = open_report(o, "torricelli",
+                             "Torricelli: a tank drains through a bottom orifice at a rate growing as the square root of the head", scene);
   const Grid initial = tank.build(Material::Liquid);
   World world(test_world_def(o, s), initial);
   const MaterialCounts before = world.count();
