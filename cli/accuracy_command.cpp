@@ -4,19 +4,20 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "accuracy_plot_script.hpp"
+#include "child_process.hpp"
 #include "choices_text.hpp"
 #include "granular/accuracy/report_io.hpp"
 #include "granular/accuracy/suite.hpp"
 #include "granular/errors.hpp"
 #include "granular/rule_presets.hpp"
 #include "number_option.hpp"
+#include "output_paths.hpp"
 
 namespace granular::cli {
 
@@ -66,15 +67,8 @@ std::string plotting_python() {
   candidates.emplace_back("python3");
   candidates.emplace_back("/usr/bin/python3");
   for (const auto& c : candidates)
-    if (std::system(("'" + c + "' -c 'import matplotlib' > /dev/null 2>&1").c_str()) == 0) return "'" + c + "'";
+    if (run_program({c, "-c", "import matplotlib"}, ChildOutput::Discard).status == 0) return c;
   return {};
-}
-
-void write_file(const std::filesystem::path& path, const std::string& text) {
-  std::ofstream f(path, std::ios::binary);
-  if (!f) throw FileError("cannot write '" + path.string() + "'");
-  f << text;
-  if (!f) throw FileError("writing '" + path.string() + "' failed");
 }
 
 void run(const AccuracyOptions& o) {
@@ -88,6 +82,8 @@ void run(const AccuracyOptions& o) {
       throw InvalidArgument("--tests: unknown test '" + t + "'; valid tests: " + list);
     }
   for (const auto& r : o.rules) make_rule_set(r);  // throws naming the valid presets
+  if (!o.csv.empty()) check_output_file("--csv", o.csv);
+  if (!o.out.empty()) prepare_output_folder("--out", o.out);
   accuracy::SuiteOptions base;
   base.backend = parse_backend(o.backend);
   base.threads = o.threads;
@@ -110,11 +106,10 @@ void run(const AccuracyOptions& o) {
   }
   const std::string json = accuracy::report_json(reports, base.calibration, accuracy::current_run_info(command_line(o)));
   if (o.json) std::cout << json;
-  if (!o.csv.empty()) write_file(o.csv, accuracy::report_csv(reports));
+  if (!o.csv.empty()) write_output_file(o.csv, accuracy::report_csv(reports));
   if (!o.out.empty()) {
-    std::filesystem::create_directories(o.out);
     const auto json_path = std::filesystem::path(o.out) / "accuracy.json";
-    write_file(json_path, json);
+    write_output_file(json_path, json);
     const std::filesystem::path script = accuracy_plot_script();
     std::error_code ec;
     if (!std::filesystem::is_regular_file(script, ec)) {
@@ -124,11 +119,13 @@ void run(const AccuracyOptions& o) {
       std::fprintf(stderr, "notice: no python3 with matplotlib found (set $GRANULAR_PYTHON) to run %s; %s is written, no plots\n",
                    script.c_str(), json_path.c_str());
     } else {
-      const std::string command =
-          python + " '" + script.string() + "' --out '" + o.out + "' '" + json_path.string() + "'";
-      std::fprintf(stderr, "plots: %s\n", command.c_str());
-      if (std::system(command.c_str()) != 0)
-        std::fprintf(stderr, "notice: the plot script failed; %s is written\n", json_path.c_str());
+      // "--out=DIR" and "--" keep a folder whose name starts with '-' a value, not an option.
+      const std::vector<std::string> command = {python, script.string(), "--out=" + o.out, "--", json_path.string()};
+      std::fprintf(stderr, "plots: %s\n", shell_words(command).c_str());
+      if (const ChildResult plotted = run_program(command); plotted.status != 0)
+        std::fprintf(stderr, "notice: the plot script failed (%s); %s is written\n",
+                     plotted.started ? ("exit status " + std::to_string(plotted.status)).c_str() : plotted.why.c_str(),
+                     json_path.c_str());
     }
   }
   // Conservation and determinism are absolutes, not physics targets: a failure is an error.
@@ -162,9 +159,11 @@ void add_accuracy_command(CLI::App& app) {
   cmd->add_flag("--quick", o->quick, "reduced sizes (CI; 15 s to 3 minutes per rule set on 2 cores); default: full size, for a GPU");
   cmd->add_flag("--dense", o->dense, "step every block every tick (default: sparse, the same results)");
   cmd->add_flag("--json", o->json, "print the report as JSON instead of text");
-  cmd->add_option("--csv", o->csv, "also write one CSV row per metric to this file");
-  cmd->add_option("--out", o->out, "write accuracy.json and one PNG per test (python3 + matplotlib) into this folder");
-  cmd->add_option("--cache-dir", o->cache_dir, "table cache folder (default: $GRANULAR_CACHE_DIR or ~/.cache/granular)");
+  cmd->add_option("--csv", o->csv, "also write one CSV row per metric to this file")->check(non_empty_path());
+  cmd->add_option("--out", o->out, "write accuracy.json and one PNG per test (python3 + matplotlib) into this folder")
+      ->check(non_empty_path());
+  cmd->add_option("--cache-dir", o->cache_dir, "table cache folder (default: $GRANULAR_CACHE_DIR or ~/.cache/granular)")
+      ->check(non_empty_path());
   cmd->callback([o] { run(*o); });
 }
 

@@ -4,6 +4,7 @@
 #include <memory>
 
 #include "granular/grid_io.hpp"
+#include "output_paths.hpp"
 #include "scene_runner.hpp"
 
 namespace granular::cli {
@@ -39,7 +40,9 @@ void add_export_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("export", "run a scene for N ticks and write the grid to .raw or .vox");
   add_world_options(*cmd, options->world);
   add_ticks_option(*cmd, options->ticks, "ticks to run before writing");
-  cmd->add_option("-o,--out", options->out, "output file: .raw (granular raw grid) or .vox (MagicaVoxel)")->required();
+  cmd->add_option("-o,--out", options->out, "output file: .raw (granular raw grid) or .vox (MagicaVoxel)")
+      ->required()
+      ->check(non_empty_path());
   cmd->add_flag("--no-progress", options->no_progress, "do not draw the progress bar");
   cmd->callback([options] { run(*options); });
 }

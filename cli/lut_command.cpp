@@ -7,11 +7,13 @@
 #include <nlohmann/json.hpp>
 
 #include "choices_text.hpp"
+#include "json_text.hpp"
 #include "granular/extend/hex.hpp"
 #include "granular/extend/lut.hpp"
 #include "granular/rule_presets.hpp"
 #include "granular/world_def.hpp"
 #include "number_option.hpp"
+#include "output_paths.hpp"
 
 namespace granular::cli {
 
@@ -59,7 +61,7 @@ void run(const LutOptions& o) {
   j["cache_file"] = got.cache_file.string();
   j["cache_bytes"] = cache_bytes;
   if (o.json) {
-    std::cout << j.dump(2) << "\n";
+    std::cout << json_text(j);
     return;
   }
   std::printf("rules          %s: %s\n", rules->name.c_str(), rules->description.c_str());
@@ -82,7 +84,8 @@ void add_lut_command(CLI::App& app) {
   auto options = std::make_shared<LutOptions>();
   CLI::App* cmd = app.add_subcommand("lut", "build, validate and cache a rule set's transition table");
   cmd->add_option("--rules", options->rules, "rule set: " + rule_preset_choices())->capture_default_str();
-  cmd->add_option("--cache-dir", options->cache_dir, "cache folder (default: $GRANULAR_CACHE_DIR or ~/.cache/granular)");
+  cmd->add_option("--cache-dir", options->cache_dir, "cache folder (default: $GRANULAR_CACHE_DIR or ~/.cache/granular)")
+      ->check(non_empty_path());
   cmd->add_flag("--rebuild", options->rebuild, "build even when cached, and time the build");
   add_number_option(*cmd, "-j,--threads", options->threads, threads_range(),
                     "threads for the build (0 = all)");

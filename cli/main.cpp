@@ -1,6 +1,7 @@
 /// @file main.cpp
 /// `granular`: the headless command-line front end of the granular module. Every failure, a bad
-/// command line included, is one `error:` line on stderr and exit status 1; --help exits 0. Under
+/// command line and output that standard output could not take included, is one `error:` line on
+/// stderr and exit status 1; --help exits 0. Under
 /// mpirun only rank 0 prints the line (distributed_run.hpp), and every rank exits 1.
 
 #include <CLI/CLI.hpp>
@@ -11,6 +12,7 @@
 #include "export_command.hpp"
 #include "granular/errors.hpp"
 #include "lut_command.hpp"
+#include "output_paths.hpp"
 #include "run_command.hpp"
 #include "signal_cleanup.hpp"
 
@@ -26,6 +28,7 @@ int main(int argc, char** argv) {
   granular::cli::add_accuracy_command(app);
   try {
     app.parse(argc, argv);
+    granular::cli::flush_standard_output();
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == static_cast<int>(CLI::ExitCodes::Success)) return app.exit(e);  // --help
     if (granular::cli::prints_errors()) std::fprintf(stderr, "error: %s (see granular --help)\n", e.what());

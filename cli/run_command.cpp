@@ -6,6 +6,8 @@
 #include <nlohmann/json.hpp>
 
 #include "distributed_run.hpp"
+#include "json_text.hpp"
+#include "output_paths.hpp"
 #include "granular/extend/hex.hpp"
 #include "granular/extend/lut.hpp"
 #include "granular/rule_set.hpp"
@@ -77,7 +79,7 @@ void print_json(const RunSummary& r) {
                   {"exchange_seconds", d.exchange_seconds},
                   {"exchange_bytes", d.exchange_bytes}};
   }
-  std::cout << s.dump(2) << "\n";
+  std::cout << json_text(s);
 }
 
 void print_text(const RunSummary& r) {
@@ -187,7 +189,8 @@ void add_run_command(CLI::App& app) {
   add_world_options(*cmd, options->world);
   add_ticks_option(*cmd, options->ticks, "ticks to run");
   cmd->add_option("--save", options->save,
-                  "write a snapshot (.gsnap) of the world after the last tick, which `run --scene FILE` continues");
+                  "write a snapshot (.gsnap) of the world after the last tick, which `run --scene FILE` continues")
+      ->check(non_empty_path());
   cmd->add_flag("--json", options->json, "print the summary as JSON");
   cmd->add_flag("--no-progress", options->no_progress, "do not draw the progress bar");
   add_split_options(*cmd, *options);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <climits>
+#include <cmath>
 #include <cstdio>
 
 #include "choices_text.hpp"
@@ -55,6 +56,9 @@ WorldSource load_world_source(const WorldOptions& o, double bytes_per_cell) {
   def.threads = o.threads;
   def.use_lut_cache = !o.no_lut_cache;
   def.sparse = !o.dense;
+  // CLI::Range lets NaN through (every comparison with it is false).
+  if (o.dense_fraction && std::isnan(*o.dense_fraction))
+    throw InvalidArgument("--dense-fraction nan: is not a number (expected a fraction from 0 to 1)");
   if (o.dense_fraction) def.cuda.dense_fraction = def.cuda.motion_dense_fraction = *o.dense_fraction;
   def.backend = o.backend == "cpu" ? BackendKind::Cpu : o.backend == "cuda" ? BackendKind::Cuda : BackendKind::Auto;
   const std::filesystem::path as_path(o.scene);

@@ -143,7 +143,8 @@ std::string report_json(const std::vector<SuiteReport>& reports, const Calibrati
     }
     j["configurations"].push_back(cj);
   }
-  return j.dump(2) + "\n";
+  // Invalid UTF-8 (in a CPU or GPU name) is written as U+FFFD, as the CLI's json_text does.
+  return j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
 }
 
 std::string report_csv(const std::vector<SuiteReport>& reports) {

@@ -64,7 +64,7 @@ using BlockRule = Transition (*)(const BlockCells& cells, const MaterialTable& m
 /// * random_axis_order: per 8-tick cycle (not per block), one of 2 offset orders (block_offset).
 ///   It only moves the partition; it never changes which keys are inert.
 struct RuleSet {
-  std::string name;            ///< preset name, e.g. "paper"
+  std::string name;            ///< preset name, e.g. "paper": 1..kMaxRuleSetNameBytes bytes of printable ASCII
   std::string description;     ///< one line for humans
   std::uint32_t version = 1;   ///< bump whenever the rule's behaviour changes (part of the cache key)
   MaterialTable materials;     ///< what each cell state is (default_materials() in the presets)
@@ -83,7 +83,11 @@ struct RuleSet {
 /// otherwise the static materials. Bit s set for state s.
 std::uint8_t fixed_states(const RuleSet& rules);
 
-/// Throws RuleError naming the field and value when `rules` cannot be stepped: no transition, a
+/// Longest RuleSet::name validate_rule_set accepts, in bytes.
+inline constexpr std::size_t kMaxRuleSetNameBytes = 64;
+
+/// Throws RuleError naming the field and value when `rules` cannot be stepped: a name that is
+/// empty, longer than kMaxRuleSetNameBytes or not printable ASCII (0x20..0x7E), no transition, a
 /// material table without exactly one void material and at least one static one, an empty or
 /// duplicate material name, a behaviour out of range, a grain motion or spread chance outside 0..256,
 /// a density out of -64..64 or of the wrong sign for its behaviour (void 0, gas below 0, granular and

@@ -5,8 +5,8 @@
 
 #include "granular/errors.hpp"
 #include "granular/grid.hpp"
-#include "granular/material.hpp"
 #include "cpu/thread_pool.hpp"
+#include "rules/block_rule_call.hpp"
 
 namespace granular {
 
@@ -14,14 +14,6 @@ namespace {
 
 constexpr int kChunks = 256;  // the key space is split in this many equal chunks for threading
 constexpr std::uint32_t kChunkKeys = kBlockKeyCount / kChunks;
-
-std::string octal_key(BlockKey key) {
-  std::ostringstream s;
-  s << "0" << std::oct << key << " (cells";
-  for (auto c : decode_key(key)) s << " " << material_name(Material(c));
-  s << ")";
-  return s.str();
-}
 
 }  // namespace
 
@@ -44,12 +36,17 @@ Lut Lut::build(const RuleSet& rules, int threads) {
   Transition* out = lut.entries_.data();
   pool.run(kChunks, [&](int chunk) {
     const BlockKey first = BlockKey(chunk) * kChunkKeys;
-    for (BlockKey k = first; k < first + kChunkKeys; ++k) out[k] = rules.transition(decode_key(k), rules.materials);
+    BlockKey k = first;
+    try {
+      for (; k < first + kChunkKeys; ++k) out[k] = rules.transition(decode_key(k), rules.materials);
+    } catch (...) {
+      throw block_rule_error(rules, k, std::current_exception());
+    }
   });
   try {
     lut.validate_and_summarise(threads, fixed_states(rules));
   } catch (const RuleError& e) {
-    throw RuleError("rule set '" + rules.name + "': " + e.what());
+    throw RuleError("rule set " + shown_rule_set_name(rules.name) + ": " + e.what());
   }
   return lut;
 }
@@ -81,7 +78,7 @@ void Lut::validate_and_summarise(int threads, std::uint8_t fixed) {
         ++m;
         if (errors[chunk].empty()) {
           std::string why = check_transition(k, t, fixed);
-          if (!why.empty()) errors[chunk] = "key " + octal_key(k) + ": transition 0" + [&] {
+          if (!why.empty()) errors[chunk] = "key " + block_key_text(k) + ": transition 0" + [&] {
             std::ostringstream s;
             s << std::oct << t;
             return s.str();

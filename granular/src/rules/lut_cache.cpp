@@ -116,8 +116,15 @@ std::filesystem::path default_lut_cache_dir() {
 
 namespace {
 
+/// The cache file of a rule set named `name`: "lut-NAME-FINGERPRINT.zst" in `dir`, where NAME keeps
+/// the name's letters, digits, '-', '_' and '.' (every other byte is '_') up to 64 bytes, so no name
+/// reaches outside `dir` ('/' and "\0" never appear); the fingerprint, which covers the whole name,
+/// keeps two names that read alike apart.
 std::filesystem::path cache_file(const std::string& name, std::uint64_t fingerprint, const std::filesystem::path& dir) {
-  return dir / ("lut-" + name + "-" + hex64(fingerprint) + ".zst");
+  std::string readable = name.substr(0, 64);
+  for (char& c : readable)
+    if (!((c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '-' || c == '.')) c = '_';
+  return dir / ("lut-" + readable + "-" + hex64(fingerprint) + ".zst");
 }
 
 }  // namespace
@@ -129,6 +136,7 @@ std::filesystem::path lut_cache_file(const RuleSet& rules, const std::filesystem
 LutObtained obtain_lut(const RuleSet& rules, const LutCacheOptions& options) {
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
+  validate_rule_set(rules);  // before its name becomes part of a file name
   LutObtained result;
   const std::uint64_t fingerprint = rule_fingerprint(rules);
   std::filesystem::path dir = options.directory.empty() ? default_lut_cache_dir() : options.directory;

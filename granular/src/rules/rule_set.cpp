@@ -1,9 +1,13 @@
 #include "granular/rule_set.hpp"
 
 #include <set>
+#include <sstream>
 
 #include "granular/errors.hpp"
 #include "granular/grid.hpp"
+#include "granular/material.hpp"
+#include "io/file_names.hpp"
+#include "rules/block_rule_call.hpp"
 #include "step/step_materials.hpp"
 
 namespace granular {
@@ -28,8 +32,46 @@ std::uint8_t fixed_states(const RuleSet& rules) {
   return fixed;
 }
 
+std::string block_key_text(BlockKey key) {
+  std::ostringstream s;
+  s << "0" << std::oct << key << " (cells";
+  for (auto c : decode_key(key)) s << " " << material_name(Material(c));
+  s << ")";
+  return s.str();
+}
+
+std::string shown_rule_set_name(const std::string& name) {
+  constexpr std::size_t kShown = 40;
+  const auto bytes = std::span(reinterpret_cast<const std::uint8_t*>(name.data()), std::min(name.size(), kShown));
+  std::string text(1, '\'');  // built by appending: GCC 12 warns falsely on "'" + string (-Wrestrict)
+  text.append(escaped_bytes(bytes, '\''));
+  text.push_back('\'');
+  if (name.size() > kShown) text += "... (" + std::to_string(name.size()) + " bytes)";
+  return text;
+}
+
+RuleError block_rule_error(const RuleSet& rules, BlockKey key, std::exception_ptr thrown) {
+  std::string what = "an exception that is not a std::exception";
+  try {
+    std::rethrow_exception(thrown);
+  } catch (const std::exception& e) {
+    what = e.what();
+  } catch (...) {
+  }
+  return RuleError("rule set " + shown_rule_set_name(rules.name) + ": RuleSet::transition threw on block key " +
+                   block_key_text(key) + ": " + what);
+}
+
 void validate_rule_set(const RuleSet& rules) {
-  const std::string who = "rule set '" + rules.name + "': ";
+  const std::string who = "rule set " + shown_rule_set_name(rules.name) + ": ";
+  if (rules.name.empty()) throw RuleError("RuleSet::name is empty; a rule set needs a name (it keys the table cache)");
+  if (rules.name.size() > kMaxRuleSetNameBytes)
+    throw RuleError(who + "RuleSet::name has " + std::to_string(rules.name.size()) + " bytes; at most " +
+                    std::to_string(kMaxRuleSetNameBytes) + " are allowed");
+  for (std::size_t i = 0; i < rules.name.size(); ++i)
+    if (const auto c = std::uint8_t(rules.name[i]); c < 0x20 || c > 0x7E)
+      throw RuleError(who + "RuleSet::name byte " + std::to_string(i) + " is " + escaped_bytes({&c, 1}, '\'') +
+                      "; a name is printable ASCII (space to '~')");
   if (!rules.transition) throw RuleError(who + "RuleSet::transition is null; give it a block rule");
   std::set<std::string> names;
   bool any_static = false;
@@ -101,17 +143,23 @@ std::uint64_t rule_fingerprint(const RuleSet& rules) {
     if (d.grain.flow_level != 0) h = mix64(h ^ 0x666C6F776C766C00ull ^ std::uint64_t(d.grain.flow_level));
   }
   if (!rules.transition) return h;
-  // Every block over the three simulated states.
-  for (std::uint32_t n = 0; n < 6561; ++n) {
-    BlockCells cells{};
-    std::uint32_t v = n;
-    for (int i = 0; i < 8; ++i, v /= 3) cells[i] = std::uint8_t(v % 3);
-    h = mix64(h ^ rules.transition(cells, rules.materials)) + n;
-  }
-  // A pseudo-random sample over all 8 states.
-  for (std::uint64_t n = 0; n < 4096; ++n) {
-    const BlockKey key = BlockKey(mix64(n * 0x9E3779B97F4A7C15ull) & (kBlockKeyCount - 1));
-    h = mix64(h ^ rules.transition(decode_key(key), rules.materials)) + key;
+  BlockKey key = 0;
+  try {
+    // Every block over the three simulated states.
+    for (std::uint32_t n = 0; n < 6561; ++n) {
+      BlockCells cells{};
+      std::uint32_t v = n;
+      for (int i = 0; i < 8; ++i, v /= 3) cells[i] = std::uint8_t(v % 3);
+      key = encode_key(cells);
+      h = mix64(h ^ rules.transition(cells, rules.materials)) + n;
+    }
+    // A pseudo-random sample over all 8 states.
+    for (std::uint64_t n = 0; n < 4096; ++n) {
+      key = BlockKey(mix64(n * 0x9E3779B97F4A7C15ull) & (kBlockKeyCount - 1));
+      h = mix64(h ^ rules.transition(decode_key(key), rules.materials)) + key;
+    }
+  } catch (...) {
+    throw block_rule_error(rules, key, std::current_exception());
   }
   return h;
 }

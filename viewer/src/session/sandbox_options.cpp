@@ -12,6 +12,17 @@
 
 namespace viewer {
 
+namespace {
+
+/// A CLI11 check that refuses an empty file name, which would otherwise mean "none" silently.
+CLI::Validator non_empty_file() {
+  return CLI::Validator(
+      [](std::string& value) { return value.empty() ? std::string("needs a file name; an empty value names none") : std::string(); },
+      "FILE", "non-empty file name");
+}
+
+}  // namespace
+
 void add_sandbox_options(CLI::App& app, SandboxOptions& o) {
 #ifndef NDEBUG
   o.validation = true;
@@ -38,7 +49,8 @@ void add_sandbox_options(CLI::App& app, SandboxOptions& o) {
   app.add_option_function<int>("--frames", [&o](const int& n) { o.frames = n; },
                                "frames to run (headless: default " + std::to_string(kDefaultHeadlessFrames) +
                                    "; windowed: default until the window is closed or Esc)");
-  app.add_option("--screenshot", o.screenshot, "write the last frame to this PNG (windowed: the frame before it closes)");
+  app.add_option("--screenshot", o.screenshot, "write the last frame to this PNG (windowed: the frame before it closes)")
+      ->check(non_empty_file());
   app.add_option("--screenshot-dir", o.screenshot_dir,
                  "folder the P key writes granular-screenshot-N.png into (default: the current folder)");
   app.add_option_function<std::string>(
@@ -56,23 +68,30 @@ void add_sandbox_options(CLI::App& app, SandboxOptions& o) {
                  "marching cubes meshes a brick with a cube per 2x2x2 cells where its cells cover fewer pixels "
                  "than this (default 1; 0: a cube per cell everywhere)")
       ->check(CLI::Range(0.0f, 1000.0f));
-  app.add_option("--ticks-per-frame", o.ticks_per_frame, "world ticks per fixed update");
+  app.add_option("--ticks-per-frame", o.ticks_per_frame,
+                 "world ticks per fixed update (1.." + std::to_string(kMaxTicksPerFrame) + ")");
   app.add_option("--width", o.width, "image width in pixels");
   app.add_option("--height", o.height, "image height in pixels");
   app.add_flag("--validation,!--no-validation", o.validation, "Vulkan validation layers (default on in debug builds)");
   app.add_flag("--no-interop", o.no_interop, "with --backend cuda: copy the cells through the host instead of sharing them");
   app.add_option("--save", o.save,
                  std::string("snapshot (.gsnap) written after the last frame, and the file of Ctrl+S and Ctrl+O (default ") +
-                     kDefaultSnapshotFile + ", written only by Ctrl+S)");
-  app.add_option("--load", o.load, "start from this snapshot (.gsnap), as saved by --save or Ctrl+S");
+                     kDefaultSnapshotFile + ", written only by Ctrl+S)")
+      ->check(non_empty_file());
+  app.add_option("--load", o.load, "start from this snapshot (.gsnap), as saved by --save or Ctrl+S")->check(non_empty_file());
   app.add_option("--undo-mib", o.undo_mib, "memory for the undo history of strokes, in MiB (oldest strokes dropped first)");
 }
 
 void validate(const SandboxOptions& o) {
   if (o.frames && *o.frames < 1) throw std::invalid_argument("--frames must be >= 1, got " + std::to_string(*o.frames));
-  if (o.ticks_per_frame < 1) throw std::invalid_argument("--ticks-per-frame must be >= 1, got " + std::to_string(o.ticks_per_frame));
+  if (o.ticks_per_frame < 1 || o.ticks_per_frame > kMaxTicksPerFrame)
+    throw std::invalid_argument("--ticks-per-frame " + std::to_string(o.ticks_per_frame) + ": must be 1.." +
+                                std::to_string(kMaxTicksPerFrame) + " (more ticks than a frame can run freeze the window)");
   if (o.width < 16 || o.height < 16 || o.width > 16384 || o.height > 16384)
     throw std::invalid_argument("--width/--height must be in 16..16384, got " + std::to_string(o.width) + "x" + std::to_string(o.height));
+  // CLI::Range lets NaN through (every comparison with it is false).
+  if (!(o.detail.coarse_below_pixels >= 0.0f && o.detail.coarse_below_pixels <= 1000.0f))
+    throw std::invalid_argument("--coarse-below " + std::to_string(o.detail.coarse_below_pixels) + ": must be 0..1000");
   if (o.renderer != "auto" && !parse_renderer_kind(o.renderer))
     throw std::invalid_argument("--renderer '" + o.renderer + "': expected auto, cubes, marching or raymarch");
   std::error_code error;

@@ -26,7 +26,8 @@ struct RunInfo {
 RunInfo current_run_info(std::string command);
 
 /// JSON of every configuration's report (config, tests, metrics, series, notes), the calibration
-/// and the run info.
+/// and the run info. A string that is not valid UTF-8 (a CPU or GPU name) has each invalid byte
+/// sequence written as U+FFFD.
 std::string report_json(const std::vector<SuiteReport>& reports, const Calibration& calibration, const RunInfo& info);
 
 /// CSV with a header and one row per metric: rules, backend, size, stepping, test, metric, unit, measured,

@@ -74,12 +74,15 @@ struct LutObtained {
 /// $GRANULAR_CACHE_DIR, else $XDG_CACHE_HOME/granular, else $HOME/.cache/granular, else empty.
 std::filesystem::path default_lut_cache_dir();
 
-/// The cache file of `rules` in `directory`: lut-<name>-<fingerprint as hex64>.zst.
+/// The cache file of `rules` in `directory`: lut-<name>-<fingerprint as hex64>.zst, where <name> is
+/// the rule set's name cut to 64 bytes with every byte but letters, digits, '-', '_' and '.' made '_'
+/// (always a file directly in `directory`).
 std::filesystem::path lut_cache_file(const RuleSet& rules, const std::filesystem::path& directory);
 
 /// Loads the table for `rules` from the cache when a valid entry exists, else builds, validates
 /// and stores it (atomically; a cache that cannot be written is reported in `notice`, not fatal).
-/// A corrupt or stale cache file is rebuilt, never trusted.
+/// A corrupt or stale cache file is rebuilt, never trusted. Throws RuleError (validate_rule_set)
+/// before any file is touched when `rules` cannot be stepped.
 LutObtained obtain_lut(const RuleSet& rules, const LutCacheOptions& options = {});
 
 }  // namespace granular
