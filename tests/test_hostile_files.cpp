@@ -1,0 +1,167 @@
+/// @file test_hostile_files.cpp
+/// Files that are not what they claim (issue 34, round three): saving onto a FIFO or a device (or a
+/// link to one) is refused and the node stays; every reader, single-domain and distributed, checks a
+/// regular file, then the header, then sizes against the file and the memory budget, and only then
+/// reads: a FIFO cannot hang it, a zstd bomb is refused before it is decompressed, a sparse file's
+/// header is refused before the file is read; a snapshot's hash covers its header (tick, seed, tool
+/// calls); ranks given different worlds are told so on every rank; and the slab layout refuses a
+/// sub-step count it cannot hold.
+
+#include <doctest/doctest.h>
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <sys/sysmacros.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <climits>
+#include <cstdlib>
+#include <filesystem>
+#include <future>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "granular/distributed/distributed_world.hpp"
+#include "granular/distributed/local_group.hpp"
+#include "granular/errors.hpp"
+#include "granular/grid_io.hpp"
+#include "granular/rule_presets.hpp"
+#include "granular/rule_set.hpp"
+#include "granular/world.hpp"
+#include "granular/world_snapshot.hpp"
+#include "io/little_endian.hpp"
+#include "io/snapshot_header.hpp"
+#include "test_support.hpp"
+
+using namespace granular;
+using namespace granular::test;
+
+namespace {
+
+namespace fs = std::filesystem;
+
+/// A fresh temporary folder, removed at the end of the scope.
+struct TempDir {
+  fs::path path;
+  explicit TempDir(const char* name) : path(fs::temp_directory_path() / name) {
+    fs::remove_all(path);
+    fs::create_directories(path);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path, ec);
+  }
+};
+
+bool is_fifo_node(const fs::path& p) {
+  struct stat info {};
+  return ::lstat(p.c_str(), &info) == 0 && S_ISFIFO(info.st_mode);
+}
+
+/// A zstd frame of `content` zero bytes made of RLE blocks (4 bytes per 128 KiB), stating its
+/// content size when `state_size`.
+std::vector<std::uint8_t> zero_frame(std::uint64_t content, bool state_size) {
+  std::vector<std::uint8_t> f = {0x28, 0xB5, 0x2F, 0xFD};
+  if (state_size) {
+    f.push_back(0xE0);  // 8-byte content size, single segment
+    for (int i = 0; i < 8; ++i) f.push_back(std::uint8_t(content >> (8 * i)));
+  } else {
+    f.push_back(0x00);
+    f.push_back(0x38);  // window 128 KiB
+  }
+  constexpr std::uint64_t kBlock = 128 * 1024;
+  for (std::uint64_t left = content; left > 0;) {
+    const std::uint64_t n = std::min(left, kBlock);
+    left -= n;
+    const std::uint32_t header = (left == 0 ? 1u : 0u) | (1u << 1) | std::uint32_t(n << 3);
+    f.insert(f.end(), {std::uint8_t(header), std::uint8_t(header >> 8), std::uint8_t(header >> 16), 0});
+  }
+  return f;
+}
+
+/// A snapshot file of `version` whose header declares `size` and holds `body` as its cells.
+std::vector<std::uint8_t> snapshot_file(std::uint32_t version, Int3 size, const std::vector<std::uint8_t>& body) {
+  WorldSnapshot meta;
+  meta.size = size;
+  meta.rules = "inertial-24";
+  std::vector<std::uint8_t> out = snapshot_header_bytes(meta, version, 0, body.size());
+  out.insert(out.end(), body.begin(), body.end());
+  return out;
+}
+
+void write_bytes(const fs::path& p, const std::vector<std::uint8_t>& bytes) {
+  write_file_atomic(p, {std::span<const std::uint8_t>(bytes)});
+}
+
+/// Runs `fn` on 2 in-process ranks and returns the message of the error every rank threw (checking
+/// that each threw an E).
+template <class E, class F>
+std::string error_on_every_rank(int ranks, F&& fn) {
+  std::mutex m;
+  std::vector<std::string> messages;
+  int threw = 0;
+  run_local_ranks(ranks, [&](Communicator& comm) {
+    try {
+      fn(comm);
+    } catch (const E& e) {
+      const std::lock_guard lock(m);
+      ++threw;
+      messages.push_back(e.what());
+    }
+  });
+  CHECK(threw == ranks);
+  return messages.empty() ? std::string() : messages.front();
+}
+
+/// $GRANULAR_MEMORY_LIMIT set for the scope.
+struct MemoryLimit {
+  explicit MemoryLimit(const char* bytes) { ::setenv("GRANULAR_MEMORY_LIMIT", bytes, 1); }
+  ~MemoryLimit() { ::unsetenv("GRANULAR_MEMORY_LIMIT"); }
+};
+
+/// Seconds `fn` takes.
+template <class F>
+double seconds_of(F&& fn) {
+  const auto start = std::chrono::steady_clock::now();
+  fn();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace
+
+TEST_CASE("saving refuses a FIFO, a device or a link to one, and leaves the node; a link to a file writes its target") {
+  const TempDir dir("granular_hostile_save");
+  const Grid grid = random_grid({8, 8, 8}, 3);
+  const fs::path fifo = dir.path / "pipe.raw";
+  REQUIRE(::mkfifo(fifo.c_str(), 0644) == 0);
+  const fs::path link = dir.path / "link.gsnap";
+  fs::create_symlink(fifo, link);
+  check_has(error_of<FileError>([&] { save_grid(grid, fifo); }), {"pipe.raw", "FIFO", "not a regular file"});
+  CHECK(is_fifo_node(fifo));
+  check_has(error_of<FileError>([&] { check_grid_save_path(fifo); }), {"pipe.raw", "FIFO"});
+  World world(test_def({8, 8, 8}, "inertial-24"), grid);
+  check_has(error_of<FileError>([&] { save_snapshot(world.capture(), link); }),
+            {"link.gsnap", "symbolic link to", "pipe.raw", "FIFO"});
+  CHECK(is_fifo_node(fifo));
+  CHECK(fs::is_symlink(link));
+  check_has(error_of<FileError>([&] { check_snapshot_save_path(link); }), {"link.gsnap", "FIFO"});
+  // A character device node of our own (root only: CI's container), never the system's.
+  const fs::path device = dir.path / "null.vox";
+  if (::mknod(device.c_str(), S_IFCHR | 0666, makedev(1, 3)) == 0) {
+    check_has(error_of<FileError>([&] { save_grid(grid, device); }), {"null.vox", "character device"});
+    struct stat info {};
+    CHECK((::lstat(device.c_str(), &info) == 0 && S_ISCHR(info.st_mode)));
+  }
+  // Through a link to a regular file: the target is replaced, the link stays.
+  const fs::path target = dir.path / "target.raw", to_target = dir.path / "to_target.raw";
+  save_grid(Grid({2, 2, 2}), target);
+  fs::create_symlink(target, to_target);
+  save_grid(grid, to_target);
+  CHECK(fs::is_symlink(to_target));
+  CHECK(load_raw(target).hash() == grid.hash());
+  for (const auto& e : fs::directory_iterator(dir.path))
+    CHECK_MESSAGE(e.path().string().find(".tmp-") == std::string::npos, e.path().string());
+}
