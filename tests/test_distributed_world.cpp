@@ -242,7 +242,7 @@ TEST_CASE("distributed world: snapshot files, each slab a frame, read back split
     w.save(split_file);
   });
   const std::vector<std::uint8_t> bytes = read_file_bytes(split_file);
-  CHECK(bytes[4] == kSlabSnapshotVersion);
+  CHECK(bytes[4] == kSnapshotVersion);
   // The 2-frame file continues as one World and over 3 ranks alike.
   World again(def, load_snapshot(split_file));
   CHECK(again.tick() == 10);

@@ -165,3 +165,111 @@ TEST_CASE("saving refuses a FIFO, a device or a link to one, and leaves the node
   for (const auto& e : fs::directory_iterator(dir.path))
     CHECK_MESSAGE(e.path().string().find(".tmp-") == std::string::npos, e.path().string());
 }
+
+TEST_CASE("the distributed snapshot reader refuses a FIFO without hanging and names a device") {
+  const TempDir dir("granular_hostile_fifo");
+  const fs::path fifo = dir.path / "pipe.gsnap";
+  REQUIRE(::mkfifo(fifo.c_str(), 0644) == 0);
+  const WorldDef def = test_def({16, 16, 32}, "inertial-24");
+  auto reading = std::async(std::launch::async, [&] {
+    return error_on_every_rank<FileError>(2, [&](Communicator& comm) { DistributedWorld w(def, comm, fifo); });
+  });
+  if (reading.wait_for(std::chrono::seconds(10)) != std::future_status::ready) {
+    FAIL_CHECK("DistributedWorld hangs on a FIFO");
+    // Unblock the ranks waiting in open(): a writer that opens and leaves.
+    for (int i = 0; i < 2; ++i) {
+      const int fd = ::open(fifo.c_str(), O_WRONLY | O_NONBLOCK);
+      if (fd >= 0) ::close(fd);
+      std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    }
+  }
+  check_has(reading.get(), {"pipe.gsnap", "FIFO", "not a regular file"});
+  check_has(error_on_every_rank<FileError>(2, [&](Communicator& comm) { DistributedWorld w(def, comm, "/dev/zero"); }),
+            {"/dev/zero", "character device"});
+  check_has(error_on_every_rank<FileError>(2, [&](Communicator& comm) { DistributedWorld w(def, comm, dir.path / "none.gsnap"); }),
+            {"none.gsnap"});
+}
+
+TEST_CASE("a zstd bomb is refused before it is decompressed, by the single-domain and the distributed reader") {
+  const TempDir dir("granular_hostile_bomb");
+  const WorldDef def = test_def({16, 16, 64}, "inertial-24");
+  // 512 KiB of frame stating 16 GiB, under a header of 16x16x64 cells (2 slabs of inertial-24's halo).
+  const std::uint64_t bomb = std::uint64_t(16) << 30;
+  for (const std::uint32_t version : {1u, 2u, kSnapshotVersion}) {
+    CAPTURE(version);
+    const fs::path stated = dir.path / "stated.gsnap", unstated = dir.path / "unstated.gsnap";
+    write_bytes(stated, snapshot_file(version, {16, 16, 64}, zero_frame(bomb, true)));
+    write_bytes(unstated, snapshot_file(version, {16, 16, 64}, zero_frame(bomb, false)));
+    std::string message;
+    double took = seconds_of([&] { message = error_of<ParseError>([&] { (void)load_snapshot(stated); }); });
+    check_has(message, {"stated.gsnap", std::to_string(bomb)});
+    CHECK(took < 2.0);
+    took = seconds_of([&] {
+      message = error_on_every_rank<ParseError>(2, [&](Communicator& comm) { DistributedWorld w(def, comm, stated); });
+    });
+    check_has(message, {"stated.gsnap", std::to_string(bomb)});
+    CHECK(took < 2.0);
+    took = seconds_of([&] {
+      message = error_on_every_rank<ParseError>(2, [&](Communicator& comm) { DistributedWorld w(def, comm, unstated); });
+    });
+    check_has(message, {"unstated.gsnap", "does not state its content size"});
+    CHECK(took < 2.0);
+  }
+}
+
+TEST_CASE("a snapshot header over a sparse file is refused from its header, before the file is read or the slab allocated") {
+  const TempDir dir("granular_hostile_sparse");
+  // 65536^3 cells need over 8 GiB of compressed cells at zstd's largest expansion: a sparse file.
+  const std::uint64_t packed = (std::uint64_t(8) << 30) + 4096;
+  WorldSnapshot meta;
+  meta.size = {65536, 65536, 65536};
+  meta.rules = "inertial-24";
+  const fs::path sparse = dir.path / "sparse.gsnap";
+  write_bytes(sparse, snapshot_header_bytes(meta, kSnapshotVersion, 0, packed));
+  // A budget below the file's size: a reader that read the file first would be refused for that.
+  const MemoryLimit limit("1G");
+  REQUIRE(::truncate(sparse.c_str(), off_t(fs::file_size(sparse) + packed)) == 0);
+  std::string message;
+  const double took = seconds_of([&] { message = error_of<OutOfMemory>([&] { (void)load_snapshot(sparse); }); });
+  check_has(message, {"sparse.gsnap", "nx, ny, nz", "65536x65536x65536"});
+  CHECK(took < 2.0);
+  const WorldDef def = test_def({16, 16, 32}, "inertial-24");
+  check_has(error_on_every_rank<OutOfMemory>(2, [&](Communicator& comm) { DistributedWorld w(def, comm, sparse); }),
+            {"sparse.gsnap", "65536x65536x"});
+}
+
+TEST_CASE("a snapshot's hash covers its header: a flipped tick, seed or tool-call bit is refused; version 1 files still load") {
+  const TempDir dir("granular_hostile_header_hash");
+  const WorldDef def = test_def({12, 10, 56}, "inertial-24", 1, 5);
+  World world(def, mixed_material_grid({12, 10, 56}, 4));
+  world.step(3);
+  (void)world.pour({6, 5, 15}, 2.0, Material::Granular, 5);
+  const std::vector<std::uint8_t> good = encode_snapshot(world.capture());
+  CHECK(get_u32(good, 4) == kSnapshotVersion);
+  for (const std::size_t field : {48u, 72u}) {  // the rule fingerprint, the rule set's name
+    CAPTURE(field);
+    std::vector<std::uint8_t> bad = good;
+    bad[field] ^= 0x02;
+    check_has(error_of<ParseError>([&] { (void)decode_snapshot(bad, "flipped.gsnap"); }), {"flipped.gsnap", "hash"});
+  }
+  for (const std::size_t field : {24u, 32u, 40u}) {  // tick, seed, tool_calls
+    CAPTURE(field);
+    std::vector<std::uint8_t> bad = good;
+    bad[field] ^= 0x02;
+    check_has(error_of<ParseError>([&] { (void)decode_snapshot(bad, "flipped.gsnap"); }), {"flipped.gsnap", "hash"});
+    const fs::path file = dir.path / "flipped.gsnap";
+    write_bytes(file, bad);
+    check_has(error_on_every_rank<ParseError>(2, [&](Communicator& comm) { DistributedWorld w(def, comm, file); }),
+              {"flipped.gsnap", "hash"});
+  }
+  // A version 1 file (the hash of the cells alone) still loads, and its header is not covered.
+  WorldSnapshot s = world.capture();
+  const std::vector<std::uint8_t> packed(good.begin() + std::ptrdiff_t(kSnapshotHeaderSize + s.rules.size()), good.end());
+  std::vector<std::uint8_t> v1 = snapshot_header_bytes(s, 1, s.hash(), packed.size());
+  v1.insert(v1.end(), packed.begin(), packed.end());
+  const WorldSnapshot back = decode_snapshot(v1, "v1.gsnap");
+  CHECK(back.tick == s.tick);
+  CHECK(back.cells == s.cells);
+  v1[32] ^= 0x02;
+  CHECK(decode_snapshot(v1, "v1.gsnap").seed == (s.seed ^ 0x02));
+}
