@@ -273,3 +273,31 @@ TEST_CASE("a snapshot's hash covers its header: a flipped tick, seed or tool-cal
   v1[32] ^= 0x02;
   CHECK(decode_snapshot(v1, "v1.gsnap").seed == (s.seed ^ 0x02));
 }
+
+TEST_CASE("distributed world: ranks given different worlds are told so on every rank") {
+  const std::string sizes = error_on_every_rank<InvalidArgument>(2, [&](Communicator& comm) {
+    DistributedWorld w(test_def({16, 16, comm.rank() == 0 ? 64 : 80}, "inertial-24"), comm);
+  });
+  check_has(sizes, {"rank 0", "16x16x64", "rank 1", "16x16x80"});
+  const std::string seeds = error_on_every_rank<InvalidArgument>(2, [&](Communicator& comm) {
+    DistributedWorld w(test_def({16, 16, 64}, "inertial-24", 1, std::uint64_t(comm.rank())), comm);
+  });
+  check_has(seeds, {"seed", "rank 1"});
+  const std::string rules = error_on_every_rank<InvalidArgument>(2, [&](Communicator& comm) {
+    DistributedWorld w(test_def({16, 16, 64}, comm.rank() == 0 ? "inertial-24" : "paper"), comm);
+  });
+  check_has(rules, {"rules", "paper"});
+  // A rule set name only one rank cannot make fails every rank, none waits.
+  CHECK_THROWS(run_local_ranks(2, [&](Communicator& comm) {
+    DistributedWorld w(test_def({16, 16, 64}, comm.rank() == 0 ? "inertial-24" : "no-such-rules"), comm);
+  }));
+}
+
+TEST_CASE("slab layout: the halo of a sub-step count the rules refuse is a RuleError, not an overflow") {
+  RuleSet rules = *make_rule_set("inertial-24");
+  rules.motion.substeps = INT_MAX;
+  check_has(error_of<RuleError>([&] { (void)SlabLayout::halo_for(rules); }), {"substeps", std::to_string(INT_MAX)});
+  WorldDef def = test_def({16, 16, 32}, "inertial-24");
+  def.rule_set = std::make_shared<const RuleSet>(rules);
+  CHECK_THROWS_AS(run_local_ranks(2, [&](Communicator& comm) { DistributedWorld w(def, comm); }), RuleError);
+}

@@ -51,7 +51,10 @@ class DistributedWorld {
  public:
   /// The world `def` describes (def.size is the whole grid; def.domain_origin must be (0, 0, 0)),
   /// all void, split over the ranks of `comm`, which must outlive this world. Throws what World
-  /// throws for `def`, and InvalidArgument from SlabLayout when the grid cannot be split so.
+  /// throws for `def`, and InvalidArgument from SlabLayout when the grid cannot be split so. Every
+  /// constructor first gathers every rank's size, seed and rule fingerprint: ranks given different
+  /// worlds (collective misuse) all throw InvalidArgument naming both ranks' worlds, and a rank
+  /// that cannot make its layout fails every rank.
   DistributedWorld(const WorldDef& def, Communicator& comm);
   /// The same, starting from `whole` (the whole grid, the same on every rank; each keeps its slab).
   DistributedWorld(const WorldDef& def, Communicator& comm, const Grid& whole);
