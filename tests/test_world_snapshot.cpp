@@ -263,3 +263,13 @@ TEST_CASE("snapshot: files are .gsnap in any case; saving checks the path first"
             {"/nonexistent-granular-dir"});
   check_has(error_of<FileError>([&] { load_snapshot(temp_file("missing.gsnap")); }), {"missing.gsnap"});
 }
+
+TEST_CASE("snapshot: the fuzz corpus's version 2 and 3 files (built by make_corpus.py) load alike") {
+  const std::filesystem::path corpus = std::filesystem::path(GRANULAR_TEST_ASSET_DIR) / ".." / "tests" / "fuzz" / "corpus";
+  const WorldSnapshot two = load_snapshot(corpus / "snapshot-slab-frames-v2.gsnap");
+  const WorldSnapshot three = load_snapshot(corpus / "snapshot-slab-frames-v3.gsnap");
+  CHECK(two.size == Int3{4, 3, 64});
+  CHECK(three.cells == two.cells);
+  CHECK(three.tick == two.tick);
+  CHECK(three.rules == "inertial-24");
+}
