@@ -315,12 +315,12 @@ TEST_CASE("raw: a failed save leaves an existing file untouched") {
     check_has(m, {p.string(), std::strerror(ENOENT), "temporary file"});
     CHECK_FALSE(fs::exists(p.parent_path()));
   }
-  SUBCASE("target is an existing directory: rename fails, directory and its content stay") {
+  SUBCASE("target is an existing directory: refused before writing, directory and its content stay") {
     const fs::path target = dir / "occupied.raw";
     fs::create_directory(target);
     write_bytes(target / "keep.txt", {'k'});
     const std::string m = error_of<FileError>([&] { save_raw(g, target); });
-    check_has(m, {target.string(), "renaming"});
+    check_has(m, {target.string(), "it is a directory, not a regular file"});
     CHECK(fs::is_directory(target));
     CHECK(file_bytes(target / "keep.txt") == std::vector<std::uint8_t>{'k'});
     CHECK(std::distance(fs::directory_iterator(dir.path()), fs::directory_iterator()) == 1);

@@ -129,7 +129,7 @@ TEST_CASE("snapshot: the encoded layout is the documented header, the rule set n
   CHECK(std::string(bytes.begin(), bytes.begin() + 4) == "GSNP");
   const auto u32 = [&](std::size_t at) { return bytes[at] | bytes[at + 1] << 8 | bytes[at + 2] << 16 | std::uint32_t(bytes[at + 3]) << 24; };
   const auto u64 = [&](std::size_t at) { return u32(at) | std::uint64_t(u32(at + 4)) << 32; };
-  CHECK(u32(4) == 1);
+  CHECK(u32(4) == kSnapshotVersion);
   CHECK(u32(8) == 3);
   CHECK(u32(12) == 2);
   CHECK(u32(16) == 2);
@@ -143,7 +143,8 @@ TEST_CASE("snapshot: the encoded layout is the documented header, the rule set n
   CHECK(bytes[83] == 0x28);  // the zstd frame's magic, 0xFD2FB528 little-endian
   const WorldSnapshot back = decode_snapshot(bytes, "mem.gsnap");
   CHECK(back.cells == std::vector<std::uint8_t>{0, 1, 2, 3, 4, 5, 6, 7, 0x12, 0, 1, 2});
-  CHECK(u64(56) == back.hash());
+  CHECK(u64(56) == snapshot_file_hash(back, back.hash(), kSnapshotVersion));
+  CHECK(u64(56) != back.hash());  // version 3's hash covers the header too
   CHECK(back.rules == "inertial-24");
 }
 
@@ -166,16 +167,22 @@ TEST_CASE("snapshot: bad files are ParseErrors naming the field, offset or value
   check_has(parse_error(bad), {"not a snapshot file", "bad magic \"GXNP\"", "expected \"GSNP\""});
   check_has(parse_error({'G', 'R', 'A', 'W', 1, 0, 0, 0}), {"bad magic \"GRAW\""});
   bad = good;
-  bad[4] = 3;
-  check_has(parse_error(bad), {"unsupported snapshot version 3", "version (bytes 4..7)", "reads versions 1 and 2"});
-  // Version 2 (a DistributedWorld's: one frame per slab) holds one or more frames; version 1 one.
-  auto two = good;
-  two[4] = 2;
-  CHECK(decode_snapshot(two, "two.gsnap").hash() == decode_snapshot(good, "good.gsnap").hash());
+  bad[4] = 4;
+  check_has(parse_error(bad), {"unsupported snapshot version 4", "version (bytes 4..7)", "reads versions 1..3"});
+  // Versions 2 and 3 hold one or more frames, version 1 one; versions 1 and 2 hash the cells alone.
+  const std::uint64_t cells_hash = decode_snapshot(good, "good.gsnap").hash();
+  for (const std::uint8_t older : {1, 2}) {
+    auto old_file = good;
+    old_file[4] = older;
+    check_has(parse_error(old_file), {"the cells' hash", "differs from header field hash"});
+    put_u64(old_file.data() + 56, cells_hash);
+    CHECK(decode_snapshot(old_file, "old.gsnap").hash() == cells_hash);
+  }
   const std::size_t body = good.size() - get_u64(good, 64);
   auto doubled = good;
   doubled.insert(doubled.end(), good.begin() + std::ptrdiff_t(body), good.end());
   put_u64(doubled.data() + 64, 2 * get_u64(good, 64));
+  doubled[4] = 1;
   check_has(parse_error(doubled), {"bytes follow the zstd frame"});
   doubled[4] = 2;
   check_has(parse_error(doubled), {"frame 1 at byte", "the frames hold more than"});
@@ -193,7 +200,8 @@ TEST_CASE("snapshot: bad files are ParseErrors naming the field, offset or value
   check_has(parse_error(bad), {"1 trailing bytes after the compressed cells", "should be " + std::to_string(good.size())});
   bad = good;
   bad[56] ^= 1;
-  check_has(parse_error(bad), {"the cells' hash", "differs from header field hash (bytes 56..63)", "damaged"});
+  check_has(parse_error(bad), {"the hash of the cells and the header's fields", "differs from header field hash (bytes 56..63)",
+                               "damaged"});
   bad = good;
   bad[83] = 0;
   check_has(parse_error(bad), {"the compressed cells at byte 83 are not a zstd frame"});
@@ -254,4 +262,14 @@ TEST_CASE("snapshot: files are .gsnap in any case; saving checks the path first"
   check_has(error_of<FileError>([&] { check_snapshot_save_path("/nonexistent-granular-dir/x.gsnap"); }),
             {"/nonexistent-granular-dir"});
   check_has(error_of<FileError>([&] { load_snapshot(temp_file("missing.gsnap")); }), {"missing.gsnap"});
+}
+
+TEST_CASE("snapshot: the fuzz corpus's version 2 and 3 files (built by make_corpus.py) load alike") {
+  const std::filesystem::path corpus = std::filesystem::path(GRANULAR_TEST_ASSET_DIR) / ".." / "tests" / "fuzz" / "corpus";
+  const WorldSnapshot two = load_snapshot(corpus / "snapshot-slab-frames-v2.gsnap");
+  const WorldSnapshot three = load_snapshot(corpus / "snapshot-slab-frames-v3.gsnap");
+  CHECK(two.size == Int3{4, 3, 64});
+  CHECK(three.cells == two.cells);
+  CHECK(three.tick == two.tick);
+  CHECK(three.rules == "inertial-24");
 }

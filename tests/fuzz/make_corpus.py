@@ -54,12 +54,29 @@ def zstd_frame(blocks, size):
     return out
 
 
-def snapshot(nx, ny, nz, cells, blocks, tick=100, seed=0, tool_calls=3, rules=b"inertial-24", fingerprint=0):
-    """A snapshot file (docs/FORMATS.md) holding `cells`, compressed as `blocks`."""
-    frame = zstd_frame(blocks, len(cells))
-    header = b"GSNP" + struct.pack("<IIIII", 1, nx, ny, nz, len(rules)) + struct.pack(
-        "<QQQQQQ", tick, seed, tool_calls, fingerprint, hash_cells(nx, ny, nz, cells), len(frame))
-    return header + rules + frame
+def snapshot_file_hash(nx, ny, nz, cells_hash, version, tick, seed, tool_calls, fingerprint, rules):
+    """granular::snapshot_file_hash: the cells' hash alone in versions 1 and 2; from version 3 mixed
+    with the header's fields."""
+    if version < 3:
+        return cells_hash
+    h = mix64(cells_hash ^ 0x47534E5048454144)
+    for field in [version, nx, ny, nz, tick, seed, tool_calls, fingerprint, len(rules)] + list(rules):
+        h = (mix64(h ^ field) + 0x9E3779B97F4A7C15) & MASK64
+    return mix64(h)
+
+
+def snapshot(nx, ny, nz, cells, blocks, tick=100, seed=0, tool_calls=3, rules=b"inertial-24", fingerprint=0,
+             version=1, frames=None):
+    """A snapshot file (docs/FORMATS.md) of `version` holding `cells`, compressed as `blocks` in one
+    frame, or as `frames` (a list of (blocks, content bytes)) one after the other."""
+    if frames is None:
+        frames = [(blocks, len(cells))]
+    body = b"".join(zstd_frame(b, size) for b, size in frames)
+    check = snapshot_file_hash(nx, ny, nz, hash_cells(nx, ny, nz, cells), version, tick, seed, tool_calls,
+                               fingerprint, rules)
+    header = b"GSNP" + struct.pack("<IIIII", version, nx, ny, nz, len(rules)) + struct.pack(
+        "<QQQQQQ", tick, seed, tool_calls, fingerprint, check, len(body))
+    return header + rules + body
 
 
 def chunk(cid, content=b"", children=b""):
@@ -155,6 +172,12 @@ def main():
     mixed = bytes(rng.choice([0, 0, 1, 2, 0x1A]) for _ in range(100)) + bytes(156)
     (OUT / "snapshot-mixed-blocks.gsnap").write_bytes(
         snapshot(16, 4, 4, mixed, [(0, mixed[:100]), (1, (0, 156))], tool_calls=0))
+    # Tall enough for 2 ranks of inertial-24 (halo 24): the distributed reader's inputs, one frame
+    # per slab (version 2, and version 3 whose hash covers the header).
+    tall = bytes([1] * 12 + [2] * 372) + bytes(384)
+    slabs = [([(1, (1, 12)), (1, (2, 372))], 384), ([(1, (0, 384))], 384)]
+    (OUT / "snapshot-slab-frames-v2.gsnap").write_bytes(snapshot(4, 3, 64, tall, None, version=2, frames=slabs))
+    (OUT / "snapshot-slab-frames-v3.gsnap").write_bytes(snapshot(4, 3, 64, tall, None, version=3, frames=slabs))
 
 
 if __name__ == "__main__":

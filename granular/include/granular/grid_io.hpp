@@ -65,7 +65,8 @@ bool is_grid_file(const std::filesystem::path& path);
 
 /// Throws what save_grid would throw because of the path alone, before any work is done:
 /// InvalidArgument for an extension other than .raw or .vox, FileError when the path (after
-/// symbolic links) is a directory or its directory is missing or not writable.
+/// symbolic links) exists and is not a regular file (a directory, a FIFO, a device, a socket) or its
+/// directory is missing or not writable.
 void check_grid_save_path(const std::filesystem::path& path);
 
 /// Largest file read_file_bytes reads unless told otherwise.
@@ -82,7 +83,9 @@ std::vector<std::uint8_t> read_file_bytes(const std::filesystem::path& path, std
 std::filesystem::path resolve_symlinks(const std::filesystem::path& path);
 
 /// Writes the concatenation of `parts` to `path` without ever leaving a partial file there. When
-/// `path` is a symbolic link, its target (resolve_symlinks) is written and the link stays. The
+/// `path` is a symbolic link, its target (resolve_symlinks) is written and the link stays. A target
+/// that exists and is not a regular file (a FIFO, a device, a socket, a directory) is refused with
+/// a FileError naming the path, the link and what it is, and left as it is. The
 /// bytes go to "<target>.tmp-<pid>" beside the target (created exclusively), are flushed to disk,
 /// then the temporary is renamed over the target, which keeps the permissions of the file it
 /// replaces. On any failure the temporary is removed, an existing file is untouched, and FileError

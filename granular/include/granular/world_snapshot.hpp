@@ -33,11 +33,16 @@ struct WorldSnapshot {
 /// The 4 magic bytes that open a snapshot file.
 inline constexpr char kSnapshotMagic[4] = {'G', 'S', 'N', 'P'};
 
-/// The snapshot format version a World writes: the cells in one zstd frame.
-inline constexpr std::uint32_t kSnapshotVersion = 1;
+/// The snapshot format version World and DistributedWorld write: the cells in one or more zstd
+/// frames (a World's one, a DistributedWorld's one per rank's slab), and a header hash that covers
+/// the header's fields (extents, tick, seed, tool calls, rule fingerprint, rule set name) as well
+/// as the cells (snapshot_file_hash).
+inline constexpr std::uint32_t kSnapshotVersion = 3;
 
-/// The snapshot format version a DistributedWorld writes: the cells in one zstd frame per rank's
-/// slab, one after the other. This library reads both.
+/// An older version, still read: the cells in one zstd frame; the header hash covers the cells only.
+inline constexpr std::uint32_t kOneFrameSnapshotVersion = 1;
+
+/// An older version, still read: one zstd frame per slab; the header hash covers the cells only.
 inline constexpr std::uint32_t kSlabSnapshotVersion = 2;
 
 /// Size in bytes of the snapshot header, before the rule set's name.
@@ -49,7 +54,8 @@ inline constexpr std::size_t kMaxSnapshotRulesName = 256;
 /// The extension of snapshot files (matched case-insensitively).
 inline constexpr const char* kSnapshotExtension = ".gsnap";
 
-/// Encodes `snapshot` in the snapshot format (header, rule set name, one zstd frame of the cells).
+/// Encodes `snapshot` in the snapshot format, version kSnapshotVersion (header, rule set name, one
+/// zstd frame of the cells).
 /// Throws InvalidArgument for a bad size, a cell count other than the size's, or a rule set name
 /// that is empty, longer than kMaxSnapshotRulesName or holds a control character; OutOfMemory when
 /// the buffer cannot be allocated.
@@ -58,9 +64,10 @@ std::vector<std::uint8_t> encode_snapshot(const WorldSnapshot& snapshot);
 /// Decodes a snapshot from `bytes`. `source_name` (usually the file path) starts every error
 /// message. Throws ParseError naming the field, offset or value for a bad magic, an unsupported
 /// version, a truncated header, rule set name or body, trailing bytes, zero or over-large extents,
-/// a bad name, a compressed body that is not one zstd frame of exactly nx * ny * nz bytes (its size
-/// is checked before anything is allocated), or cells whose hash is not the header's; OutOfMemory
-/// when the grid does not fit in memory (check_grid_size).
+/// a bad name, more cells than zstd can expand the body to, a compressed body that is not zstd
+/// frames (one in version 1) each stating its content size, together exactly nx * ny * nz bytes
+/// (sizes are checked before anything is allocated), or a hash (snapshot_file_hash) that is not the
+/// header's; OutOfMemory when the grid does not fit in memory (check_grid_size).
 WorldSnapshot decode_snapshot(std::span<const std::uint8_t> bytes, const std::string& source_name);
 
 /// Writes `snapshot` to `path` atomically (write_file_atomic). Throws what encode_snapshot throws,
@@ -68,16 +75,25 @@ WorldSnapshot decode_snapshot(std::span<const std::uint8_t> bytes, const std::st
 /// (an existing file is then left untouched).
 void save_snapshot(const WorldSnapshot& snapshot, const std::filesystem::path& path);
 
-/// Reads a snapshot file: regular files only, exactly their size (read_file_bytes), then
-/// decode_snapshot. Throws FileError when the file cannot be read, and decode_snapshot's errors.
+/// Reads a snapshot file in this order: a regular file (opened without blocking, then fstat), its
+/// header and name, the sizes they declare against the file's size, zstd's largest expansion and
+/// the memory budget, and only then the compressed cells, which are decompressed and hashed.
+/// Throws FileError when the file cannot be read, and decode_snapshot's errors.
 WorldSnapshot load_snapshot(const std::filesystem::path& path);
+
+/// The header field `hash` of a snapshot of `version` whose cells hash to `cells_hash`
+/// (hash_cells): `cells_hash` itself in versions 1 and 2; in version 3 a mix of it with the header's
+/// version, extents, tick, seed, tool calls, rule fingerprint and rule set name, so that a changed
+/// header field is refused as damage.
+std::uint64_t snapshot_file_hash(const WorldSnapshot& meta, std::uint64_t cells_hash, std::uint32_t version);
 
 /// True when the extension of `path` is .gsnap, in any case.
 bool is_snapshot_file(const std::filesystem::path& path);
 
 /// Throws what save_snapshot would throw because of the path alone, before any work is done:
 /// InvalidArgument for an extension other than .gsnap, FileError when the path (after symbolic
-/// links) is a directory or its directory is missing or not writable.
+/// links) exists and is not a regular file (a directory, a FIFO, a device, a socket) or its
+/// directory is missing or not writable.
 void check_snapshot_save_path(const std::filesystem::path& path);
 
 }  // namespace granular

@@ -1,36 +1,25 @@
 /// @file distributed_snapshot.cpp
 /// DistributedWorld's snapshot files: each rank compresses its slab into a frame of its own and
-/// rank `root` writes them after the header (version kSlabSnapshotVersion); each rank reads a
-/// snapshot file of either version keeping only its slab's cells.
+/// rank `root` writes them after the header (version kSnapshotVersion); each rank reads a snapshot
+/// file of any version keeping only its slab's cells, checking in this order: a regular file (no
+/// FIFO can hang it), the header, the sizes against the file, zstd's expansion and the memory
+/// budget, each frame's stated size, and only then decompressing.
 
 #include <algorithm>
 #include <exception>
-#include <fstream>
 #include <numeric>
 
 #include "io/file_names.hpp"
 #include "granular/distributed/distributed_world.hpp"
 #include "granular/errors.hpp"
 #include "granular/grid_io.hpp"
+#include "io/regular_file.hpp"
 #include "io/snapshot_header.hpp"
 #include "io/zstd_bytes.hpp"
 
 namespace granular {
 
 namespace {
-
-/// The header of the snapshot file at `path`, read and checked on its own.
-SnapshotHeader read_header(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw FileError("cannot read snapshot " + quoted(path) + ": it cannot be opened");
-  in.seekg(0, std::ios::end);
-  const std::uint64_t total = std::uint64_t(in.tellg());
-  in.seekg(0);
-  std::vector<std::uint8_t> head(std::size_t(std::min<std::uint64_t>(total, kSnapshotHeaderSize + kMaxSnapshotRulesName)));
-  if (!in.read(reinterpret_cast<char*>(head.data()), std::streamsize(head.size())))
-    throw FileError("cannot read snapshot " + quoted(path) + ": reading its header failed");
-  return parse_snapshot_header(head, total, path.string());
-}
 
 /// Runs `fn` on every rank and throws on every rank when it threw on any: the thrower's own error,
 /// and a CommunicatorError naming `what` on the others.
@@ -48,30 +37,54 @@ void on_every_rank(Communicator& comm, const char* what, Fn&& fn) {
   }
 }
 
+/// The header of the snapshot file `file`, read and checked before anything else is.
+SnapshotHeader read_header(const ReadableFile& file) {
+  std::vector<std::uint8_t> head(std::size_t(std::min<std::uint64_t>(file.size(), kSnapshotHeaderSize + kMaxSnapshotRulesName)));
+  file.read_at(0, head);
+  return parse_snapshot_header(head, file.size(), file.path().string());
+}
+
+/// The snapshot file at `path` open and its header checked, on every rank (or an error on every rank).
+std::pair<std::unique_ptr<ReadableFile>, SnapshotHeader> open_snapshot(Communicator& comm, const std::filesystem::path& path) {
+  std::pair<std::unique_ptr<ReadableFile>, SnapshotHeader> opened;
+  on_every_rank(comm, "reading the snapshot's header", [&] {
+    opened.first = std::make_unique<ReadableFile>(path);
+    opened.second = read_header(*opened.first);
+  });
+  return opened;
+}
+
 }  // namespace
 
 DistributedWorld::DistributedWorld(const WorldDef& def, Communicator& comm, const std::filesystem::path& path)
-    : DistributedWorld(def, comm, read_header(path).meta.size, [&](const WorldDef& local, const Slab& slab) {
-        const SnapshotHeader h = read_header(path);
+    : DistributedWorld(def, comm, path, open_snapshot(comm, path)) {}
+
+DistributedWorld::DistributedWorld(const WorldDef& def, Communicator& comm, const std::filesystem::path& path,
+                                   const std::pair<std::unique_ptr<ReadableFile>, SnapshotHeader>& opened)
+    : DistributedWorld(def, comm, opened.second.meta.size, [&](const WorldDef& local, const Slab& slab) {
+        const SnapshotHeader& h = opened.second;
         const Int3 size = h.meta.size;
+        const std::string src = path.string();
+        // The slab's cells are checked against the memory budget before they are allocated.
+        check_grid_size(local.size, src + ": header fields nx, ny, nz (" + to_string(size) + "): this rank's slab");
         WorldSnapshot part = h.meta;
         part.size = local.size;
         const std::size_t layer = std::size_t(size.x) * std::size_t(size.y);
-        part.cells.resize(std::size_t(slab.local_z1 - slab.local_z0) * layer);
-        std::ifstream in(path, std::ios::binary);
-        in.seekg(std::streamoff(h.body_at));
+        try {
+          part.cells.resize(std::size_t(slab.local_z1 - slab.local_z0) * layer);
+        } catch (const std::exception&) {
+          throw OutOfMemory(src + ": could not allocate the " + std::to_string(slab.local_z1 - slab.local_z0) +
+                            " layers of this rank's slab of the " + to_string(size) + " grid");
+        }
         const std::uint64_t cells = std::uint64_t(layer) * std::uint64_t(size.z);
-        const std::uint64_t got =
-            zstd_decompress_range(in, h.packed_size, h.version == kSlabSnapshotVersion, std::uint64_t(slab.local_z0) * layer,
-                                  part.cells, path.string() + ": the compressed cells at byte " + std::to_string(h.body_at));
-        if (got != cells)
-          throw ParseError(path.string() + ": the compressed cells hold " + std::to_string(got) + " bytes; header fields nx, ny, nz (" +
-                           to_string(size) + ") say " + std::to_string(cells));
+        zstd_decompress_range(*opened.first, h.body_at, h.packed_size, cells, h.version != kOneFrameSnapshotVersion,
+                              std::uint64_t(slab.local_z0) * layer, part.cells,
+                              src + ": the compressed cells at byte " + std::to_string(h.body_at));
         return std::make_unique<World>(local, part);
       }) {
-  const std::uint64_t header_hash = read_header(path).hash;
-  const std::uint64_t found = hash();
-  if (found != header_hash) throw ParseError(path.string() + ": " + snapshot_hash_problem(found, header_hash));
+  const SnapshotHeader& h = opened.second;
+  const std::uint64_t found = snapshot_file_hash(h.meta, hash(), h.version);
+  if (found != h.hash) throw ParseError(path.string() + ": " + snapshot_hash_problem(found, h.hash, h.version));
 }
 
 void DistributedWorld::save(const std::filesystem::path& path, int root) {
@@ -101,7 +114,9 @@ void DistributedWorld::save(const std::filesystem::path& path, int root) {
     return;
   }
   // Every frame is received before anything can fail, so no rank waits on a send.
-  std::vector<std::uint8_t> file = snapshot_header_bytes(meta(), kSlabSnapshotVersion, cells_hash, packed);
+  const WorldSnapshot header = meta();
+  std::vector<std::uint8_t> file =
+      snapshot_header_bytes(header, kSnapshotVersion, snapshot_file_hash(header, cells_hash, kSnapshotVersion), packed);
   const std::size_t body_at = file.size();
   file.resize(body_at + packed);
   for (int r = 0; r < comm_.size(); ++r) {

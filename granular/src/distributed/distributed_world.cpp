@@ -5,10 +5,12 @@
 #include <exception>
 #include <chrono>
 #include <cstring>
+#include <optional>
 #include <string>
 
 #include "granular/extend/backend.hpp"
 #include "granular/errors.hpp"
+#include "granular/extend/hex.hpp"
 #include "granular/rule_presets.hpp"
 #include "granular/rule_set.hpp"
 #include "granular/world_snapshot.hpp"
@@ -22,13 +24,59 @@ namespace {
 /// Bytes of one layer of a grid of `size`.
 std::size_t layer_bytes(Int3 size) { return std::size_t(size.x) * std::size_t(size.y); }
 
-/// The split of `size` over the ranks of `comm` with the halo `def`'s rules need.
-SlabLayout make_layout(const WorldDef& def, const Communicator& comm, Int3 size) {
-  if (!(def.domain_origin == Int3{}))
-    throw InvalidArgument("DistributedWorld: WorldDef::domain_origin = " + to_string(def.domain_origin) +
-                          "; a distributed world is a whole world (0, 0, 0), and places its slabs itself");
-  const std::shared_ptr<const RuleSet> rules = def.rule_set ? def.rule_set : make_rule_set(def.rules);
-  return SlabLayout(size, comm.size(), SlabLayout::halo_for(*rules));
+/// What every rank must agree on: the whole grid's size, the seed and the rule set.
+struct WorldIdentity {
+  std::uint64_t made = 0;  ///< 1 when this rank could make its layout
+  std::uint64_t x = 0, y = 0, z = 0, seed = 0, fingerprint = 0;
+};
+
+/// "16x16x64, seed 1, rules 'paper' (fingerprint 0x...)" for messages.
+std::string describe(const WorldIdentity& w, const std::string& rules) {
+  return std::to_string(w.x) + "x" + std::to_string(w.y) + "x" + std::to_string(w.z) + ", seed " + std::to_string(w.seed) +
+         ", rules '" + rules + "' (fingerprint " + hex64(w.fingerprint) + ")";
+}
+
+/// The split of `size` over the ranks of `comm` with the halo `def`'s rules need, once every rank
+/// has made it and all agree on the world (size, seed, rule set): a rank that cannot make it, or
+/// ranks given different worlds, throw on every rank, so none goes on with a layout the others do
+/// not share. Collective.
+SlabLayout make_layout(const WorldDef& def, Communicator& comm, Int3 size) {
+  std::exception_ptr failure;
+  std::optional<SlabLayout> layout;
+  WorldIdentity mine;
+  std::string rules_name;
+  try {
+    if (!(def.domain_origin == Int3{}))
+      throw InvalidArgument("DistributedWorld: WorldDef::domain_origin = " + to_string(def.domain_origin) +
+                            "; a distributed world is a whole world (0, 0, 0), and places its slabs itself");
+    const std::shared_ptr<const RuleSet> rules = def.rule_set ? def.rule_set : make_rule_set(def.rules);
+    layout.emplace(size, comm.size(), SlabLayout::halo_for(*rules));
+    mine = {1, std::uint64_t(size.x), std::uint64_t(size.y), std::uint64_t(size.z), def.seed, rule_fingerprint(*rules)};
+    rules_name = rules->name;
+  } catch (...) {
+    failure = std::current_exception();
+  }
+  const auto names = all_gather_bytes(comm, {reinterpret_cast<const std::uint8_t*>(rules_name.data()), rules_name.size()});
+  std::vector<WorldIdentity> every(std::size_t(comm.size()));
+  comm.all_gather({reinterpret_cast<const std::uint8_t*>(&mine), sizeof mine},
+                  {reinterpret_cast<std::uint8_t*>(every.data()), every.size() * sizeof(WorldIdentity)});
+  if (failure) std::rethrow_exception(failure);
+  for (std::size_t r = 0; r < every.size(); ++r)
+    if (!every[r].made) throw CommunicatorError("DistributedWorld: rank " + std::to_string(r) + " could not make its slab's layout");
+  const auto name_of = [&](std::size_t r) { return std::string(names[r].begin(), names[r].end()); };
+  for (std::size_t r = 1; r < every.size(); ++r) {
+    const WorldIdentity& a = every[0];
+    const WorldIdentity& b = every[r];
+    const char* field = a.x != b.x || a.y != b.y || a.z != b.z ? "size"
+                        : a.seed != b.seed                     ? "seed"
+                        : a.fingerprint != b.fingerprint       ? "rules"
+                                                               : nullptr;
+    if (field)
+      throw InvalidArgument(std::string("DistributedWorld: the ranks were given different worlds (their ") + field +
+                            " differs): rank 0 has " + describe(a, name_of(0)) + ", rank " + std::to_string(r) + " has " +
+                            describe(b, name_of(r)) + "; every rank must pass the same WorldDef and the same grid, snapshot or file");
+  }
+  return std::move(*layout);
 }
 
 /// `s` without its cells.
@@ -352,7 +400,7 @@ ChangeReport DistributedWorld::pour(Vec3 center, double radius, Material materia
            comm_, {reinterpret_cast<const std::uint8_t*>(keys.data()), keys.size() * sizeof(std::uint64_t)})) {
     const std::size_t at = every.size();
     every.resize(at + bytes.size() / sizeof(std::uint64_t));
-    std::memcpy(every.data() + at, bytes.data(), bytes.size());
+    if (!bytes.empty()) std::memcpy(every.data() + at, bytes.data(), bytes.size());
   }
   std::uint64_t limit = ~std::uint64_t(0);
   if (every.size() > std::size_t(amount)) {

@@ -43,6 +43,7 @@ SlabLayout::SlabLayout(Int3 size, int ranks, int halo) : size_(size), ranks_(ran
 }
 
 int SlabLayout::halo_for(const RuleSet& rules) {
+  validate_rule_set(rules);  // bounds the sub-step count (at most 32) before it is rounded up
   const int substeps = std::max(1, rules.motion.substeps);
   return std::max(2, substeps + substeps % 2);
 }

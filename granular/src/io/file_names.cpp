@@ -10,6 +10,7 @@
 
 #include "granular/errors.hpp"
 #include "granular/grid_io.hpp"
+#include "io/regular_file.hpp"
 
 namespace granular {
 
@@ -45,9 +46,7 @@ std::string lower_extension(const std::filesystem::path& path) {
 
 void check_save_target(const std::filesystem::path& path) {
   const std::filesystem::path target = resolve_symlinks(path);
-  struct stat info {};
-  if (::stat(target.c_str(), &info) == 0 && S_ISDIR(info.st_mode))
-    throw FileError("cannot write " + quoted(path) + ": it is a directory");
+  check_replaceable(path, target);
   const std::filesystem::path dir = target.parent_path().empty() ? std::filesystem::path(".") : target.parent_path();
   struct stat dir_info {};
   if (::stat(dir.c_str(), &dir_info) != 0) {

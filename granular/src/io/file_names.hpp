@@ -24,8 +24,8 @@ std::string printable_bytes(std::span<const std::uint8_t> bytes);
 std::string lower_extension(const std::filesystem::path& path);
 
 /// Throws FileError when a file cannot be saved at `path` because of the path alone: the path
-/// (after symbolic links) is a directory, or its directory is missing, not a directory or not
-/// writable.
+/// (after symbolic links) exists and is not a regular file (check_replaceable: a directory, a
+/// FIFO, a device, a socket), or its directory is missing, not a directory or not writable.
 void check_save_target(const std::filesystem::path& path);
 
 }  // namespace granular

@@ -19,75 +19,13 @@
 #include "io/file_names.hpp"
 #include "granular/vox_io.hpp"
 #include "io/little_endian.hpp"
+#include "io/regular_file.hpp"
 
 namespace granular {
 
 namespace {
 
-struct FileCloser {
-  void operator()(std::FILE* f) const { std::fclose(f); }
-};
-using FilePtr = std::unique_ptr<std::FILE, FileCloser>;
-
 std::string system_reason(int err) { return std::strerror(err); }
-
-/// What a non-regular file is, for messages.
-const char* file_kind(mode_t mode) {
-  if (S_ISDIR(mode)) return "a directory";
-  if (S_ISFIFO(mode)) return "a FIFO (named pipe)";
-  if (S_ISCHR(mode)) return "a character device";
-  if (S_ISBLK(mode)) return "a block device";
-  if (S_ISSOCK(mode)) return "a socket";
-  return "not a regular file";
-}
-
-/// " (a symbolic link to 'target')" when `path` is a symbolic link, else "".
-std::string link_note(const std::filesystem::path& path) {
-  std::error_code ec;
-  if (!std::filesystem::is_symlink(path, ec)) return {};
-  const auto target = std::filesystem::read_symlink(path, ec);
-  return ec ? std::string(" (a symbolic link)") : " (a symbolic link to " + quoted(target) + ")";
-}
-
-/// Opens a regular file for reading (symbolic links followed). Opening never blocks: a FIFO, a
-/// device, a socket or a directory is a FileError naming the path and what it is.
-FilePtr open_for_reading(const std::filesystem::path& path, struct stat& info) {
-  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
-  if (fd < 0) {
-    const int err = errno;
-    throw FileError("cannot open " + quoted(path) + " for reading: " + system_reason(err));
-  }
-  if (fstat(fd, &info) != 0) {
-    const int err = errno;
-    ::close(fd);
-    throw FileError("cannot read " + quoted(path) + ": " + system_reason(err));
-  }
-  if (!S_ISREG(info.st_mode)) {
-    ::close(fd);
-    const std::string reason = S_ISDIR(info.st_mode) ? ": " + system_reason(EISDIR) : std::string();
-    throw FileError("cannot read " + quoted(path) + link_note(path) + ": it is " + file_kind(info.st_mode) +
-                    ", not a regular file" + reason);
-  }
-  const int flags = fcntl(fd, F_GETFL);
-  if (flags >= 0) fcntl(fd, F_SETFL, flags & ~O_NONBLOCK);
-  FilePtr f(fdopen(fd, "rb"));
-  if (!f) {
-    const int err = errno;
-    ::close(fd);
-    throw FileError("cannot read " + quoted(path) + ": " + system_reason(err));
-  }
-  return f;
-}
-
-void read_exactly(std::FILE* f, std::uint8_t* dst, std::size_t n, const std::filesystem::path& path, std::size_t at) {
-  const std::size_t got = std::fread(dst, 1, n, f);
-  if (got == n) return;
-  const int err = errno;
-  if (std::ferror(f))
-    throw FileError("cannot read " + quoted(path) + " at byte " + std::to_string(at + got) + ": " + system_reason(err));
-  throw FileError("cannot read " + quoted(path) + ": the file ended at byte " + std::to_string(at + got) + " while " +
-                  std::to_string(at + n) + " bytes were expected (was it modified while being read?)");
-}
 
 constexpr const char* kHeaderFields[5] = {"magic", "version", "nx", "ny", "nz"};
 
@@ -232,9 +170,8 @@ class TempRegistration {
 }  // namespace
 
 std::vector<std::uint8_t> read_file_bytes(const std::filesystem::path& path, std::uint64_t max_bytes) {
-  struct stat info {};
-  FilePtr f = open_for_reading(path, info);
-  const std::uint64_t size = std::uint64_t(info.st_size);
+  const ReadableFile file(path);
+  const std::uint64_t size = file.size();
   if (size > max_bytes)
     throw FileError("cannot read " + quoted(path) + ": it is " + std::to_string(size) + " bytes (" +
                     format_bytes(double(size)) + "), more than the " + format_bytes(double(max_bytes)) +
@@ -251,7 +188,7 @@ std::vector<std::uint8_t> read_file_bytes(const std::filesystem::path& path, std
     throw OutOfMemory("cannot read " + quoted(path) + ": not enough memory to hold its " + std::to_string(size) +
                       " bytes");
   }
-  read_exactly(f.get(), bytes.data(), bytes.size(), path, 0);
+  file.read_at(0, bytes);
   return bytes;
 }
 
@@ -287,6 +224,7 @@ void remove_pending_temporaries() noexcept {
 void write_file_atomic(const std::filesystem::path& path, std::initializer_list<std::span<const std::uint8_t>> parts) {
   // Through a symbolic link the link stays and its target is replaced, beside which the temporary lies.
   const std::filesystem::path target = resolve_symlinks(path);
+  check_replaceable(path, target);
   std::filesystem::path tmp = target;
   tmp += ".tmp-" + std::to_string(getpid());
   struct stat old {};
@@ -360,16 +298,15 @@ void save_raw(const Grid& grid, const std::filesystem::path& path) {
 }
 
 Grid load_raw(const std::filesystem::path& path) {
-  struct stat info {};
-  FilePtr f = open_for_reading(path, info);
+  const ReadableFile file(path);
   const std::string src = path.string();
-  const std::uint64_t total = std::uint64_t(info.st_size);
+  const std::uint64_t total = file.size();
   std::array<std::uint8_t, kRawHeaderSize> head{};
   const std::size_t head_size = std::size_t(std::min<std::uint64_t>(total, kRawHeaderSize));
-  read_exactly(f.get(), head.data(), head_size, path, 0);
+  file.read_at(0, std::span(head).first(head_size));
   const Int3 size = parse_raw_header(std::span<const std::uint8_t>(head).first(head_size), total, src);
   Grid grid(size);
-  read_exactly(f.get(), grid.cells().data(), grid.cells().size(), path, kRawHeaderSize);
+  file.read_at(kRawHeaderSize, grid.cells());
   check_raw_cells(grid.cells(), size, src);
   return grid;
 }

@@ -15,6 +15,7 @@
 #include "granular/errors.hpp"
 #include "granular/grid_io.hpp"
 #include "granular/extend/memory_budget.hpp"
+#include "io/expansion_bound.hpp"
 #include "granular/vox_io.hpp"
 #include "io/little_endian.hpp"
 
@@ -622,7 +623,7 @@ Grid decode_vox(std::span<const std::uint8_t> bytes, const std::string& source_n
     model_cells += std::int64_t(s.x) * s.y * s.z;  // each <= 2^24; at most 2^31 instances
   }
   const std::int64_t grid_cells = std::int64_t(size.x) * size.y * size.z;
-  if (grid_cells > kVoxSparseGridCells && grid_cells / kVoxMaxSpread >= model_cells)
+  if (exceeds_expansion(std::uint64_t(grid_cells), std::uint64_t(model_cells), kVoxMaxSpread, kVoxSparseGridCells))
     throw ParseError(src + ": the " + std::to_string(instances.size()) + " placed models (" +
                      std::to_string(model_cells) + " cells of SIZE in all) span a " + to_string(size) +
                      " bounding box of " + std::to_string(grid_cells) + " cells (" + format_bytes(double(grid_cells)) +

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <span>
+#include <vector>
 #include <string>
 
 #include "granular/world_snapshot.hpp"
@@ -14,8 +15,8 @@ namespace granular {
 /// A snapshot file's header (docs/FORMATS.md).
 struct SnapshotHeader {
   WorldSnapshot meta;            ///< every field but the cells
-  std::uint32_t version = 0;     ///< kSnapshotVersion or kSlabSnapshotVersion
-  std::uint64_t hash = 0;        ///< the header's hash of the cells
+  std::uint32_t version = 0;     ///< kOneFrameSnapshotVersion .. kSnapshotVersion
+  std::uint64_t hash = 0;        ///< the header's hash field (snapshot_file_hash)
   std::size_t body_at = 0;       ///< where the compressed cells start
   std::uint64_t packed_size = 0; ///< their bytes
 };
@@ -25,11 +26,12 @@ struct SnapshotHeader {
 /// cells). Throws ParseError starting with `src`.
 SnapshotHeader parse_snapshot_header(std::span<const std::uint8_t> bytes, std::uint64_t total, const std::string& src);
 
-/// The message of a hash that differs from the header's.
-std::string snapshot_hash_problem(std::uint64_t found, std::uint64_t header);
+/// The message of a hash (snapshot_file_hash) that differs from the header's, in a file of `version`.
+std::string snapshot_hash_problem(std::uint64_t found, std::uint64_t header, std::uint32_t version);
 
 /// The bytes of a snapshot header (version `version`) and rule set name for `meta` (its cells
-/// unused) whose cells hash to `hash` and take `packed_size` compressed bytes.
+/// unused) whose hash field is `hash` (snapshot_file_hash) and whose cells take `packed_size`
+/// compressed bytes.
 std::vector<std::uint8_t> snapshot_header_bytes(const WorldSnapshot& meta, std::uint32_t version, std::uint64_t hash,
                                                 std::uint64_t packed_size);
 

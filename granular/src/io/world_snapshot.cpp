@@ -9,7 +9,9 @@
 #include "granular/grid.hpp"
 #include "granular/grid_io.hpp"
 #include "granular/extend/hex.hpp"
+#include "io/expansion_bound.hpp"
 #include "io/little_endian.hpp"
+#include "io/regular_file.hpp"
 #include "io/snapshot_header.hpp"
 #include "io/zstd_bytes.hpp"
 
@@ -37,10 +39,6 @@ constexpr Field kHeaderFields[] = {kMagicField,        kVersionField,   kExtentF
                                    kExtentFields[2],   kNameLengthField, kTickField,      kSeedField,
                                    kToolCallsField,    kFingerprintField, kHashField,     kPackedSizeField};
 static_assert(kPackedSizeField.at + kPackedSizeField.bytes == kSnapshotHeaderSize);
-
-/// The most a zstd frame expands: a block yields at most 128 KiB and takes at least 4 bytes (an
-/// RLE block: its 3-byte header and the byte), so a body of P bytes holds at most 32768 P cells.
-constexpr std::uint64_t kMaxZstdExpansion = 32768;
 
 /// "field (bytes a..b)" for messages.
 std::string field_text(const Field& f) {
@@ -75,6 +73,18 @@ Int3 parse_extents(std::span<const std::uint8_t> head, const std::string& src) {
 
 std::uint64_t WorldSnapshot::hash() const { return hash_cells(size, cells); }
 
+std::uint64_t snapshot_file_hash(const WorldSnapshot& meta, std::uint64_t cells_hash, std::uint32_t version) {
+  if (version < kSnapshotVersion) return cells_hash;
+  std::uint64_t h = mix64(cells_hash ^ 0x47534E5048454144ull);  // "GSNPHEAD"
+  for (const std::uint64_t field : {std::uint64_t(version), std::uint64_t(std::uint32_t(meta.size.x)),
+                                    std::uint64_t(std::uint32_t(meta.size.y)), std::uint64_t(std::uint32_t(meta.size.z)),
+                                    meta.tick, meta.seed, meta.tool_calls, meta.rule_fingerprint,
+                                    std::uint64_t(meta.rules.size())})
+    h = mix64(h ^ field) + 0x9E3779B97F4A7C15ull;
+  for (const char c : meta.rules) h = mix64(h ^ static_cast<unsigned char>(c)) + 0x9E3779B97F4A7C15ull;
+  return mix64(h);
+}
+
 std::vector<std::uint8_t> encode_snapshot(const WorldSnapshot& s) {
   check_grid_extents(s.size, "encode_snapshot: WorldSnapshot::size");
   const std::uint64_t cells = std::uint64_t(s.size.x) * std::uint64_t(s.size.y) * std::uint64_t(s.size.z);
@@ -84,7 +94,8 @@ std::vector<std::uint8_t> encode_snapshot(const WorldSnapshot& s) {
   if (const std::string problem = name_problem(s.rules); !problem.empty())
     throw InvalidArgument("encode_snapshot: WorldSnapshot::rules '" + s.rules.substr(0, 40) + "' " + problem);
   const std::vector<std::uint8_t> packed = zstd_compress(s.cells, 3, "encode_snapshot");
-  std::vector<std::uint8_t> out = snapshot_header_bytes(s, kSnapshotVersion, s.hash(), packed.size());
+  std::vector<std::uint8_t> out =
+      snapshot_header_bytes(s, kSnapshotVersion, snapshot_file_hash(s, s.hash(), kSnapshotVersion), packed.size());
   try {
     out.insert(out.end(), packed.begin(), packed.end());
   } catch (const std::bad_alloc&) {
@@ -129,10 +140,10 @@ SnapshotHeader parse_snapshot_header(std::span<const std::uint8_t> bytes, std::u
   }
   SnapshotHeader h;
   h.version = get_u32(bytes, kVersionField.at);
-  if (h.version != kSnapshotVersion && h.version != kSlabSnapshotVersion)
+  if (h.version < kOneFrameSnapshotVersion || h.version > kSnapshotVersion)
     throw ParseError(src + ": unsupported snapshot version " + std::to_string(h.version) + " (field " +
-                     field_text(kVersionField) + "); this build reads versions " + std::to_string(kSnapshotVersion) +
-                     " and " + std::to_string(kSlabSnapshotVersion));
+                     field_text(kVersionField) + "); this build reads versions " +
+                     std::to_string(kOneFrameSnapshotVersion) + ".." + std::to_string(kSnapshotVersion));
   WorldSnapshot& s = h.meta;
   s.size = parse_extents(bytes, src);
   const std::uint32_t name_length = get_u32(bytes, kNameLengthField.at);
@@ -163,7 +174,7 @@ SnapshotHeader parse_snapshot_header(std::span<const std::uint8_t> bytes, std::u
                      "the file should be " + std::to_string(h.body_at + h.packed_size) + " bytes but it is " +
                      std::to_string(total));
   const std::uint64_t cells = std::uint64_t(s.size.x) * std::uint64_t(s.size.y) * std::uint64_t(s.size.z);
-  if (cells / kMaxZstdExpansion > h.packed_size)
+  if (exceeds_expansion(cells, h.packed_size, kMaxZstdExpansion))
     throw ParseError(src + ": header fields nx, ny, nz (" + to_string(s.size) + " = " + std::to_string(cells) +
                      " cells) cannot come from " + std::to_string(h.packed_size) +
                      " bytes of compressed cells (zstd expands at most " + std::to_string(kMaxZstdExpansion) +
@@ -171,20 +182,44 @@ SnapshotHeader parse_snapshot_header(std::span<const std::uint8_t> bytes, std::u
   return h;
 }
 
-std::string snapshot_hash_problem(std::uint64_t found, std::uint64_t header) {
-  return "the cells' hash " + hex64(found) + " differs from header field " + field_text(kHashField) + " = " +
-         hex64(header) + " (the file is damaged)";
+std::string snapshot_hash_problem(std::uint64_t found, std::uint64_t header, std::uint32_t version) {
+  const std::string what = version < kSnapshotVersion
+                               ? "the cells' hash "
+                               : "the hash of the cells and the header's fields (extents, tick, seed, tool_calls, "
+                                 "rule_fingerprint, the rule set name) ";
+  return what + hex64(found) + " differs from header field " + field_text(kHashField) + " = " + hex64(header) +
+         " (the file is damaged)";
 }
 
-WorldSnapshot decode_snapshot(std::span<const std::uint8_t> bytes, const std::string& src) {
-  SnapshotHeader h = parse_snapshot_header(bytes, bytes.size(), src);
+namespace {
+
+/// The cells of the snapshot whose header is `h` from its compressed cells `packed`, checked
+/// against the header's hash.
+WorldSnapshot decode_body(SnapshotHeader h, std::span<const std::uint8_t> packed, const std::string& src) {
   WorldSnapshot& s = h.meta;
   const std::uint64_t cells = std::uint64_t(s.size.x) * std::uint64_t(s.size.y) * std::uint64_t(s.size.z);
-  check_grid_size(s.size, src + ": header fields nx, ny, nz (" + to_string(s.size) + " = " + std::to_string(cells) + " cells)");
-  s.cells = zstd_decompress(bytes.subspan(h.body_at), cells, src + ": the compressed cells at byte " + std::to_string(h.body_at),
-                            h.version == kSlabSnapshotVersion);
-  if (s.hash() != h.hash) throw ParseError(src + ": " + snapshot_hash_problem(s.hash(), h.hash));
+  s.cells = zstd_decompress(packed, cells, src + ": the compressed cells at byte " + std::to_string(h.body_at),
+                            h.version != kOneFrameSnapshotVersion);
+  const std::uint64_t found = snapshot_file_hash(s, s.hash(), h.version);
+  if (found != h.hash) throw ParseError(src + ": " + snapshot_hash_problem(found, h.hash, h.version));
   return std::move(s);
+}
+
+/// Throws OutOfMemory when the cells the header `h` declares, and `extra` bytes besides, do not
+/// fit in the memory budget.
+void check_snapshot_memory(const SnapshotHeader& h, double extra, const std::string& src) {
+  const Int3 size = h.meta.size;
+  const std::uint64_t cells = std::uint64_t(size.x) * std::uint64_t(size.y) * std::uint64_t(size.z);
+  check_grid_size(size, src + ": header fields nx, ny, nz (" + to_string(size) + " = " + std::to_string(cells) + " cells)",
+                  1.0, extra);
+}
+
+}  // namespace
+
+WorldSnapshot decode_snapshot(std::span<const std::uint8_t> bytes, const std::string& src) {
+  const SnapshotHeader h = parse_snapshot_header(bytes, bytes.size(), src);
+  check_snapshot_memory(h, 0, src);
+  return decode_body(h, bytes.subspan(h.body_at), src);
 }
 
 void save_snapshot(const WorldSnapshot& snapshot, const std::filesystem::path& path) {
@@ -194,7 +229,20 @@ void save_snapshot(const WorldSnapshot& snapshot, const std::filesystem::path& p
 }
 
 WorldSnapshot load_snapshot(const std::filesystem::path& path) {
-  return decode_snapshot(read_file_bytes(path), path.string());
+  const ReadableFile file(path);
+  const std::string src = path.string();
+  std::vector<std::uint8_t> head(std::size_t(std::min<std::uint64_t>(file.size(), kSnapshotHeaderSize + kMaxSnapshotRulesName)));
+  file.read_at(0, head);
+  const SnapshotHeader h = parse_snapshot_header(head, file.size(), src);
+  check_snapshot_memory(h, double(h.packed_size), src);
+  std::vector<std::uint8_t> packed;
+  try {
+    packed.resize(std::size_t(h.packed_size));
+  } catch (const std::exception&) {
+    throw OutOfMemory(src + ": not enough memory to hold its " + std::to_string(h.packed_size) + " bytes of compressed cells");
+  }
+  file.read_at(h.body_at, packed);
+  return decode_body(h, packed, src);
 }
 
 bool is_snapshot_file(const std::filesystem::path& path) { return lower_extension(path) == kSnapshotExtension; }

@@ -6,6 +6,8 @@
 #include <new>
 
 #include "granular/errors.hpp"
+#include "io/expansion_bound.hpp"
+#include "io/regular_file.hpp"
 
 namespace granular {
 
@@ -50,6 +52,9 @@ std::vector<std::uint8_t> zstd_decompress(std::span<const std::uint8_t> packed, 
     if (!several_frames && frame != rest.size())
       throw ParseError(what + ": " + std::to_string(rest.size() - frame) + " bytes follow the zstd frame of " +
                        std::to_string(frame) + " bytes");
+    if (exceeds_expansion(stated, frame, kMaxZstdExpansion))
+      throw ParseError(what + ": the zstd frame" + which + " states " + std::to_string(stated) + " bytes of content in " +
+                       std::to_string(frame) + " bytes (zstd expands at most " + std::to_string(kMaxZstdExpansion) + "-fold)");
     total += stated;
     if (total > size || total < stated)
       throw ParseError(what + ": the zstd frame" + which + " holds " + std::to_string(stated) + " bytes; " +
@@ -115,56 +120,88 @@ std::vector<std::uint8_t> ZstdFrameWriter::finish() {
   return std::move(out_);
 }
 
-std::uint64_t zstd_decompress_range(std::istream& in, std::uint64_t packed, bool several_frames, std::uint64_t keep_at,
-                                    std::span<std::uint8_t> keep, const std::string& what) {
+void zstd_decompress_range(const ReadableFile& file, std::uint64_t at, std::uint64_t packed, std::uint64_t size,
+                           bool several_frames, std::uint64_t keep_at, std::span<std::uint8_t> keep, const std::string& what) {
+  if (keep_at > size || keep.size() > size - keep_at)
+    throw ParseError(what + ": the kept bytes " + std::to_string(keep_at) + ".." + std::to_string(keep_at + keep.size()) +
+                     " lie outside the " + std::to_string(size) + " bytes of content");
   ZSTD_DCtx* d = ZSTD_createDCtx();
   if (!d) throw OutOfMemory(what + ": zstd could not start decompressing");
-  const auto free_context = [&] { ZSTD_freeDCtx(d); };
+  struct FreeContext {
+    ZSTD_DCtx* d;
+    ~FreeContext() { ZSTD_freeDCtx(d); }
+  } const free_context{d};
   std::vector<std::uint8_t> input(1 << 20), output(ZSTD_DStreamOutSize());
-  std::uint64_t read = 0, produced = 0;
-  std::size_t frames_ended = 0, last = 1;  // last: what the last call returned (0: a frame ended)
-  // Keeps the part of the `bytes` just decompressed into `output` that lies in the kept range.
-  const auto keep_output = [&](std::size_t bytes) {
-    const std::uint64_t from = std::max(produced, keep_at), to = std::min(produced + bytes, keep_at + keep.size());
-    if (from < to) std::copy_n(output.data() + (from - produced), to - from, keep.data() + (from - keep_at));
-    produced += bytes;
+  std::size_t begin = 0, end = 0;  // the bytes of `input` not yet decompressed
+  std::uint64_t read = 0;          // compressed bytes read into `input` so far
+  // Moves the unread bytes to the front of `input` and reads more after them.
+  const auto refill = [&] {
+    std::copy(input.begin() + std::ptrdiff_t(begin), input.begin() + std::ptrdiff_t(end), input.begin());
+    end -= begin;
+    begin = 0;
+    const std::size_t n = std::size_t(std::min<std::uint64_t>(input.size() - end, packed - read));
+    file.read_at(at + read, std::span(input).subspan(end, n));
+    read += n;
+    end += n;
   };
-  try {
-    while (read < packed) {
-      const std::size_t n = std::size_t(std::min<std::uint64_t>(input.size(), packed - read));
-      if (!in.read(reinterpret_cast<char*>(input.data()), std::streamsize(n)))
-        throw FileError(what + ": the file ends " + std::to_string(packed - read) + " bytes before its compressed cells do");
-      read += n;
-      ZSTD_inBuffer src{input.data(), n, 0};
-      while (src.pos < src.size) {
-        if (last == 0 && !several_frames)
-          throw ParseError(what + ": " + std::to_string(packed - (read - n + src.pos)) + " bytes follow the zstd frame");
-        ZSTD_outBuffer dst{output.data(), output.size(), 0};
-        last = ZSTD_decompressStream(d, &dst, &src);
-        if (ZSTD_isError(last)) throw ParseError(what + ": the zstd data is damaged: " + ZSTD_getErrorName(last));
-        if (last == 0) ++frames_ended;
-        keep_output(dst.pos);
-      }
+  std::uint64_t produced = 0, stated_total = 0, frame_content = 0, frame_produced = 0;
+  std::size_t frames = 0;
+  bool in_frame = false;
+  for (;;) {
+    if (!in_frame) {
+      if (begin == end && read == packed) break;
+      const std::uint64_t frame_at = read - (end - begin);
+      const std::string which = " (frame " + std::to_string(frames) + " at byte " + std::to_string(frame_at) + ")";
+      if (frames > 0 && !several_frames)
+        throw ParseError(what + ": " + std::to_string(packed - frame_at) + " bytes follow the zstd frame");
+      // The frame's header is checked before any of its content is made.
+      constexpr std::size_t kLongestFrameHeader = 18;  // magic 4, descriptor 1, window 1, dictionary 4, size 8
+      if (end - begin < kLongestFrameHeader && read < packed) refill();
+      const unsigned long long stated = ZSTD_getFrameContentSize(input.data() + begin, end - begin);
+      if (stated == ZSTD_CONTENTSIZE_ERROR)
+        throw ParseError(what + " are not a zstd frame" + which + " (" + std::to_string(packed - frame_at) + " bytes)");
+      if (stated == ZSTD_CONTENTSIZE_UNKNOWN)
+        throw ParseError(what + ": the zstd frame" + which + " does not state its content size; it must state " +
+                         (several_frames ? "one" : std::to_string(size) + " bytes"));
+      frame_content = stated;
+      if (exceeds_expansion(frame_content, packed - frame_at, kMaxZstdExpansion))
+        throw ParseError(what + ": the zstd frame" + which + " states " + std::to_string(frame_content) +
+                         " bytes of content in at most " + std::to_string(packed - frame_at) +
+                         " bytes (zstd expands at most " + std::to_string(kMaxZstdExpansion) + "-fold)");
+      stated_total += frame_content;
+      if (stated_total > size || stated_total < frame_content)
+        throw ParseError(what + ": the zstd frame" + which + " holds " + std::to_string(frame_content) + " bytes; " +
+                         (several_frames ? "the frames hold more than " : "expected ") + std::to_string(size));
+      in_frame = true;
+      frame_produced = 0;
     }
-    // Flush what the last input left in the decoder.
-    for (ZSTD_outBuffer dst{output.data(), output.size(), 0}; last != 0; dst.pos = 0) {
-      ZSTD_inBuffer none{nullptr, 0, 0};
-      last = ZSTD_decompressStream(d, &dst, &none);
-      if (ZSTD_isError(last)) throw ParseError(what + ": the zstd data is damaged: " + ZSTD_getErrorName(last));
-      if (dst.pos == 0 && last != 0) throw ParseError(what + ": the zstd data is cut short inside a frame");
-      keep_output(dst.pos);
-      if (last == 0) ++frames_ended;
+    if (begin == end && read < packed) refill();
+    ZSTD_inBuffer src{input.data() + begin, end - begin, 0};
+    ZSTD_outBuffer dst{output.data(), output.size(), 0};
+    const std::size_t left = ZSTD_decompressStream(d, &dst, &src);
+    if (ZSTD_isError(left)) throw ParseError(what + ": the zstd data is damaged: " + ZSTD_getErrorName(left));
+    begin += src.pos;
+    if (frame_produced + dst.pos > frame_content)
+      throw ParseError(what + ": a zstd frame holds more than the " + std::to_string(frame_content) + " bytes it states");
+    // Keeps the part of the output that lies in the kept range.
+    const std::uint64_t from = std::max(produced, keep_at), to = std::min(produced + dst.pos, keep_at + keep.size());
+    if (from < to) std::copy_n(output.data() + (from - produced), to - from, keep.data() + (from - keep_at));
+    produced += dst.pos;
+    frame_produced += dst.pos;
+    if (left == 0) {
+      if (frame_produced != frame_content)
+        throw ParseError(what + ": a zstd frame holds " + std::to_string(frame_produced) + " bytes; it states " +
+                         std::to_string(frame_content));
+      in_frame = false;
+      ++frames;
+    } else if (src.pos == 0 && dst.pos == 0 && begin == end && read == packed) {
+      throw ParseError(what + ": the zstd data is cut short inside a frame");
     }
-  } catch (...) {
-    free_context();
-    throw;
   }
-  free_context();
-  if (frames_ended == 0) throw ParseError(what + ": no whole zstd frame");
-  if (produced < keep_at + keep.size())
-    throw ParseError(what + ": the zstd data holds " + std::to_string(produced) + " bytes, fewer than " +
-                     std::to_string(keep_at + keep.size()));
-  return produced;
+  if (frames == 0) throw ParseError(what + ": no whole zstd frame");
+  if (produced != size)
+    throw ParseError(what + ": the zstd frame" + (several_frames ? "s hold " : " holds ") + std::to_string(produced) +
+                     " bytes; expected " + std::to_string(size));
 }
 
 }  // namespace granular

@@ -4,7 +4,6 @@
 /// snapshot file's cells and the stroke history's bricks.
 
 #include <cstdint>
-#include <istream>
 #include <span>
 #include <string>
 #include <vector>
@@ -16,8 +15,9 @@ namespace granular {
 std::vector<std::uint8_t> zstd_compress(std::span<const std::uint8_t> bytes, int level, const std::string& what);
 
 /// The content of `packed`: exactly one zstd frame (`several_frames` false), or one or more frames
-/// one after the other (true), each stating its content size, together `size` bytes; frames and
-/// sizes are checked before the output is allocated. Throws ParseError starting with `what` for
+/// one after the other (true), each stating its content size (at most kMaxZstdExpansion times its
+/// compressed bytes), together `size` bytes; frames and sizes are checked before the output is
+/// allocated. Throws ParseError starting with `what` for
 /// anything else or corrupt data, OutOfMemory when the output cannot be allocated.
 std::vector<std::uint8_t> zstd_decompress(std::span<const std::uint8_t> packed, std::uint64_t size,
                                           const std::string& what, bool several_frames = false);
@@ -44,12 +44,17 @@ class ZstdFrameWriter {
   std::vector<std::uint8_t> out_;
 };
 
-/// Decompresses `packed` bytes of zstd frames read from `in` (one frame when `several_frames` is
-/// false), keeping the content bytes [keep_at, keep_at + keep.size()) in `keep`, with a bounded
-/// buffer whatever the content's size. Returns the content's size. Throws ParseError starting with
-/// `what` for corrupt or cut-short data, more frames than allowed, or a content shorter than the
-/// kept range; FileError when `in` fails.
-std::uint64_t zstd_decompress_range(std::istream& in, std::uint64_t packed, bool several_frames, std::uint64_t keep_at,
-                                    std::span<std::uint8_t> keep, const std::string& what);
+class ReadableFile;
+
+/// Decompresses the `packed` bytes of zstd frames at byte `at` of `file` (one frame when
+/// `several_frames` is false), keeping the content bytes [keep_at, keep_at + keep.size()) in
+/// `keep`, with a bounded buffer whatever the content's size. Each frame's header is checked before
+/// its content is made: it must state its content size, which zstd's largest expansion of the bytes
+/// left bounds (kMaxZstdExpansion), and the frames together must state exactly `size` bytes; so a
+/// frame that would expand past `size` is refused unread. Throws ParseError starting with `what`
+/// for that, corrupt or cut-short data, or more frames than allowed; FileError when the file
+/// cannot be read.
+void zstd_decompress_range(const ReadableFile& file, std::uint64_t at, std::uint64_t packed, std::uint64_t size,
+                           bool several_frames, std::uint64_t keep_at, std::span<std::uint8_t> keep, const std::string& what);
 
 }  // namespace granular

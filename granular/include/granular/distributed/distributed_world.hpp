@@ -23,6 +23,7 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <utility>
 
 #include "granular/distributed/communicator.hpp"
 #include "granular/grid.hpp"
@@ -32,6 +33,9 @@
 #include "granular/world_def.hpp"
 
 namespace granular {
+
+class ReadableFile;
+struct SnapshotHeader;
 
 /// What a rank's halo exchanges cost (DistributedWorld::last_exchange).
 struct HaloExchangeStats {
@@ -47,15 +51,20 @@ class DistributedWorld {
  public:
   /// The world `def` describes (def.size is the whole grid; def.domain_origin must be (0, 0, 0)),
   /// all void, split over the ranks of `comm`, which must outlive this world. Throws what World
-  /// throws for `def`, and InvalidArgument from SlabLayout when the grid cannot be split so.
+  /// throws for `def`, and InvalidArgument from SlabLayout when the grid cannot be split so. Every
+  /// constructor first gathers every rank's size, seed and rule fingerprint: ranks given different
+  /// worlds (collective misuse) all throw InvalidArgument naming both ranks' worlds, and a rank
+  /// that cannot make its layout fails every rank.
   DistributedWorld(const WorldDef& def, Communicator& comm);
   /// The same, starting from `whole` (the whole grid, the same on every rank; each keeps its slab).
   DistributedWorld(const WorldDef& def, Communicator& comm, const Grid& whole);
   /// The same, continuing `snapshot` (the whole world's, the same on every rank) bit-identically.
   DistributedWorld(const WorldDef& def, Communicator& comm, const WorldSnapshot& snapshot);
   /// The same, continuing the snapshot file at `path` (written by World or by save()), which every
-  /// rank reads, keeping its slab's cells only (memory for the slab, not the whole grid). Throws
-  /// load_snapshot's errors, on every rank.
+  /// rank reads, keeping its slab's cells only (memory for the slab, not the whole grid). Each rank
+  /// checks, in order, a regular file (a FIFO cannot hang it), the header, the sizes against the
+  /// file, zstd's expansion and the memory budget (its slab's), each zstd frame's stated size, and
+  /// only then decompresses. Throws load_snapshot's errors, on every rank.
   DistributedWorld(const WorldDef& def, Communicator& comm, const std::filesystem::path& path);
   ~DistributedWorld();
   DistributedWorld(const DistributedWorld&) = delete;
@@ -91,7 +100,7 @@ class DistributedWorld {
   /// The whole world's snapshot (World::capture) on rank `root`; one with no cells on the others.
   /// Collective.
   WorldSnapshot capture(int root = 0);
-  /// Writes the whole world's snapshot file (docs/FORMATS.md, version kSlabSnapshotVersion): each
+  /// Writes the whole world's snapshot file (docs/FORMATS.md, version kSnapshotVersion): each
   /// rank compresses its slab into a zstd frame of its own, rank `root` writes the header and the
   /// frames in rank order, atomically. World(def, load_snapshot(path)) and a DistributedWorld over
   /// any number of ranks continue it bit-identically. Throws save_snapshot's errors, on every rank.
@@ -112,6 +121,9 @@ class DistributedWorld {
   ChangeReport paint(const Sphere& sphere, Material material);
 
  private:
+  // Continues the snapshot file at `path`, open and its header read (`opened`).
+  DistributedWorld(const WorldDef& def, Communicator& comm, const std::filesystem::path& path,
+                   const std::pair<std::unique_ptr<ReadableFile>, SnapshotHeader>& opened);
   // Makes rank comm.rank()'s slab World of a world of `size` with make_slab(local def, slab).
   DistributedWorld(const WorldDef& def, Communicator& comm, Int3 size,
                    const std::function<std::unique_ptr<World>(const WorldDef&, const Slab&)>& make_slab);

@@ -28,7 +28,8 @@ class SlabLayout {
   /// neighbour alone): use fewer ranks or a taller grid.
   SlabLayout(Int3 size, int ranks, int halo);
   /// The halo a tick of `rules` needs: one layer per sub-step (a change travels at most one layer
-  /// per Margolus sub-step), rounded up to even.
+  /// per Margolus sub-step), rounded up to even. Throws RuleError (validate_rule_set) for rules
+  /// that are not valid, so a sub-step count out of range is named before it is used.
   static int halo_for(const RuleSet& rules);
   /// The whole grid's extent.
   Int3 size() const { return size_; }
