@@ -6,6 +6,7 @@
 #include <doctest/doctest.h>
 
 #include <filesystem>
+#include <limits>
 #include <mutex>
 #include <random>
 #include <string>
@@ -408,5 +409,40 @@ TEST_CASE("distributed world: every scene, its emitters and a round of tools on 
       if (comm.rank() == 0) split = std::move(mine);
     });
     CHECK(split == whole);
+  }
+}
+
+TEST_CASE("distributed world: a tool call that would wrap the tool-call counter is refused on every rank") {
+  const Int3 size{16, 16, 40};
+  const WorldDef def = test_def(size, "inertial-24", 1, 3);
+  const std::filesystem::path file =
+      std::filesystem::temp_directory_path() / "granular_distributed_tool_calls_at_the_end.gsnap";
+  World whole(def, mixed_material_grid(size, 5));
+  WorldSnapshot at_end = whole.capture();
+  at_end.tool_calls = std::numeric_limits<std::uint64_t>::max();
+  save_snapshot(at_end, file);
+  std::mutex lock;
+  std::vector<std::string> errors;
+  std::vector<bool> unchanged;
+  run_local_ranks(2, [&](Communicator& comm) {
+    DistributedWorld w(def, comm, file);
+    const std::uint64_t before = w.hash();
+    std::string error;
+    try {
+      w.dig(Sphere{{8.0, 8.0, 20.0}, 6.0});  // across the slab boundary
+    } catch (const StateError& e) {
+      error = e.what();
+    }
+    const bool same = w.hash() == before && w.capture().tool_calls == at_end.tool_calls;
+    const std::lock_guard<std::mutex> hold(lock);
+    errors.push_back(error);
+    unchanged.push_back(same);
+  });
+  std::filesystem::remove(file);
+  REQUIRE(errors.size() == 2);
+  for (std::size_t r = 0; r < errors.size(); ++r) {
+    CAPTURE(r);
+    check_has(errors[r], {"tool-call counter", "no cell was changed"});
+    CHECK(unchanged[r]);
   }
 }

@@ -39,14 +39,14 @@ TEST_CASE("cell buffer: brick uploads and brick copies between buffers land exac
   std::vector<std::uint32_t> every;
   for (std::uint32_t b = 0; b < std::uint32_t(counts.x * counts.y * counts.z); ++b) every.push_back(b);
   test::context().run_once([&](VkCommandBuffer commands) { source.record_upload(commands, 0, *world, every); });
-  const granular::Grid start = world->snapshot();
+  const granular::Grid start = world->read_grid();
   CHECK(download(source) == std::vector<std::uint8_t>(start.cells().begin(), start.cells().end()));
 
   // Copy two bricks (one partial) from `source` into the empty `target`: only their cells change.
   const std::vector<std::uint32_t> some{0, std::uint32_t(counts.x * counts.y * counts.z - 1)};
   test::context().run_once([&](VkCommandBuffer commands) { target.record_copy_from(commands, 0, source.buffer(), some); });
   const std::vector<std::uint8_t> copied = download(target);
-  const granular::Grid grid = world->snapshot();
+  const granular::Grid grid = world->read_grid();
   std::vector<std::uint8_t> expected(copied.size(), 0);
   for (std::uint32_t b : some) {
     const granular::Box box = granular::brick_box(size, b);
@@ -61,7 +61,7 @@ TEST_CASE("cell buffer: brick uploads and brick copies between buffers land exac
   const std::vector<std::uint32_t> changed = world->bricks_changed_since(0);
   REQUIRE(changed.size() < every.size() / 2);
   test::context().run_once([&](VkCommandBuffer commands) { source.record_upload(commands, 1, *world, changed); });
-  const granular::Grid after = world->snapshot();
+  const granular::Grid after = world->read_grid();
   CHECK(download(source) == std::vector<std::uint8_t>(after.cells().begin(), after.cells().end()));
   CHECK(test::context().validation_messages() == 0);
 }

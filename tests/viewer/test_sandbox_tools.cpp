@@ -122,7 +122,7 @@ TEST_CASE("tools: shake sets the grains at the brush moving, so a resting slope 
   auto shaken = pile("inertial-24");
   auto still = pile("inertial-24");
   REQUIRE(shaken->hash() == still->hash());
-  const granular::Grid rest = shaken->snapshot();
+  const granular::Grid rest = shaken->read_grid();
   const auto counts = shaken->count();
   ToolSubsystem tools(*shaken, {});
   tools.state().tool = Tool::Shake;

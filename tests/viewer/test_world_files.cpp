@@ -70,7 +70,7 @@ TEST_CASE("files: a saved world loads back with the tick and hash its save line 
   CHECK(load_world(paper).world->rules().name == sandbox.world->rules().name);
 
   const std::string grid = (folder() / "grid.RAW").string();
-  granular::save_raw(sandbox.world->snapshot(), grid);
+  granular::save_raw(sandbox.world->read_grid(), grid);
   CHECK(is_world_file(grid));
   CHECK(load_world(cpu_choice(grid)).world->size() == sandbox.world->size());
   CHECK_FALSE(is_world_file("notes.txt"));

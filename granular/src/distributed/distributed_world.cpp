@@ -5,6 +5,7 @@
 #include <exception>
 #include <chrono>
 #include <cstring>
+#include <limits>
 #include <optional>
 #include <string>
 
@@ -350,6 +351,10 @@ WorldSnapshot DistributedWorld::meta() const {
 
 template <class Local>
 ChangeReport DistributedWorld::tool(const Box& region, bool clipped, bool here, Local&& local) {
+  // Every rank holds the same count, so all refuse together, before any cell or message moves.
+  if (slab_->tool_calls_ == std::numeric_limits<std::uint64_t>::max())
+    throw StateError("DistributedWorld: a tool call after " + std::to_string(slab_->tool_calls_) +
+                     " would wrap the 64-bit tool-call counter; no cell was changed");
   ChangeReport mine;
   if (here)
     mine = local();
