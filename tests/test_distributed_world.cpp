@@ -413,7 +413,7 @@ TEST_CASE("distributed world: every scene, its emitters and a round of tools on 
 }
 
 TEST_CASE("distributed world: a tool call that would wrap the tool-call counter is refused on every rank") {
-  const Int3 size{16, 16, 40};
+  const Int3 size{16, 16, 66};
   const WorldDef def = test_def(size, "inertial-24", 1, 3);
   const std::filesystem::path file =
       std::filesystem::temp_directory_path() / "granular_distributed_tool_calls_at_the_end.gsnap";
@@ -429,7 +429,7 @@ TEST_CASE("distributed world: a tool call that would wrap the tool-call counter 
     const std::uint64_t before = w.hash();
     std::string error;
     try {
-      w.dig(Sphere{{8.0, 8.0, 20.0}, 6.0});  // across the slab boundary
+      w.dig(Sphere{{8.0, 8.0, 10.0}, 4.0});  // in rank 0's slab alone: rank 1 only counts the call
     } catch (const StateError& e) {
       error = e.what();
     }
