@@ -37,19 +37,12 @@ void on_every_rank(Communicator& comm, const char* what, Fn&& fn) {
   }
 }
 
-/// The header of the snapshot file `file`, read and checked before anything else is.
-SnapshotHeader read_header(const ReadableFile& file) {
-  std::vector<std::uint8_t> head(std::size_t(std::min<std::uint64_t>(file.size(), kSnapshotHeaderSize + kMaxSnapshotRulesName)));
-  file.read_at(0, head);
-  return parse_snapshot_header(head, file.size(), file.path().string());
-}
-
 /// The snapshot file at `path` open and its header checked, on every rank (or an error on every rank).
 std::pair<std::unique_ptr<ReadableFile>, SnapshotHeader> open_snapshot(Communicator& comm, const std::filesystem::path& path) {
   std::pair<std::unique_ptr<ReadableFile>, SnapshotHeader> opened;
   on_every_rank(comm, "reading the snapshot's header", [&] {
     opened.first = std::make_unique<ReadableFile>(path);
-    opened.second = read_header(*opened.first);
+    opened.second = read_snapshot_header(*opened.first);
   });
   return opened;
 }

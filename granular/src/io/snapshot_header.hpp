@@ -26,6 +26,12 @@ struct SnapshotHeader {
 /// cells). Throws ParseError starting with `src`.
 SnapshotHeader parse_snapshot_header(std::span<const std::uint8_t> bytes, std::uint64_t total, const std::string& src);
 
+class ReadableFile;
+
+/// The header of the snapshot file `file`, read (its first bytes only: the header and the rule set
+/// name at most) and checked (parse_snapshot_header) before anything else of the file is.
+SnapshotHeader read_snapshot_header(const ReadableFile& file);
+
 /// The message of a hash (snapshot_file_hash) that differs from the header's, in a file of `version`.
 std::string snapshot_hash_problem(std::uint64_t found, std::uint64_t header, std::uint32_t version);
 

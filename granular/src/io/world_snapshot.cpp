@@ -228,12 +228,16 @@ void save_snapshot(const WorldSnapshot& snapshot, const std::filesystem::path& p
   write_file_atomic(path, {std::span<const std::uint8_t>(bytes)});
 }
 
+SnapshotHeader read_snapshot_header(const ReadableFile& file) {
+  std::vector<std::uint8_t> head(std::size_t(std::min<std::uint64_t>(file.size(), kSnapshotHeaderSize + kMaxSnapshotRulesName)));
+  file.read_at(0, head);
+  return parse_snapshot_header(head, file.size(), file.path().string());
+}
+
 WorldSnapshot load_snapshot(const std::filesystem::path& path) {
   const ReadableFile file(path);
   const std::string src = path.string();
-  std::vector<std::uint8_t> head(std::size_t(std::min<std::uint64_t>(file.size(), kSnapshotHeaderSize + kMaxSnapshotRulesName)));
-  file.read_at(0, head);
-  const SnapshotHeader h = parse_snapshot_header(head, file.size(), src);
+  const SnapshotHeader h = read_snapshot_header(file);
   check_snapshot_memory(h, double(h.packed_size), src);
   std::vector<std::uint8_t> packed;
   try {

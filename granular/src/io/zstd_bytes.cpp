@@ -11,6 +11,39 @@
 
 namespace granular {
 
+namespace {
+
+/// The content size that the zstd frame at the start of `rest` states (`left` bytes lie from its
+/// start to the end of the data): a ParseError naming the frame (`which`, after `what`) when `rest`
+/// does not start a frame or the frame does not state its size.
+std::uint64_t stated_content_size(std::span<const std::uint8_t> rest, std::uint64_t left, std::uint64_t size,
+                                  bool several_frames, const std::string& what, const std::string& which) {
+  const unsigned long long stated = ZSTD_getFrameContentSize(rest.data(), rest.size());
+  if (stated == ZSTD_CONTENTSIZE_ERROR)
+    throw ParseError(what + " are not a zstd frame" + which + " (" + std::to_string(left) + " bytes)");
+  if (stated == ZSTD_CONTENTSIZE_UNKNOWN)
+    throw ParseError(what + ": the zstd frame" + which + " does not state its content size; it must state " +
+                     (several_frames ? "one" : std::to_string(size) + " bytes"));
+  return stated;
+}
+
+/// Checks a frame's stated content before any of it is made: within kMaxZstdExpansion of the
+/// `backing` bytes that hold the frame at most, and, added to the frames' `total` so far, within the
+/// `size` bytes expected.
+void add_stated_content(std::uint64_t stated, std::uint64_t backing, std::uint64_t size, bool several_frames,
+                        std::uint64_t& total, const std::string& what, const std::string& which) {
+  if (exceeds_expansion(stated, backing, kMaxZstdExpansion))
+    throw ParseError(what + ": the zstd frame" + which + " states " + std::to_string(stated) +
+                     " bytes of content in at most " + std::to_string(backing) + " bytes (zstd expands at most " +
+                     std::to_string(kMaxZstdExpansion) + "-fold)");
+  total += stated;
+  if (total > size || total < stated)
+    throw ParseError(what + ": the zstd frame" + which + " holds " + std::to_string(stated) + " bytes; " +
+                     (several_frames ? "the frames hold more than " : "expected ") + std::to_string(size));
+}
+
+}  // namespace
+
 std::vector<std::uint8_t> zstd_compress(std::span<const std::uint8_t> bytes, int level, const std::string& what) {
   std::vector<std::uint8_t> packed;
   try {
@@ -40,25 +73,14 @@ std::vector<std::uint8_t> zstd_decompress(std::span<const std::uint8_t> packed, 
   for (std::size_t at = 0; at < packed.size() || frames.empty();) {
     const std::span<const std::uint8_t> rest = packed.subspan(at);
     const std::string which = several_frames ? " (frame " + std::to_string(frames.size()) + " at byte " + std::to_string(at) + ")" : "";
-    const unsigned long long stated = ZSTD_getFrameContentSize(rest.data(), rest.size());
-    if (stated == ZSTD_CONTENTSIZE_ERROR)
-      throw ParseError(what + " are not a zstd frame" + which + " (" + std::to_string(rest.size()) + " bytes)");
-    if (stated == ZSTD_CONTENTSIZE_UNKNOWN)
-      throw ParseError(what + ": the zstd frame" + which + " does not state its content size; it must state " +
-                       (several_frames ? "one" : std::to_string(size) + " bytes"));
+    const std::uint64_t stated = stated_content_size(rest, rest.size(), size, several_frames, what, which);
     const std::size_t frame = ZSTD_findFrameCompressedSize(rest.data(), rest.size());
     if (ZSTD_isError(frame))
       throw ParseError(what + ": the zstd frame" + which + " is damaged or cut short: " + ZSTD_getErrorName(frame));
     if (!several_frames && frame != rest.size())
       throw ParseError(what + ": " + std::to_string(rest.size() - frame) + " bytes follow the zstd frame of " +
                        std::to_string(frame) + " bytes");
-    if (exceeds_expansion(stated, frame, kMaxZstdExpansion))
-      throw ParseError(what + ": the zstd frame" + which + " states " + std::to_string(stated) + " bytes of content in " +
-                       std::to_string(frame) + " bytes (zstd expands at most " + std::to_string(kMaxZstdExpansion) + "-fold)");
-    total += stated;
-    if (total > size || total < stated)
-      throw ParseError(what + ": the zstd frame" + which + " holds " + std::to_string(stated) + " bytes; " +
-                       (several_frames ? "the frames hold more than " : "expected ") + std::to_string(size));
+    add_stated_content(stated, frame, size, several_frames, total, what, which);
     frames.push_back({at, frame, stated});
     at += frame;
   }
@@ -157,21 +179,9 @@ void zstd_decompress_range(const ReadableFile& file, std::uint64_t at, std::uint
       // The frame's header is checked before any of its content is made.
       constexpr std::size_t kLongestFrameHeader = 18;  // magic 4, descriptor 1, window 1, dictionary 4, size 8
       if (end - begin < kLongestFrameHeader && read < packed) refill();
-      const unsigned long long stated = ZSTD_getFrameContentSize(input.data() + begin, end - begin);
-      if (stated == ZSTD_CONTENTSIZE_ERROR)
-        throw ParseError(what + " are not a zstd frame" + which + " (" + std::to_string(packed - frame_at) + " bytes)");
-      if (stated == ZSTD_CONTENTSIZE_UNKNOWN)
-        throw ParseError(what + ": the zstd frame" + which + " does not state its content size; it must state " +
-                         (several_frames ? "one" : std::to_string(size) + " bytes"));
-      frame_content = stated;
-      if (exceeds_expansion(frame_content, packed - frame_at, kMaxZstdExpansion))
-        throw ParseError(what + ": the zstd frame" + which + " states " + std::to_string(frame_content) +
-                         " bytes of content in at most " + std::to_string(packed - frame_at) +
-                         " bytes (zstd expands at most " + std::to_string(kMaxZstdExpansion) + "-fold)");
-      stated_total += frame_content;
-      if (stated_total > size || stated_total < frame_content)
-        throw ParseError(what + ": the zstd frame" + which + " holds " + std::to_string(frame_content) + " bytes; " +
-                         (several_frames ? "the frames hold more than " : "expected ") + std::to_string(size));
+      frame_content = stated_content_size(std::span(input).subspan(begin, end - begin), packed - frame_at, size,
+                                          several_frames, what, which);
+      add_stated_content(frame_content, packed - frame_at, size, several_frames, stated_total, what, which);
       in_frame = true;
       frame_produced = 0;
     }
