@@ -3,8 +3,10 @@
 /// Bricks: the grid cut into cubes of kBrickSize cells, the unit in which a World tracks which
 /// regions changed (for renderers and other consumers) and which regions it steps.
 
+#include <cstddef>
 #include <cstdint>
 #include <span>
+#include <vector>
 
 #include "granular/geometry.hpp"
 
@@ -20,6 +22,13 @@ static_assert(kBrickSize % 2 == 0 && kBrickSize >= 10, "see docs/ARCHITECTURE.md
 constexpr Int3 brick_counts(Int3 size) {
   return {(size.x + kBrickSize - 1) / kBrickSize, (size.y + kBrickSize - 1) / kBrickSize,
           (size.z + kBrickSize - 1) / kBrickSize};
+}
+
+/// Every brick of a grid with `counts` bricks per axis (brick_counts), in index order.
+inline std::vector<std::uint32_t> all_bricks(Int3 counts) {
+  std::vector<std::uint32_t> bricks(std::size_t(counts.x) * std::size_t(counts.y) * std::size_t(counts.z));
+  for (std::size_t i = 0; i < bricks.size(); ++i) bricks[i] = std::uint32_t(i);
+  return bricks;
 }
 
 /// The cells of brick `index` (x fastest, then y, then z) in a grid of `size`, clipped to the grid.

@@ -8,6 +8,7 @@
 #include "granular/extend/backend.hpp"
 #include "granular/extend/backend_factory.hpp"
 #include "granular/extend/backend_registry.hpp"
+#include "granular/bricks.hpp"
 #include "granular/errors.hpp"
 #include "granular/extend/hex.hpp"
 #include "granular/extend/lut.hpp"
@@ -15,7 +16,6 @@
 #include "granular/rule_presets.hpp"
 #include "granular/rule_set.hpp"
 #include "granular/world_snapshot.hpp"
-#include "world/all_bricks.hpp"
 #include "world/cell_checks.hpp"
 #include "world/region_edit.hpp"
 #include "world/tool_region.hpp"
@@ -351,14 +351,14 @@ void World::restore(const WorldSnapshot& snapshot) {
                           "; a snapshot continues only under its own seed");
   check_snapshot_rules(snapshot, *rules_, rule_fingerprint_, "World::restore");
   check_cell_bytes(snapshot.cells, *rules_, "World::restore: snapshot", [&](std::size_t i) { return cell_text(i, size_); });
-  write_grid(snapshot.cells, all_bricks(size_));
+  write_grid(snapshot.cells, all_bricks(brick_counts()));
   tick_ = snapshot.tick;
   tool_calls_ = snapshot.tool_calls;
 }
 
 void World::write_grid(std::span<const std::uint8_t> cells, std::span<const std::uint32_t> changed) {
   mark_bricks(changed);
-  live().write(Box{{0, 0, 0}, size_}, cells, all_bricks(size_));
+  live().write(Box{{0, 0, 0}, size_}, cells, all_bricks(brick_counts()));
 }
 
 RegionEdit& World::begin_edit(const Box& region) {

@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "granular/extend/backend.hpp"
+#include "granular/bricks.hpp"
 #include "granular/errors.hpp"
-#include "world/all_bricks.hpp"
 #include "world/cell_checks.hpp"
 
 namespace granular {
@@ -124,10 +124,10 @@ void World::restore_bricks(std::span<const std::uint32_t> bricks, std::span<cons
   } else if (bricks.empty()) {
     // Nothing to write: brick 0 gets its own bytes back, a write that wakes every brick.
     const std::vector<std::uint8_t> own = read_cells(brick_box(size_, 0));
-    live().write(brick_box(size_, 0), own, all_bricks(size_));
+    live().write(brick_box(size_, 0), own, all_bricks(brick_counts()));
   } else {
     mark_bricks(bricks);
-    const std::vector<std::uint32_t> every = all_bricks(size_);
+    const std::vector<std::uint32_t> every = all_bricks(brick_counts());
     bool woken = false;
     for_each_brick(size_, bricks, [&](const Box& box, std::size_t offset) {
       live().write(box, bytes.subspan(offset, std::size_t(box.volume())),

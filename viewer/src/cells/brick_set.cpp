@@ -2,7 +2,6 @@
 
 #include <cstdint>
 #include <algorithm>
-#include <numeric>
 
 namespace viewer {
 namespace {
@@ -16,12 +15,6 @@ std::vector<std::uint32_t> marked_bricks(const std::vector<std::uint8_t>& marked
 }
 
 }  // namespace
-
-std::vector<std::uint32_t> all_bricks(granular::Int3 counts) {
-  std::vector<std::uint32_t> bricks(std::size_t(counts.x) * counts.y * counts.z);
-  std::iota(bricks.begin(), bricks.end(), 0u);
-  return bricks;
-}
 
 std::vector<std::uint32_t> with_neighbours(std::span<const std::uint32_t> changed, granular::Int3 counts) {
   const std::uint32_t total = std::uint32_t(counts.x) * counts.y * counts.z;

@@ -1,18 +1,16 @@
 #pragma once
 /// @file brick_set.hpp
-/// Lists of brick indices (granular/bricks.hpp numbering): all of them, a changed set grown by its
-/// 26 neighbours (a brick's surface depends on its neighbours' boundary cells), and two lists united.
+/// Lists of brick indices (granular/bricks.hpp numbering, whose all_bricks lists all of them): a
+/// changed set grown by its 26 neighbours (a brick's surface depends on its neighbours' boundary
+/// cells), and two lists united.
 
 #include <cstdint>
 #include <span>
 #include <vector>
 
-#include "granular/geometry.hpp"
+#include "granular/bricks.hpp"
 
 namespace viewer {
-
-/// Every brick of a grid with `counts` bricks per axis, in index order.
-std::vector<std::uint32_t> all_bricks(granular::Int3 counts);
 
 /// `changed` plus every brick touching one of them (faces, edges, corners), sorted, without
 /// duplicates; every brick when that is most of them.
