@@ -1,6 +1,6 @@
 /// @file bench_activity.cpp
 /// Sparse against dense stepping on the bowl scene, through World, on either backend, in one
-/// process (docs/ARCHITECTURE.md, "Activity tracking"; figures in bench/RESULTS.md):
+/// process (docs/design/sparse-stepping.md; figures in bench/RESULTS.md):
 ///
 /// 1. *Series*: a dense and a sparse world step the bowl side by side from release to rest; per
 ///    window of ticks, the wall time per tick of each and the sparse world's mean active cells and

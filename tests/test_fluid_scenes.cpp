@@ -327,7 +327,7 @@ TEST_CASE("fluid scenes: sand_into_water: the sand sinks to the tank's floor and
                                           << above << " above the surface; surface rise " << rise
                                           << " for a displaced volume of " << displaced);
   // The sand comes to rest under the water; the water itself rests only when its surface ends in
-  // whole layers (a partly filled top layer keeps walking: docs/ARCHITECTURE.md, "Materials").
+  // whole layers (a partly filled top layer keeps walking: docs/design/materials.md).
   auto sand_cells = [&] {
     const Grid g = run.world().read_grid();
     std::vector<std::size_t> at;

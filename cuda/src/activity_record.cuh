@@ -1,7 +1,7 @@
 #pragma once
 /// @file activity_record.cuh
 /// What the dense and pair kernels record in their recording form (dense-recording steps of sparse
-/// mode, docs/ARCHITECTURE.md, "Activity tracking"): the per-brick flags the sparse kernel sets for
+/// mode, docs/design/sparse-stepping.md): the per-brick flags the sparse kernel sets for
 /// the bricks it steps. `dirty[owner]` when a stepped block is not quiet (Rule::quiet), and
 /// `changed[brick of the cell]` for every cell a step changes.
 ///

@@ -53,7 +53,7 @@ cuda::DeviceInfo prepare_device(Int3 size) {
 /// once the device has finished (step() too unless a renderer's timelines are attached).
 ///
 /// Sparse stepping runs each step() call in one of two ways with the same result and the same
-/// sparse state (docs/ARCHITECTURE.md, "Activity tracking"): sparse steps (one launch per step over
+/// sparse state (docs/design/sparse-stepping.md): sparse steps (one launch per step over
 /// the awake bricks), or, when more than the rule set's fraction (CudaOptions::dense_fraction, or
 /// motion_dense_fraction with a motion model) of the bricks were awake at the last tick the host
 /// knows of, dense-recording steps (the dense kernels, fused pairs included, recording the sparse

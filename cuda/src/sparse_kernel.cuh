@@ -2,7 +2,7 @@
 /// @file sparse_kernel.cuh
 /// Sparse stepping on the device: one (sub-)step over the list of awake bricks for every Rule
 /// (step/block_step.hpp), the per-cycle sleep/wake update, tool wakes, and the inert-key table
-/// (docs/ARCHITECTURE.md, "Activity tracking"; the CPU counterpart is cpu_sparse_step.cpp +
+/// (docs/design/sparse-stepping.md; the CPU counterpart is cpu_sparse_step.cpp +
 /// brick_activity.cpp, with the same rules).
 ///
 /// State, one byte per brick (x fastest): awake (stepped this cycle), dirty (owned a block that was

@@ -1,7 +1,7 @@
 #pragma once
 /// @file brick_grid.hpp
 /// Which blocks of a tick belong to which brick, for sparse stepping. Plain constexpr integer
-/// arithmetic, shared by the CPU and CUDA backends (docs/ARCHITECTURE.md, "Activity tracking").
+/// arithmetic, shared by the CPU and CUDA backends (docs/design/sparse-stepping.md).
 ///
 /// Block k along an axis (origin 2k - offset, cells 2k - offset and 2k - offset + 1) is *owned* by
 /// brick k / kBrickBlocks, the brick holding its upper cell 2k - offset + 1, whatever the offset;

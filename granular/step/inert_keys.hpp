@@ -2,8 +2,7 @@
 /// @file inert_keys.hpp
 /// Inert keys: block states that no variant of the rule set can change. Sparse stepping puts a
 /// brick to sleep only when every block it owns is inert, because "unchanged during the last cycle"
-/// does not imply "unchanged under the next cycle's random draws" (docs/ARCHITECTURE.md, "Activity
-/// tracking").
+/// does not imply "unchanged under the next cycle's random draws" (docs/design/sparse-stepping.md).
 ///
 /// The variants a rule set may pick for a block are listed by rule_variant_count / variant_key:
 /// today the identity and, with RuleSet::random_symmetry, the 8 horizontal symmetries. A future

@@ -14,9 +14,9 @@ namespace granular {
 
 /// Edge length of a brick in cells. Bricks tile the grid from the origin; the last brick along an
 /// axis may be partial. Even (blocks never straddle a brick boundary at offset 0) and at least 10
-/// (the exactness argument of sparse stepping, docs/ARCHITECTURE.md "Activity tracking").
+/// (the exactness argument of sparse stepping, docs/design/sparse-stepping.md).
 inline constexpr int kBrickSize = 16;
-static_assert(kBrickSize % 2 == 0 && kBrickSize >= 10, "see docs/ARCHITECTURE.md, Activity tracking");
+static_assert(kBrickSize % 2 == 0 && kBrickSize >= 10, "see docs/design/sparse-stepping.md");
 
 /// Bricks per axis for a grid of `size` cells.
 constexpr Int3 brick_counts(Int3 size) {

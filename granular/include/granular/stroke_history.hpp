@@ -5,7 +5,7 @@
 /// the tick, the tool calls), a redo the exact world at its end. History is kept as the cell bytes
 /// of the 16^3 bricks that changed (World::bricks_changed_since), zstd-compressed, within a memory
 /// bound that drops the oldest strokes first; the world keeps one checkpoint of its cells
-/// (World::take_checkpoint) beside it. docs/ARCHITECTURE.md, "Undo and redo", has the design.
+/// (World::take_checkpoint) beside it. docs/design/snapshots-and-undo.md has the design.
 
 #include <cstddef>
 #include <cstdint>

@@ -1,7 +1,7 @@
 #pragma once
 /// @file brick_activity.hpp
 /// The sleep/wake state of sparse stepping, kept on the host (the CPU backend; the CUDA backend
-/// keeps the same state on the device). See docs/ARCHITECTURE.md, "Activity tracking".
+/// keeps the same state on the device). See docs/design/sparse-stepping.md.
 
 #include <cstdint>
 #include <span>

@@ -1,7 +1,7 @@
 #pragma once
 /// @file cpu_sparse_step.hpp
 /// The CPU kernel of sparse stepping: one tick's blocks owned by one brick (brick_grid.hpp), with
-/// what the activity tracking needs recorded on the way (docs/ARCHITECTURE.md, "Activity tracking").
+/// what the activity tracking needs recorded on the way (docs/design/sparse-stepping.md).
 
 #include <cstdint>
 

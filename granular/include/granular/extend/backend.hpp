@@ -34,7 +34,7 @@ class Backend {
   virtual void read(const Box& box, std::span<std::uint8_t> out) const = 0;
   /// Overwrites the cells of an in-grid box (x fastest) and wakes `wake_bricks` (activity.hpp
   /// indices, each < the brick count): a sparse backend steps them and their neighbours again
-  /// (docs/ARCHITECTURE.md, "Activity tracking"). May return before the cells are written, once
+  /// (docs/design/sparse-stepping.md). May return before the cells are written, once
   /// `in` and `wake_bricks` are no longer needed: every later call sees the write.
   virtual void write(const Box& box, std::span<const std::uint8_t> in, std::span<const std::uint32_t> wake_bricks) = 0;
   /// Cells per material.
