@@ -26,6 +26,7 @@
 #include "granular/motion.hpp"
 #include "step/block_bytes.hpp"
 #include "step/fluid_block.hpp"
+#include "step/head_field.hpp"
 #include "step/inert_keys.hpp"
 #include "step/motion_block.hpp"
 #include "step/step_materials.hpp"
@@ -44,6 +45,9 @@ struct StepRules {
   MotionParams motion;                     ///< RuleSet::motion
   StepMaterials materials;                 ///< RuleSet::materials as the step reads it
   std::uint64_t origin = 0;                ///< block_position_offset of WorldDef::domain_origin
+  const std::int32_t* heads = nullptr;     ///< the head field (MotionParams::pressure, head_field.hpp), where
+                                           ///< the backend keeps it
+  Int3 grid{};                             ///< the grid's extent (the head field's coarse cells follow from it)
 };
 
 /// The byte operations of a Platform: its own (Platform::ByteOps, e.g. a GPU's byte permute), or
@@ -111,8 +115,9 @@ struct OneStepRule {
   }
 };
 
-/// One sub-step of a rule set's motion model; `kColumns` is its MotionParams::columns.
-template <class Platform, bool kColumns>
+/// One sub-step of a rule set's motion model; `kColumns` is its MotionParams::columns, `kPressure`
+/// its MotionParams::pressure.
+template <class Platform, bool kColumns, bool kPressure = false>
 struct MotionRule {
   const motion::MotionEntry* table;///< the motion entries (motion_table.hpp)
   const std::uint64_t* inert;   ///< inert-key bits (sparse stepping)
@@ -121,6 +126,8 @@ struct MotionRule {
   std::uint32_t outside;        ///< the state a cell outside the grid reads as
   std::uint64_t resting_grains;  ///< the bytes of a block full of the table's first granular material
                                  ///< at rest at this offset (rest_block); quiet at once
+  const std::int32_t* heads;    ///< the head field (kPressure)
+  Int3 grid;                    ///< the grid's extent (kPressure)
 
   /// The motion model.
   static constexpr bool kMotion = true;
@@ -161,8 +168,25 @@ struct MotionRule {
     if (sub.substep >= 2 && ((bytes >> 32) & 0x70707070u) == 0 &&
         (!kColumns || motion::wake_bytes(bytes & 0xFFFFFFFFull) == 0))
       return bytes;
-    return motion::step_block_as<kColumns, ByteOpsOf<Platform>>(bytes, sub, x0, y0, z0,
-                                                             [this](std::uint32_t k) { return Platform::load(table + k); });
+    const auto load = [this](std::uint32_t k) { return Platform::load(table + k); };
+    if constexpr (kPressure) {
+      if ((present_materials<ByteOpsOf<Platform>>(bytes) & sub.materials.liquids) != 0) {
+        std::int32_t block_heads[8];
+        block_heads_at(x0, y0, z0, block_heads);
+        return motion::step_block_as<kColumns, ByteOpsOf<Platform>>(bytes, sub, x0, y0, z0, load, block_heads);
+      }
+    }
+    return motion::step_block_as<kColumns, ByteOpsOf<Platform>>(bytes, sub, x0, y0, z0, load);
+  }
+
+  /// The head of each cell of the block at (x0, y0, z0) by block position (head::kDry outside the grid).
+  constexpr void block_heads_at(int x0, int y0, int z0, std::int32_t* out) const {
+    const Int3 coarse = head::coarse_size(grid);
+    for (int p = 0; p < 8; ++p) {
+      const int x = x0 + (p & 1), y = y0 + ((p >> 1) & 1), z = z0 + (p >> 2);
+      const bool inside = x >= 0 && y >= 0 && z >= 0 && x < grid.x && y < grid.y && z < grid.z;
+      out[p] = inside ? Platform::load(heads + head::coarse_of_cell(coarse, x, y, z)) : head::kDry;
+    }
   }
 
   /// True when the block stays as it is in every sub-step whatever the draws (motion::rest_key, and
@@ -205,7 +229,7 @@ constexpr Rule make_rule(const StepRules& r, std::uint64_t n) {
     return Rule{r.transitions, r.inert,
                 motion::sub_step(r.motion, r.materials, r.seed, n / std::uint64_t(substeps), int(n % std::uint64_t(substeps)),
                                  r.random_symmetry, r.origin),
-                offset, r.materials.outside, motion::rest_block(r.materials, offset.z)};
+                offset, r.materials.outside, motion::rest_block(r.materials, offset.z), r.heads, r.grid};
   } else {
     return Rule{r.result, r.inert, r.seed, n, offset, r.materials.outside, r.origin};
   }
@@ -215,7 +239,11 @@ constexpr Rule make_rule(const StepRules& r, std::uint64_t n) {
 /// caller's path per Rule type.
 template <class Platform, class Fn>
 constexpr void with_rule_type(const StepRules& r, Fn&& fn) {
-  if (r.motion.enabled() && r.motion.columns)
+  if (r.motion.enabled() && r.motion.pressure && r.motion.columns)
+    fn(static_cast<MotionRule<Platform, true, true>*>(nullptr));
+  else if (r.motion.enabled() && r.motion.pressure)
+    fn(static_cast<MotionRule<Platform, false, true>*>(nullptr));
+  else if (r.motion.enabled() && r.motion.columns)
     fn(static_cast<MotionRule<Platform, true>*>(nullptr));
   else if (r.motion.enabled())
     fn(static_cast<MotionRule<Platform, false>*>(nullptr));

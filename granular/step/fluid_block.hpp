@@ -28,6 +28,16 @@
 ///  4. Gas around a ceiling: a gas in the bottom layer taking part that cannot rise (a static cell, a
 ///     grain or a gas above it) moves diagonally up into a top cell of another column when that cell
 ///     and the one below it are denser fluids (the mirror of the grains' topple).
+///  5. Pressure (MotionParams::pressure; the caller passes each cell's head, head_field.hpp): each
+///     void or gas cell, in the viewed frame's order, takes the liquid beside it in its layer (the
+///     x neighbour, then y) or below it with the highest head, when that head stands above the
+///     cell's own top (head > kUnit (z + 1)) and the liquid is denser and may start a move
+///     (`press_movers`). So a liquid under the head of a higher surface of its body rises into void,
+///     leaves a void that the liquid with the highest head around fills (the void travels towards
+///     the highest surface and leaves there), pours out sideways from under its surface, and levels.
+///     The liquid that moves takes the motion level its head gives (head::level_for_excess). No
+///     draw: the stage moves the same cells whatever the random words, so a block it leaves as it is
+///     stays so while the heads stay (the backend wakes the bricks where a move may start).
 /// Each step walks the block's columns in the viewed frame's order 0..3, and a move's targets in the
 /// order x neighbour, y neighbour, diagonal. A cell moves at most once per pass (neither starting nor
 /// taking a second move), and only cells the caller names as movers start a move. A faller that
@@ -43,6 +53,7 @@
 #include "granular/extend/block.hpp"
 #include "granular/motion.hpp"
 #include "step/block_bytes.hpp"
+#include "step/head_field.hpp"
 #include "step/paper_rule.hpp"
 #include "step/step_materials.hpp"
 
@@ -87,9 +98,13 @@ constexpr bool topples_into(const StepMaterials& mats, std::uint32_t m, std::uin
 /// below c, so 0 in every byte makes every chance above 0 certain). With `kLevels`, bits 3..6 of a
 /// byte are a faller's motion level, set to 0 when it moves in step 1 or 1b; without, the high bits are
 /// carried along untouched (a table build tags each byte with its cell index there).
+/// `heads` (MotionParams::pressure; null for none) holds each cell's head (head_field.hpp) by block
+/// position, `press_movers` the cells that may start a pressure move, `z0` the block's lowest z and
+/// `max_level` the motion model's top level.
 template <bool kLevels>
 constexpr std::uint64_t fluid_pass(std::uint64_t bytes, std::uint32_t movers, int symmetry, std::uint64_t draws,
-                                   const StepMaterials& mats) {
+                                   const StepMaterials& mats, const std::int32_t* heads = nullptr,
+                                   std::uint32_t press_movers = 0, int z0 = 0, int max_level = 0) {
   constexpr std::uint64_t kLevelBits = std::uint64_t(kMotionLevelMask) << kMotionShift;
   auto at = [&](int view) { return symmetry_preimage(view, symmetry); };
   auto level_above_zero = [&](int p) { return kLevels && ((bytes >> (8 * p)) & kLevelBits) != 0; };
@@ -174,6 +189,32 @@ constexpr std::uint64_t fluid_pass(std::uint64_t bytes, std::uint32_t movers, in
       }
     }
   }
+  // 5. Pressure: each void or gas takes the liquid beside or below it whose head stands highest above its top.
+  if (heads != nullptr)
+    for (int view = 0; view < 8; ++view) {
+      const int b = at(view);
+      const std::uint32_t t = material_at(bytes, b);
+      if (!free(b) || !mats.is_fluid(t) || mats.is_liquid(t)) continue;
+      const std::int32_t top = (z0 + (b >> 2) + 1) * head::kUnit;  // the head that just fills the cell
+      int from = -1;
+      std::int32_t highest = top;
+      for (int flip = 1; flip <= 4; flip <<= 1) {
+        if (flip == 4 && view < 4) continue;  // from below only: a fall is gravity's
+        const int a = at(view ^ flip);
+        const std::uint32_t m = material_at(bytes, a);
+        if (!free(a) || ((press_movers >> a) & 1u) == 0 || !mats.is_liquid(m) || mats.density[t] >= mats.density[m]) continue;
+        if (heads[a] > highest) {
+          highest = heads[a];
+          from = a;
+        }
+      }
+      if (from < 0) continue;
+      move(from, b);
+      if constexpr (kLevels) {
+        const std::uint64_t level = std::uint64_t(head::level_for_excess(highest - top, max_level)) << kMotionShift;
+        bytes = (bytes & ~(kLevelBits << (8 * b))) | (level << (8 * b));
+      }
+    }
   return bytes;
 }
 

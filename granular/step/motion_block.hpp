@@ -314,8 +314,12 @@ constexpr std::uint64_t entrain_step_edges(std::uint64_t out, std::uint64_t code
 /// step's conditions allow it, which is what keeps a block's instructions few on a GPU.
 /// `kColumns` must be m.columns: the lever is compiled in or out, so a kernel without it keeps its
 /// registers and instructions (step_block picks it at run time, for callers that do not care).
+/// `heads` (MotionParams::pressure; null without) holds the head (head_field.hpp) of each cell of
+/// the block by block position: the fluid pass's pressure stage reads it, and in sub-steps 0 and 1
+/// every liquid of the bottom layer may start a pressure move besides the cells that took part.
 template <bool kColumns, class ByteOps = PortableByteOps, class Load>
-constexpr std::uint64_t step_block_as(std::uint64_t bytes, const SubStep& m, int x0, int y0, int z0, Load load) {
+constexpr std::uint64_t step_block_as(std::uint64_t bytes, const SubStep& m, int x0, int y0, int z0, Load load,
+                                      const std::int32_t* heads = nullptr) {
   const StepMaterials& mats = m.materials;
   const int s = m.substep;
   const std::uint64_t props = ByteOps::lookup(mats.cell_props, bytes);  // byte i: material i's cell_props
@@ -356,7 +360,11 @@ constexpr std::uint64_t step_block_as(std::uint64_t bytes, const SubStep& m, int
     part &= late | (s == 1 ? start : 0u) | follow;
   }
   const std::uint32_t gases = s < 2 && mats.gases != 0 ? std::uint32_t(props >> 3) & 0x01010101u : 0u;
-  if ((part | gases) == 0) return bytes;
+  // Under pressure, the bottom layer's liquids in sub-steps 0 and 1 (bit j for cell j).
+  std::uint32_t pressed = 0;
+  if (heads != nullptr && s < 2)
+    for (int j = 0; j < 4; ++j) pressed |= (mats.is_liquid(std::uint32_t(bytes >> (8 * j)) & kMaterialMask) ? 1u : 0u) << j;
+  if ((part | gases | pressed) == 0) return bytes;
   const std::uint64_t random = block_random_keyed(m.random_key, m.step(), x0, y0, z0, m.origin);
   const int symmetry = m.random_symmetry ? int(random & 7u) : 0;
   // The table codes: a top faller outside its window is too slow to move now, an obstacle (code 2 ->
@@ -424,7 +432,9 @@ constexpr std::uint64_t step_block_as(std::uint64_t bytes, const SubStep& m, int
   std::uint32_t took_part = (part << 4) | gases;  // 1 in byte k for cell 4 + k, in byte j for cell j
   took_part = (took_part | (took_part >> 7) | (took_part >> 14) | (took_part >> 21)) & 0xFFu;
   const std::uint64_t draws = block_random_keyed(m.draw_key, m.step(), x0, y0, z0, m.origin);
-  const std::uint64_t passed = fluid::fluid_pass<true>(out, took_part & stayed, symmetry, draws, mats);
+  const std::uint64_t passed =
+      fluid::fluid_pass<true>(out, took_part & stayed, symmetry, draws, mats, heads,
+                              heads != nullptr ? (took_part & stayed & 0xF0u) | pressed : 0u, z0, max_level);
   return kColumns ? leave_wakes(passed, wakes_left) : passed;
 }
 

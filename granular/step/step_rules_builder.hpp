@@ -21,6 +21,7 @@ struct StepTables {
   const BlockKey* result = nullptr;                  ///< StepRules::result
   const motion::MotionEntry* transitions = nullptr;  ///< StepRules::transitions
   const std::uint64_t* inert = nullptr;              ///< StepRules::inert
+  const std::int32_t* heads = nullptr;               ///< StepRules::heads (MotionParams::pressure)
 };
 
 /// The StepRules of the backend `info` creates: info.rules' flags, motion model and materials,
@@ -31,7 +32,8 @@ inline StepRules make_step_rules(const BackendCreateInfo& info, const StepTables
   return StepRules{.result = tables.result, .transitions = tables.transitions, .inert = tables.inert,
                    .seed = info.seed, .random_symmetry = rules.random_symmetry,
                    .random_axis_order = rules.random_axis_order, .motion = rules.motion,
-                   .materials = step_materials(rules.materials), .origin = block_position_offset(o.x, o.y, o.z)};
+                   .materials = step_materials(rules.materials), .origin = block_position_offset(o.x, o.y, o.z),
+                   .heads = tables.heads, .grid = info.initial.size()};
 }
 
 }  // namespace granular

@@ -35,6 +35,14 @@ struct MotionParams {
   /// grain alone in its block's top layer does). So a released block falls as a train of grains that
   /// all move as far per tick as its front.
   bool columns = false;
+  /// Liquids feel the head of their body (a motion model's lever): each tick the backend computes a
+  /// hydraulic head per coarse cell of 2 x 2 x 2 cells, the highest free surface of the liquid body
+  /// the coarse cell belongs to (granular/step/head_field.hpp), and the block step lets a liquid
+  /// under a head above a void's top move into it, sideways or up, at the speed that head gives.
+  /// So connected vessels level, a column of water pours out from every row, and voids left in a
+  /// body travel to its highest surface. A world of such a rule set keeps the field beside its
+  /// cells; one without a liquid material never computes it.
+  bool pressure = false;
   /// True when the rule set uses the motion model.
   constexpr bool enabled() const { return substeps > 1; }
   /// The highest motion level: a grain at it falls motion_window(max_level()) <= substeps - 1 cells

@@ -65,9 +65,12 @@ CpuBackend::CpuBackend(const BackendCreateInfo& info)
   last_.total_bricks = std::uint64_t(b.x) * std::uint64_t(b.y) * std::uint64_t(b.z);
   const bool motion = info.rules->motion.enabled();
   if (motion) motion_table_ = derive_motion_table(lut_->entries());
+  if (motion && info.rules->motion.pressure && step_materials(info.rules->materials).liquids != 0)
+    head_field_.emplace(grid_.size());
   step_rules_ = make_step_rules(info, StepTables{.result = result_ ? result_->data() : nullptr,
                                                  .transitions = motion ? motion_table_.data() : nullptr,
-                                                 .inert = inert_ ? inert_->data() : nullptr});
+                                                 .inert = inert_ ? inert_->data() : nullptr,
+                                                 .heads = head_field_ ? head_field_->heads() : nullptr});
   outside_row_.assign(std::size_t(grid_.size().x), std::uint8_t(step_rules_.materials.outside));
 }
 
@@ -82,6 +85,11 @@ void CpuBackend::step(std::uint64_t first_tick, int ticks) {
   const int substeps = step_rules_.motion.substeps;
   for (int i = 0; i < ticks; ++i) {
     const std::uint64_t tick = first_tick + std::uint64_t(i);
+    if (head_field_) {
+      // The heads of this tick; the bricks where a pressure move may start stay awake.
+      const std::vector<std::uint32_t> pressing = head_field_->solve(grid_.cells().data(), step_rules_.materials, pool_);
+      if (sparse_) activity_.wake(pressing);
+    }
     if (sparse_) {
       last_.active_bricks = activity_.active().size();
       last_.active_cells = activity_.active_cells();

@@ -3,8 +3,10 @@
 /// The multithreaded CPU reference backend.
 
 #include <memory>
+#include <optional>
 
 #include "cpu/brick_activity.hpp"
+#include "cpu/cpu_head_field.hpp"
 #include "cpu/cpu_step.hpp"
 #include "granular/extend/backend.hpp"
 #include "granular/extend/backend_factory.hpp"
@@ -56,6 +58,7 @@ class CpuBackend final : public Backend {
   StepRules step_rules_;  ///< the tables and parameters every step's Rule is made from
   std::vector<std::uint8_t> outside_row_;  ///< a row of cells outside the grid (StepContext::outside_row)
   BrickActivity activity_;
+  std::optional<CpuHeadField> head_field_;  ///< MotionParams::pressure with a liquid in the table: the heads
   ActivityStats last_{};
   std::shared_ptr<TaskSystem> task_system_;  ///< info.task_system, or the backend's own ThreadPool
   TaskSystem& pool_;                         ///< *task_system_: runs every parallel loop

@@ -66,9 +66,10 @@ struct PresetEntry {
   int substeps;  ///< MotionParams::substeps (1: no motion model)
   bool columns = false;  ///< MotionParams::columns
   GrainMotion grain = kInertialGrain;  ///< sand's motion under a motion model (gravel's follows from it)
+  bool pressure = false;  ///< MotionParams::pressure
 };
 
-constexpr std::array<PresetEntry, 8> kPresets = {{
+constexpr std::array<PresetEntry, 9> kPresets = {{
     {"paper", "gravity then flow, fixed preference order (the paper's rules)", 1, false, false, 1},
     {"isotropic",
      "the paper's rules under a random horizontal symmetry per block and tick and a random offset order per cycle", 2,
@@ -92,6 +93,10 @@ constexpr std::array<PresetEntry, 8> kPresets = {{
      "inertial-24-entrain with grains that flow over a surface one cell a tick: a grain that rolls or topples keeps "
      "at most level 1, so a poured pile's angle no longer depends on the height its grains fell from",
      1, true, true, 24, false, kFlowGrain},
+    {"inertial-24-pressure",
+     "inertial-24-flow with liquids under the head of their body: connected vessels level, a water column pours out "
+     "from every row, and a liquid under a higher surface of its body rises",
+     1, true, true, 24, false, kFlowGrain, true},
 }};
 
 RuleSet make_preset(const PresetEntry& e) {
@@ -103,6 +108,7 @@ RuleSet make_preset(const PresetEntry& e) {
   r.random_axis_order = e.random_axis_order;
   r.motion.substeps = e.substeps;
   r.motion.columns = e.columns;
+  r.motion.pressure = e.pressure;
   r.materials = default_materials(r.motion.enabled() ? e.grain : GrainMotion{});
   r.transition = r.motion.enabled() ? &motion_transition : &paper_transition;
   r.device_rule = r.motion.enabled() ? "motion" : "paper";

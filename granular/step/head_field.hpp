@@ -1,0 +1,155 @@
+#pragma once
+/// @file head_field.hpp
+/// The hydraulic head of the liquids (MotionParams::pressure), per coarse cell of 2 x 2 x 2 cells:
+/// the plane of state beside the cell bytes that the block step reads to give a liquid its pressure.
+/// Plain constexpr integer code: the CPU backend and the CUDA kernels compute the same field from the
+/// same cells, and the block step reads it the same way on both.
+///
+/// What the field holds. A coarse cell holding no liquid is dry (kDry). One holding liquid starts at
+/// its *seed*: the highest free surface among its liquid cells (z + 1 of a liquid cell with a void
+/// or a gas straight above it, in kUnit per cell), or kSunk when none of its liquid cells has one.
+/// The head then spreads through the liquid: a coarse cell takes the head of a face neighbour it is
+/// joined to, less one unit (1/1024 cell) per coarse step, when that is higher than its own. Two
+/// coarse cells are joined when a liquid cell on their common face has a liquid cell across it. At
+/// the fixed point each coarse cell holds the highest free surface of its liquid body, less a small
+/// penalty for the distance to it: a connected body at rest has one head, its surface; a body whose
+/// surfaces stand at different heights has the head of its highest one everywhere, so a lower
+/// surface lies under its head and the block step lets the liquid under it rise (fluid_block.hpp,
+/// the pressure stage), and the penalty makes the head fall towards the highest surface, which is
+/// where the voids left behind travel.
+///
+/// The solver is a fixed number of sweep rounds (kSweepRounds): in each round, one pass along +x,
+/// -x, +y, -y, +z and -z, each carrying the head along whole lines of coarse cells (a line is one
+/// sequential loop; lines run in parallel). A path through the liquid with k turns reaches its end in
+/// k + 1 rounds whatever its length, so the cost is bounded at every size; a body joined only by a
+/// more winding path than kSweepRounds rounds follow gets the head of its part of the path.
+
+#include <cstdint>
+
+#include "granular/geometry.hpp"
+#include "granular/motion.hpp"
+#include "step/step_materials.hpp"
+
+namespace granular::head {
+
+/// The edge of a coarse cell, in cells (coarse cell (i, j, k) holds cells 2i .. 2i + 1 along x, ...).
+inline constexpr int kCoarseEdge = 2;
+/// Head units per cell of height.
+inline constexpr std::int32_t kUnit = 1024;
+/// The head of a coarse cell that holds no liquid.
+inline constexpr std::int32_t kDry = INT32_MIN;
+/// The seed of a coarse cell whose liquid has no free surface: below every real head, so any joined
+/// neighbour's head replaces it; far enough above kDry that the penalty never reaches it.
+inline constexpr std::int32_t kSunk = -(1 << 30);
+/// Sweep rounds of the solver (each: +x, -x, +y, -y, +z, -z).
+inline constexpr int kSweepRounds = 3;
+/// Link bits of a coarse cell: joined to its +x, +y, +z neighbour.
+inline constexpr std::uint8_t kLinkX = 1, kLinkY = 2, kLinkZ = 4;
+
+/// The coarse grid of a grid of `size` cells.
+constexpr Int3 coarse_size(Int3 size) { return {(size.x + 1) / 2, (size.y + 1) / 2, (size.z + 1) / 2}; }
+
+/// The index of coarse cell (i, j, k) in a coarse grid of `c` (x fastest).
+constexpr std::int64_t coarse_index(Int3 c, int i, int j, int k) {
+  return std::int64_t(i) + std::int64_t(c.x) * (std::int64_t(j) + std::int64_t(c.y) * std::int64_t(k));
+}
+
+/// The index of the coarse cell of cell (x, y, z) (inside the grid) in a coarse grid of `c`.
+constexpr std::int64_t coarse_of_cell(Int3 c, int x, int y, int z) { return coarse_index(c, x >> 1, y >> 1, z >> 1); }
+
+/// The seed and links of coarse cell (i, j, k): `at(x, y, z)` reads a cell byte of the grid of
+/// `size` (only inside it). Sets `links` (kLinkX | kLinkY | kLinkZ) and returns the seed (kDry,
+/// kSunk or a surface in kUnit).
+template <class At>
+constexpr std::int32_t seed(At at, Int3 size, const StepMaterials& m, int i, int j, int k, std::uint8_t& links) {
+  std::int32_t s = kDry;
+  links = 0;
+  const int x0 = 2 * i, y0 = 2 * j, z0 = 2 * k;
+  auto liquid = [&](int x, int y, int z) { return m.is_liquid(std::uint32_t(at(x, y, z)) & kMaterialMask); };
+  for (int z = z0; z < z0 + 2 && z < size.z; ++z)
+    for (int y = y0; y < y0 + 2 && y < size.y; ++y)
+      for (int x = x0; x < x0 + 2 && x < size.x; ++x) {
+        if (!liquid(x, y, z)) continue;
+        if (s == kDry) s = kSunk;
+        if (z + 1 < size.z) {
+          const std::uint32_t above = std::uint32_t(at(x, y, z + 1)) & kMaterialMask;
+          if (m.is_fluid(above) && !m.is_liquid(above) && (z + 1) * kUnit > s) s = (z + 1) * kUnit;
+        }
+        if (x == x0 + 1 && x + 1 < size.x && liquid(x + 1, y, z)) links |= kLinkX;
+        if (y == y0 + 1 && y + 1 < size.y && liquid(x, y + 1, z)) links |= kLinkY;
+        if (z == z0 + 1 && z + 1 < size.z && liquid(x, y, z + 1)) links |= kLinkZ;
+      }
+  return s;
+}
+
+/// One sweep along a line of `count` coarse cells starting at `first`, `stride` apart, in the
+/// direction of increasing index (`forward`) or decreasing: each cell takes its predecessor's head
+/// less one unit when the two are joined (bit `link` of the lower one's links) and that is higher.
+/// Returns nothing; `heads` and `links` are indexable arrays (plain pointers on both backends).
+template <class Heads, class Links>
+constexpr void sweep_line(Heads heads, Links links, std::int64_t first, std::int64_t stride, int count, std::uint8_t link,
+                          bool forward) {
+  if (forward) {
+    for (int n = 1; n < count; ++n) {
+      const std::int64_t here = first + stride * n, before = here - stride;
+      if ((links[before] & link) == 0) continue;
+      const std::int32_t carried = heads[before] - 1;
+      if (carried > heads[here]) heads[here] = carried;
+    }
+  } else {
+    for (int n = count - 2; n >= 0; --n) {
+      const std::int64_t here = first + stride * n, after = here + stride;
+      if ((links[here] & link) == 0) continue;
+      const std::int32_t carried = heads[after] - 1;
+      if (carried > heads[here]) heads[here] = carried;
+    }
+  }
+}
+
+/// The motion level a liquid cell takes when its head pushes it into a cell `excess` units below its
+/// head (excess = head - kUnit * (the target's z + 1) > 0): the speed a head of that excess gives,
+/// 2 sqrt(g e) cells per tick with the motion model's g of 2 cells per tick^2 (Ritter's front speed
+/// at depth e; Torricelli's exit speed sqrt(2 g e) differs from it by a constant factor), as the
+/// level whose window (motion_window) spans twice that many sub-steps (a sideways move needs the
+/// partition to favour it, which it does one sub-step in two), at most `max_level`.
+constexpr int level_for_excess(std::int32_t excess, int max_level) {
+  const std::int64_t e8 = 8 * std::int64_t(excess) / kUnit;  // (2 sqrt(2 e))^2 = 8 e
+  int v = 0;                                                   // speed in cells per tick: floor(sqrt(8 e))
+  while (std::int64_t(v + 1) * (v + 1) <= e8 && v < 64) ++v;
+  // window 2 L - 1 >= 2 v  ->  L = v + 1 (L = 1 for a barely positive excess)
+  const int level = v + 1;
+  return level < max_level ? level : max_level;
+}
+
+}  // namespace granular::head
+
+namespace granular::head {
+
+/// True when a pressure move may start in coarse cell (i, j, k) of head `h`: one of its liquid cells
+/// has a void or a lighter fluid beside it (x or y) or above it whose top lies below the head
+/// (h > kUnit (z + 1) of that cell), the fluid pass's pressure condition. `at` reads the grid of
+/// `size`. A backend keeps the bricks of such coarse cells awake (sparse stepping): the pressure
+/// stage has no draw, so a block where no move may start stays as it is while the heads stay.
+template <class At>
+constexpr bool may_press(At at, Int3 size, const StepMaterials& m, int i, int j, int k, std::int32_t h) {
+  if (h <= kSunk) return false;
+  const int x0 = 2 * i, y0 = 2 * j, z0 = 2 * k;
+  for (int z = z0; z < z0 + 2 && z < size.z; ++z) {
+    if (h <= (z + 1) * kUnit) continue;  // no target in this layer or above it lies under the head
+    for (int y = y0; y < y0 + 2 && y < size.y; ++y)
+      for (int x = x0; x < x0 + 2 && x < size.x; ++x) {
+        const std::uint32_t a = std::uint32_t(at(x, y, z)) & kMaterialMask;
+        if (!m.is_liquid(a)) continue;
+        auto lighter = [&](int bx, int by, int bz) {
+          if (bx < 0 || by < 0 || bx >= size.x || by >= size.y || bz >= size.z) return false;
+          const std::uint32_t b = std::uint32_t(at(bx, by, bz)) & kMaterialMask;
+          return m.is_fluid(b) && !m.is_liquid(b) && m.density[b] < m.density[a];
+        };
+        if (lighter(x - 1, y, z) || lighter(x + 1, y, z) || lighter(x, y - 1, z) || lighter(x, y + 1, z)) return true;
+        if (h > (z + 2) * kUnit && lighter(x, y, z + 1)) return true;
+      }
+  }
+  return false;
+}
+
+}  // namespace granular::head
