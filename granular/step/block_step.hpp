@@ -151,8 +151,9 @@ struct MotionRule {
     return sub.substep < 2 || before != after ? motion::reach_of(after, kColumns) : 0u;
   }
 
-  /// True in a sub-step where a brick may be idle (from sub-step 2 on: every brick steps in 0 and 1).
-  constexpr bool may_idle() const { return sub.substep >= 2; }
+  /// True in a sub-step where a brick may be idle (from sub-step 2 on: every brick steps in 0 and 1);
+  /// never under pressure, whose stage moves liquids at rest in every sub-step.
+  constexpr bool may_idle() const { return !kPressure && sub.substep >= 2; }
 
   /// True when the sub-step leaves every block of a brick as it is, `nearby` being the largest reach
   /// of the brick and its 26 neighbours (brick_reach.hpp).
@@ -166,7 +167,8 @@ struct MotionRule {
   /// at once.
   constexpr std::uint64_t step(std::uint64_t bytes, int x0, int y0, int z0) const {
     if (sub.substep >= 2 && ((bytes >> 32) & 0x70707070u) == 0 &&
-        (!kColumns || motion::wake_bytes(bytes & 0xFFFFFFFFull) == 0))
+        (!kColumns || motion::wake_bytes(bytes & 0xFFFFFFFFull) == 0) &&
+        (!kPressure || (present_materials<ByteOpsOf<Platform>>(bytes) & sub.materials.liquids) == 0))
       return bytes;
     const auto load = [this](std::uint32_t k) { return Platform::load(table + k); };
     if constexpr (kPressure) {

@@ -35,8 +35,7 @@
 ///     (`press_movers`). So a liquid under the head of a higher surface of its body rises into void,
 ///     leaves a void that the liquid with the highest head around fills (the void travels towards
 ///     the highest surface and leaves there), pours out sideways from under its surface, and levels.
-///     The liquid that moves takes the motion level its head gives (head::level_for_excess). No
-///     draw: the stage moves the same cells whatever the random words, so a block it leaves as it is
+///     A liquid moved so keeps its motion level. No draw: the stage moves the same cells whatever the random words, so a block it leaves as it is
 ///     stays so while the heads stay (the backend wakes the bricks where a move may start).
 /// Each step walks the block's columns in the viewed frame's order 0..3, and a move's targets in the
 /// order x neighbour, y neighbour, diagonal. A cell moves at most once per pass (neither starting nor
@@ -99,12 +98,11 @@ constexpr bool topples_into(const StepMaterials& mats, std::uint32_t m, std::uin
 /// byte are a faller's motion level, set to 0 when it moves in step 1 or 1b; without, the high bits are
 /// carried along untouched (a table build tags each byte with its cell index there).
 /// `heads` (MotionParams::pressure; null for none) holds each cell's head (head_field.hpp) by block
-/// position, `press_movers` the cells that may start a pressure move, `z0` the block's lowest z and
-/// `max_level` the motion model's top level.
+/// position, `press_movers` the cells that may start a pressure move and `z0` the block's lowest z.
 template <bool kLevels>
 constexpr std::uint64_t fluid_pass(std::uint64_t bytes, std::uint32_t movers, int symmetry, std::uint64_t draws,
                                    const StepMaterials& mats, const std::int32_t* heads = nullptr,
-                                   std::uint32_t press_movers = 0, int z0 = 0, int max_level = 0) {
+                                   std::uint32_t press_movers = 0, int z0 = 0, int substep = 0) {
   constexpr std::uint64_t kLevelBits = std::uint64_t(kMotionLevelMask) << kMotionShift;
   auto at = [&](int view) { return symmetry_preimage(view, symmetry); };
   auto level_above_zero = [&](int p) { return kLevels && ((bytes >> (8 * p)) & kLevelBits) != 0; };
@@ -199,21 +197,20 @@ constexpr std::uint64_t fluid_pass(std::uint64_t bytes, std::uint32_t movers, in
       int from = -1;
       std::int32_t highest = top;
       for (int flip = 1; flip <= 4; flip <<= 1) {
-        if (flip == 4 && view < 4) continue;  // from below only: a fall is gravity's
         const int a = at(view ^ flip);
         const std::uint32_t m = material_at(bytes, a);
         if (!free(a) || ((press_movers >> a) & 1u) == 0 || !mats.is_liquid(m) || mats.density[t] >= mats.density[m]) continue;
-        if (heads[a] > highest) {
+        if (a >= 4) {  // a top cell over a void or a gas is falling: gravity moves it, not the head
+          const std::uint32_t under = material_at(bytes, a - 4);
+          if (mats.is_fluid(under) && !mats.is_liquid(under)) continue;
+        }
+        if (heads[a] > highest && head::pushes(heads[a] - top, substep)) {
           highest = heads[a];
           from = a;
         }
       }
       if (from < 0) continue;
       move(from, b);
-      if constexpr (kLevels) {
-        const std::uint64_t level = std::uint64_t(head::level_for_excess(highest - top, max_level)) << kMotionShift;
-        bytes = (bytes & ~(kLevelBits << (8 * b))) | (level << (8 * b));
-      }
     }
   return bytes;
 }

@@ -5,8 +5,8 @@
 /// Plain constexpr integer code: the CPU backend and the CUDA kernels compute the same field from the
 /// same cells, and the block step reads it the same way on both.
 ///
-/// What the field holds. A coarse cell holding no liquid is dry (kDry). One holding liquid starts at
-/// its *seed*: the highest free surface among its liquid cells (z + 1 of a liquid cell with a void
+/// What the field holds. Only liquid at rest counts (at_rest_liquid). A coarse cell holding none is
+/// dry (kDry). One holding some starts at its *seed*: the highest free surface among its liquid cells (z + 1 of a liquid cell with a void
 /// or a gas straight above it, in kUnit per cell), or kSunk when none of its liquid cells has one.
 /// The head then spreads through the liquid: a coarse cell takes the head of a face neighbour it is
 /// joined to, less one unit (1/1024 cell) per coarse step, when that is higher than its own. Two
@@ -57,6 +57,13 @@ constexpr std::int64_t coarse_index(Int3 c, int i, int j, int k) {
 /// The index of the coarse cell of cell (x, y, z) (inside the grid) in a coarse grid of `c`.
 constexpr std::int64_t coarse_of_cell(Int3 c, int x, int y, int z) { return coarse_index(c, x >> 1, y >> 1, z >> 1); }
 
+/// True when cell byte `cell` is a liquid at motion level 0: a liquid in the body. A liquid that
+/// falls, or was set moving, is in free flight: it takes no part in the head (neither its seed nor
+/// its links) and no pressure move, so a jet leaving an orifice is not pushed back up into it.
+constexpr bool at_rest_liquid(const StepMaterials& m, std::uint32_t cell) {
+  return m.is_liquid(cell & kMaterialMask) && ((cell >> kMotionShift) & kMotionLevelMask) == 0;
+}
+
 /// The seed and links of coarse cell (i, j, k): `at(x, y, z)` reads a cell byte of the grid of
 /// `size` (only inside it). Sets `links` (kLinkX | kLinkY | kLinkZ) and returns the seed (kDry,
 /// kSunk or a surface in kUnit).
@@ -65,7 +72,13 @@ constexpr std::int32_t seed(At at, Int3 size, const StepMaterials& m, int i, int
   std::int32_t s = kDry;
   links = 0;
   const int x0 = 2 * i, y0 = 2 * j, z0 = 2 * k;
-  auto liquid = [&](int x, int y, int z) { return m.is_liquid(std::uint32_t(at(x, y, z)) & kMaterialMask); };
+  // A liquid at rest on something that is not a lighter fluid: one over a void is falling.
+  auto liquid = [&](int x, int y, int z) {
+    if (!at_rest_liquid(m, std::uint32_t(at(x, y, z)))) return false;
+    if (z == 0) return true;
+    const std::uint32_t below = std::uint32_t(at(x, y, z - 1)) & kMaterialMask;
+    return !(m.is_fluid(below) && !m.is_liquid(below));
+  };
   for (int z = z0; z < z0 + 2 && z < size.z; ++z)
     for (int y = y0; y < y0 + 2 && y < size.y; ++y)
       for (int x = x0; x < x0 + 2 && x < size.x; ++x) {
@@ -106,19 +119,13 @@ constexpr void sweep_line(Heads heads, Links links, std::int64_t first, std::int
   }
 }
 
-/// The motion level a liquid cell takes when its head pushes it into a cell `excess` units below its
-/// head (excess = head - kUnit * (the target's z + 1) > 0): the speed a head of that excess gives,
-/// 2 sqrt(g e) cells per tick with the motion model's g of 2 cells per tick^2 (Ritter's front speed
-/// at depth e; Torricelli's exit speed sqrt(2 g e) differs from it by a constant factor), as the
-/// level whose window (motion_window) spans twice that many sub-steps (a sideways move needs the
-/// partition to favour it, which it does one sub-step in two), at most `max_level`.
-constexpr int level_for_excess(std::int32_t excess, int max_level) {
-  const std::int64_t e8 = 8 * std::int64_t(excess) / kUnit;  // (2 sqrt(2 e))^2 = 8 e
-  int v = 0;                                                   // speed in cells per tick: floor(sqrt(8 e))
-  while (std::int64_t(v + 1) * (v + 1) <= e8 && v < 64) ++v;
-  // window 2 L - 1 >= 2 v  ->  L = v + 1 (L = 1 for a barely positive excess)
-  const int level = v + 1;
-  return level < max_level ? level : max_level;
+/// True when a head `excess` units above a target's top pushes a liquid into it in sub-step
+/// `substep`: in the first 4 sqrt(e) sub-steps of each tick (e the excess in cells), so a liquid
+/// moves at most that many times a tick under it: a speed that grows as the square root of the head,
+/// as Torricelli's sqrt(2 g h) and Ritter's 2 sqrt(g h) do.
+constexpr bool pushes(std::int32_t excess, int substep) {
+  // substep < 4 sqrt(e)  <=>  substep^2 < 16 e  (e = excess / kUnit)
+  return std::int64_t(substep) * substep * kUnit < 16 * std::int64_t(excess);
 }
 
 }  // namespace granular::head
@@ -138,8 +145,8 @@ constexpr bool may_press(At at, Int3 size, const StepMaterials& m, int i, int j,
     if (h <= (z + 1) * kUnit) continue;  // no target in this layer or above it lies under the head
     for (int y = y0; y < y0 + 2 && y < size.y; ++y)
       for (int x = x0; x < x0 + 2 && x < size.x; ++x) {
-        const std::uint32_t a = std::uint32_t(at(x, y, z)) & kMaterialMask;
-        if (!m.is_liquid(a)) continue;
+        const std::uint32_t cell = std::uint32_t(at(x, y, z)), a = cell & kMaterialMask;
+        if (!at_rest_liquid(m, cell)) continue;
         auto lighter = [&](int bx, int by, int bz) {
           if (bx < 0 || by < 0 || bx >= size.x || by >= size.y || bz >= size.z) return false;
           const std::uint32_t b = std::uint32_t(at(bx, by, bz)) & kMaterialMask;

@@ -53,6 +53,7 @@
 #include "granular/motion.hpp"
 #include "step/block_bytes.hpp"
 #include "step/fluid_block.hpp"
+#include "step/head_field.hpp"
 #include "step/paper_rule.hpp"
 #include "step/step_materials.hpp"
 
@@ -315,8 +316,8 @@ constexpr std::uint64_t entrain_step_edges(std::uint64_t out, std::uint64_t code
 /// `kColumns` must be m.columns: the lever is compiled in or out, so a kernel without it keeps its
 /// registers and instructions (step_block picks it at run time, for callers that do not care).
 /// `heads` (MotionParams::pressure; null without) holds the head (head_field.hpp) of each cell of
-/// the block by block position: the fluid pass's pressure stage reads it, and in sub-steps 0 and 1
-/// every liquid of the bottom layer may start a pressure move besides the cells that took part.
+/// the block by block position: the fluid pass's pressure stage reads it, and every liquid of the
+/// block that kept its place may start a pressure move, in every sub-step.
 template <bool kColumns, class ByteOps = PortableByteOps, class Load>
 constexpr std::uint64_t step_block_as(std::uint64_t bytes, const SubStep& m, int x0, int y0, int z0, Load load,
                                       const std::int32_t* heads = nullptr) {
@@ -360,10 +361,11 @@ constexpr std::uint64_t step_block_as(std::uint64_t bytes, const SubStep& m, int
     part &= late | (s == 1 ? start : 0u) | follow;
   }
   const std::uint32_t gases = s < 2 && mats.gases != 0 ? std::uint32_t(props >> 3) & 0x01010101u : 0u;
-  // Under pressure, the bottom layer's liquids in sub-steps 0 and 1 (bit j for cell j).
+  // Under pressure, every liquid at rest of the block (bit p for cell p, head::at_rest_liquid): the
+  // pressure stage moves them in every sub-step.
   std::uint32_t pressed = 0;
-  if (heads != nullptr && s < 2)
-    for (int j = 0; j < 4; ++j) pressed |= (mats.is_liquid(std::uint32_t(bytes >> (8 * j)) & kMaterialMask) ? 1u : 0u) << j;
+  if (heads != nullptr)
+    for (int p = 0; p < 8; ++p) pressed |= (head::at_rest_liquid(mats, std::uint32_t(bytes >> (8 * p)) & 0xFFu) ? 1u : 0u) << p;
   if ((part | gases | pressed) == 0) return bytes;
   const std::uint64_t random = block_random_keyed(m.random_key, m.step(), x0, y0, z0, m.origin);
   const int symmetry = m.random_symmetry ? int(random & 7u) : 0;
@@ -434,7 +436,7 @@ constexpr std::uint64_t step_block_as(std::uint64_t bytes, const SubStep& m, int
   const std::uint64_t draws = block_random_keyed(m.draw_key, m.step(), x0, y0, z0, m.origin);
   const std::uint64_t passed =
       fluid::fluid_pass<true>(out, took_part & stayed, symmetry, draws, mats, heads,
-                              heads != nullptr ? (took_part & stayed & 0xF0u) | pressed : 0u, z0, max_level);
+                              heads != nullptr ? pressed & stayed : 0u, z0, s);
   return kColumns ? leave_wakes(passed, wakes_left) : passed;
 }
 
