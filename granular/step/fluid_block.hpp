@@ -98,11 +98,13 @@ constexpr bool topples_into(const StepMaterials& mats, std::uint32_t m, std::uin
 /// byte are a faller's motion level, set to 0 when it moves in step 1 or 1b; without, the high bits are
 /// carried along untouched (a table build tags each byte with its cell index there).
 /// `heads` (MotionParams::pressure; null for none) holds each cell's head (head_field.hpp) by block
-/// position, `press_movers` the cells that may start a pressure move and `z0` the block's lowest z.
+/// position, `press_movers` the cells that may start a pressure move, `z0` the block's lowest z,
+/// `substep` the sub-step and `max_level` the motion model's top level.
 template <bool kLevels>
 constexpr std::uint64_t fluid_pass(std::uint64_t bytes, std::uint32_t movers, int symmetry, std::uint64_t draws,
                                    const StepMaterials& mats, const std::int32_t* heads = nullptr,
-                                   std::uint32_t press_movers = 0, int z0 = 0, int substep = 0) {
+                                   std::uint32_t press_movers = 0, int z0 = 0, int substep = 0,
+                                   int max_level = 0) {
   constexpr std::uint64_t kLevelBits = std::uint64_t(kMotionLevelMask) << kMotionShift;
   auto at = [&](int view) { return symmetry_preimage(view, symmetry); };
   auto level_above_zero = [&](int p) { return kLevels && ((bytes >> (8 * p)) & kLevelBits) != 0; };
@@ -198,19 +200,26 @@ constexpr std::uint64_t fluid_pass(std::uint64_t bytes, std::uint32_t movers, in
       std::int32_t highest = top;
       for (int flip = 1; flip <= 4; flip <<= 1) {
         const int a = at(view ^ flip);
+        if (flip == 4 && view < 4 && heads[b] != head::kDry) continue;  // down only out of the body
         const std::uint32_t m = material_at(bytes, a);
         if (!free(a) || ((press_movers >> a) & 1u) == 0 || !mats.is_liquid(m) || mats.density[t] >= mats.density[m]) continue;
-        if (a >= 4) {  // a top cell over a void or a gas is falling: gravity moves it, not the head
+        if (a >= 4 && a - 4 != b) {  // a top cell over a void or a gas moves only down into it
           const std::uint32_t under = material_at(bytes, a - 4);
           if (mats.is_fluid(under) && !mats.is_liquid(under)) continue;
         }
-        if (heads[a] > highest && head::pushes(heads[a] - top, substep)) {
+        if (heads[a] > highest && head::pushes(heads[a] - top, substep, flip == 4)) {
           highest = heads[a];
           from = a;
         }
       }
       if (from < 0) continue;
       move(from, b);
+      // Pushed down out of its body (into a coarse cell with no liquid at rest: a void inside the
+      // body is filled from beside or below), a liquid leaves at the speed its head gives (Torricelli).
+      if (kLevels && from == b + 4) {
+        const std::uint64_t level = std::uint64_t(head::exit_level(highest - top, max_level)) << kMotionShift;
+        bytes = (bytes & ~(kLevelBits << (8 * b))) | (level << (8 * b));
+      }
     }
   return bytes;
 }

@@ -5,14 +5,16 @@
 /// Plain constexpr integer code: the CPU backend and the CUDA kernels compute the same field from the
 /// same cells, and the block step reads it the same way on both.
 ///
-/// What the field holds. Only liquid at rest counts (at_rest_liquid). A coarse cell holding none is
-/// dry (kDry). One holding some starts at its *seed*: the highest free surface among its liquid cells (z + 1 of a liquid cell with a void
-/// or a gas straight above it, in kUnit per cell), or kSunk when none of its liquid cells has one.
-/// The head then spreads through the liquid: a coarse cell takes the head of a face neighbour it is
-/// joined to, less one unit (1/1024 cell) per coarse step, when that is higher than its own. Two
-/// coarse cells are joined when a liquid cell on their common face has a liquid cell across it. At
-/// the fixed point each coarse cell holds the highest free surface of its liquid body, less a small
-/// penalty for the distance to it: a connected body at rest has one head, its surface; a body whose
+/// What the field holds. Only the liquid of a body counts: a liquid at motion level 0 standing on
+/// something other than a void or a gas (a falling jet is in free flight; at_rest_liquid and the
+/// support test in seed). A coarse cell holding none is dry (kDry). One holding some starts at its
+/// *seed*: the highest free surface among its liquid cells (z + 1 of a liquid cell with a void or a
+/// gas straight above it, in kUnit per cell), or kSunk when none of them has one. The head then
+/// spreads through the liquid: a coarse cell takes the head of a face neighbour it is joined to,
+/// less one unit (1/1024 cell) per coarse step, when that is higher than its own. Two coarse cells
+/// are joined when a liquid cell on their common face has a liquid cell across it. At the fixed
+/// point each coarse cell holds the highest free surface of its liquid body, less a small penalty
+/// for the distance to it: a connected body at rest has one head, its surface; a body whose
 /// surfaces stand at different heights has the head of its highest one everywhere, so a lower
 /// surface lies under its head and the block step lets the liquid under it rise (fluid_block.hpp,
 /// the pressure stage), and the penalty makes the head fall towards the highest surface, which is
@@ -119,13 +121,31 @@ constexpr void sweep_line(Heads heads, Links links, std::int64_t first, std::int
   }
 }
 
+/// floor(sqrt(e)) for a head excess of `excess` units (e = excess / kUnit cells), at most 64.
+constexpr int root_cells(std::int32_t excess) {
+  int r = 0;
+  while (r < 64 && std::int64_t(r + 1) * (r + 1) * kUnit <= std::int64_t(excess)) ++r;
+  return r;
+}
+
 /// True when a head `excess` units above a target's top pushes a liquid into it in sub-step
-/// `substep`: in the first 4 sqrt(e) sub-steps of each tick (e the excess in cells), so a liquid
-/// moves at most that many times a tick under it: a speed that grows as the square root of the head,
-/// as Torricelli's sqrt(2 g h) and Ritter's 2 sqrt(g h) do.
-constexpr bool pushes(std::int32_t excess, int substep) {
-  // substep < 4 sqrt(e)  <=>  substep^2 < 16 e  (e = excess / kUnit)
-  return std::int64_t(substep) * substep * kUnit < 16 * std::int64_t(excess);
+/// `substep`: in the first 2 sqrt(e) sub-steps of each tick for a move up or down (`vertical`), the
+/// first 4 sqrt(e) for a move sideways (a sideways move finds its target in its block one sub-step
+/// in two), e the excess in cells. So a liquid moves under a head at up to 2 sqrt(e) = sqrt(2 g e)
+/// cells a tick (g = 2 cells per tick^2): Torricelli's exit speed, a speed that grows as the square
+/// root of the head.
+constexpr bool pushes(std::int32_t excess, int substep, bool vertical) {
+  // substep < k sqrt(e)  <=>  substep^2 < k^2 e
+  const std::int64_t k2 = vertical ? 4 : 16;
+  return std::int64_t(substep) * substep * kUnit < k2 * std::int64_t(excess);
+}
+
+/// The motion level of a liquid pushed down out of its body under a head `excess` units above the
+/// cell it enters: the level whose window (motion_window) is its exit speed 2 sqrt(e) cells a tick,
+/// at most `max_level`.
+constexpr int exit_level(std::int32_t excess, int max_level) {
+  const int level = root_cells(excess) + 1;  // window 2 L - 1 = 2 sqrt(e) + 1
+  return level < max_level ? level : max_level;
 }
 
 }  // namespace granular::head

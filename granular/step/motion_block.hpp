@@ -436,7 +436,7 @@ constexpr std::uint64_t step_block_as(std::uint64_t bytes, const SubStep& m, int
   const std::uint64_t draws = block_random_keyed(m.draw_key, m.step(), x0, y0, z0, m.origin);
   const std::uint64_t passed =
       fluid::fluid_pass<true>(out, took_part & stayed, symmetry, draws, mats, heads,
-                              heads != nullptr ? pressed & stayed : 0u, z0, s);
+                              heads != nullptr ? pressed & stayed : 0u, z0, s, max_level);
   return kColumns ? leave_wakes(passed, wakes_left) : passed;
 }
 
