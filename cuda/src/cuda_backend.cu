@@ -13,6 +13,7 @@
 #include "cuda_device.cuh"
 #include "cuda_stream.cuh"
 #include "device_buffer.cuh"
+#include "device_head_field.cuh"
 #include "external_interop.cuh"
 #include "granular/extend/backend.hpp"
 #include "granular/extend/backend_factory.hpp"
@@ -62,7 +63,9 @@ cuda::DeviceInfo prepare_device(Int3 size) {
 /// Every path steps blocks through the one block step (step/block_step.hpp) with the Rule of the
 /// rule set: a motion rule set keeps the motion table on the device and steps each tick as
 /// MotionParams::substeps sub-steps, fused in pairs by the pair kernel wherever two consecutive
-/// steps share their x and y offsets, as the one-step rules fuse pairs of ticks.
+/// steps share their x and y offsets, as the one-step rules fuse pairs of ticks. A rule set with
+/// the pressure lever and a liquid keeps the head field on the device too (device_head_field.cuh)
+/// and solves it at the start of every tick, as the CPU backend does.
 class CudaBackend final : public Backend {
  public:
   /// Uploads info.initial, derives the result table from info.lut on the device, and uploads the
@@ -97,6 +100,11 @@ class CudaBackend final : public Backend {
     StepTables tables;
     tables.result = result_.data();
     step_rules_ = make_step_rules(info, tables);
+    // The head field, as the CPU backend keeps it: a motion model with the pressure lever and a liquid.
+    if (step_rules_.motion.enabled() && step_rules_.motion.pressure && step_rules_.materials.liquids != 0) {
+      head_field_.emplace(size_, sparse_ ? total_bricks_ : 0u, s);
+      step_rules_.heads = head_field_->heads();
+    }
     if (sparse_) init_sparse(s);
     step_rules_.inert = inert_.data();
     stream_.synchronize("building the result table");
@@ -130,9 +138,10 @@ class CudaBackend final : public Backend {
   void step_ticks(std::uint64_t first_tick, int ticks) {
     activate();
     before_write();
-    if (sparse_ && asleep_) {
+    if (sparse_ && asleep_ && !head_field_) {
       // Nothing is awake and nothing can wake without a tool: the ticks change no cell, so they
-      // cost no device work at all (a settled world costs nothing).
+      // cost no device work at all (a settled world costs nothing). A head field may wake bricks at
+      // any tick, so a world that keeps one always steps.
       last_ = ActivityStats{};
       last_.total_bricks = total_bricks_;
       last_.ticks = std::uint64_t(ticks);
@@ -353,7 +362,8 @@ class CudaBackend final : public Backend {
   /// (the awake list counted once per tick, in runs of ticks between two list changes); stepping an
   /// asleep brick changes nothing and records nothing (its blocks are quiet), so the cells and the
   /// sparse state are those of sparse ticks. Sparse launches the sparse kernel per step and ends a
-  /// cycle after every 8th.
+  /// cycle after every 8th. With a head field, every tick starts with its solve and, sparse or
+  /// recording, the wake of the bricks where a pressure move may start (so no pair spans two ticks).
   void enqueue_steps(std::uint64_t first_tick, int ticks, Mode mode) {
     cudaStream_t s = stream_.get();
     const cuda::DeviceCells g{cells_, size_};
@@ -389,6 +399,13 @@ class CudaBackend final : public Backend {
     for (std::uint64_t n = first; n < end;) {
       const std::uint64_t tick = n / substeps;
       const bool tick_start = n % substeps == 0;
+      if (tick_start && head_field_) {
+        // The heads of this tick, from the cells its first sub-step reads; with sparse stepping the
+        // bricks where a pressure move may start wake, which changes the awake list, so recording
+        // counts the ticks before with the list they stepped.
+        if (mode == Mode::Recording) count();
+        head_field_->enqueue(cells_, step_rules_.materials, sparse_ ? &sp : nullptr, s);
+      }
       if (mode == Mode::Sparse) {
         cuda::with_device_step(step_rules_, n, [&](const auto& rule) {
           cuda::RuleLaunch<std::decay_t<decltype(rule)>>::sparse(g, rule, sp, tick_start, tick_start && tick == last_tick,
@@ -399,7 +416,8 @@ class CudaBackend final : public Backend {
         continue;
       }
       const bool fuse = n + 1 < end && cuda::pairable(step_offset(step_rules_, n), step_offset(step_rules_, n + 1)) &&
-                        !(mode == Mode::Recording && (n & 7u) == 7u) && halo_ready();
+                        !(mode == Mode::Recording && (n & 7u) == 7u) && !(head_field_ && (n + 1) % substeps == 0) &&
+                        halo_ready();
       if (fuse) {
         cuda::with_device_step_pair(step_rules_, n, [&](const auto& a, const auto& b) {
           cuda::RuleLaunch<std::decay_t<decltype(a)>>::pair(g, a, b, pair, static_cast<std::uint8_t*>(halo), notes, s);
@@ -591,6 +609,7 @@ class CudaBackend final : public Backend {
   cuda::DeviceBuffer<unsigned> count_;
   cuda::DeviceBuffer<unsigned long long> counters_;
   cuda::DeviceBuffer<std::uint64_t> inert_;
+  std::optional<cuda::DeviceHeadField> head_field_;  ///< MotionParams::pressure with a liquid in the table: the heads
   cuda::PinnedCounters counters_host_;        ///< the activity counters, copied back by each step
   mutable bool counters_pending_ = false;     ///< a step's counters are on their way to counters_host_
   mutable ActivityStats last_{};
