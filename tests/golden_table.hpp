@@ -12,8 +12,8 @@
 ///
 /// Besides the shipped scenes (sand and solid only), one scene of every material, built here
 /// (all_materials_pool, tests/reference/material_scenes.hpp), is pinned under inertial-24, under its
-/// columns, entrain and flow levers (inertial-24-columns, inertial-24-entrain and inertial-24-flow)
-/// and under isotropic: its values were taken where the plain per-block loop
+/// columns, entrain, flow and pressure levers (inertial-24-columns, inertial-24-entrain,
+/// inertial-24-flow and inertial-24-pressure) and under isotropic: its values were taken where the plain per-block loop
 /// reaches the same hash (test_golden.cpp checks that on every run).
 
 #include <cstdint>
@@ -82,6 +82,11 @@ inline constexpr GoldenCase kGoldenCases[] = {
     {"inertial-24-columns", kAllMaterialsScene, 32, 64, 0xbc4aa19320f5bd2bull},
     {"inertial-24-entrain", kAllMaterialsScene, 32, 64, 0x60a982d6c7d21217ull},
     {"inertial-24-flow", kAllMaterialsScene, 32, 64, 0x7b93add6cb51175eull},
+    {"inertial-24-pressure", "bowl", 32, 64, 0x8e5f2b19f2e47c41ull},
+    {"inertial-24-pressure", "u_tube", 32, 64, 0},
+    {"inertial-24-pressure", "dam_break", 32, 64, 0},
+    {"inertial-24-pressure", "reservoir", 32, 64, 0},
+    {"inertial-24-pressure", kAllMaterialsScene, 32, 64, 0},
 };
 
 /// The initial grid of a golden case: its shipped scene built at its N (the scene of every material

@@ -5,6 +5,7 @@
 
 #include <doctest/doctest.h>
 
+#include <atomic>
 #include <filesystem>
 #include <limits>
 #include <mutex>
@@ -114,6 +115,7 @@ TEST_CASE("distributed world: 2 and 3 in-process ranks equal one World for every
   const Int3 size{21, 19, 77};
   const Grid initial = mixed_material_grid(size, 11);
   for (const std::string& rules : rule_preset_names()) {
+    if (preset(rules).motion.pressure) continue;  // refused: see the test below
     for (const bool sparse : {true, false}) {
       if (!sparse && rules != "inertial-24" && rules != "paper") continue;
       WorldDef def = test_def(size, rules.c_str(), 1, 5);
@@ -445,4 +447,19 @@ TEST_CASE("distributed world: a tool call that would wrap the tool-call counter 
     check_has(errors[r], {"tool-call counter", "no cell was changed"});
     CHECK(unchanged[r]);
   }
+}
+
+TEST_CASE("distributed world: a rule set with pressure is refused on every rank, naming the field") {
+  const Int3 size{16, 16, 64};
+  const Grid initial = mixed_material_grid(size, 3);
+  const WorldDef def = test_def(size, "inertial-24-pressure", 1, 5);
+  std::atomic<int> refused{0};
+  run_local_ranks(2, [&](Communicator& comm) {
+    try {
+      DistributedWorld w(def, comm, initial);
+    } catch (const InvalidArgument& e) {
+      if (std::string(e.what()).find("RuleSet::motion.pressure = true") != std::string::npos) ++refused;
+    }
+  });
+  CHECK(refused == 2);
 }

@@ -67,7 +67,12 @@ TEST_CASE("rule set: a preset is a value whose material table a game may change"
   CHECK(flow.materials[5].grain.flow_level == 1);  // gravel flows as slowly as sand
   CHECK(flow.materials[3].grain.flow_level == 0);  // a liquid keeps its speed
   CHECK(rule_fingerprint(flow) != rule_fingerprint(entrain));
-  CHECK(rule_preset_names().size() == 8);
+  const RuleSet pressure = preset("inertial-24-pressure");
+  CHECK(pressure.motion.pressure);
+  CHECK_FALSE(flow.motion.pressure);
+  CHECK(pressure.materials[2].grain.flow_level == flow.materials[2].grain.flow_level);  // sand as in the default
+  CHECK(rule_fingerprint(pressure) != rule_fingerprint(flow));
+  CHECK(rule_preset_names().size() == 9);
   for (const auto& name : rule_preset_names()) CHECK(preset(name).name == name);
 }
 

@@ -51,6 +51,10 @@ SlabLayout make_layout(const WorldDef& def, Communicator& comm, Int3 size) {
       throw InvalidArgument("DistributedWorld: WorldDef::domain_origin = " + to_string(def.domain_origin) +
                             "; a distributed world is a whole world (0, 0, 0), and places its slabs itself");
     const std::shared_ptr<const RuleSet> rules = def.rule_set ? def.rule_set : make_rule_set(def.rules);
+    if (rules->motion.pressure)
+      throw InvalidArgument("DistributedWorld: rule set '" + rules->name +
+                            "' has RuleSet::motion.pressure = true; the head of a liquid body is the highest surface "
+                            "of the whole body, which a slab cannot see: run it as one World, or turn pressure off");
     layout.emplace(size, comm.size(), SlabLayout::halo_for(*rules));
     mine = {1, std::uint64_t(size.x), std::uint64_t(size.y), std::uint64_t(size.z), def.seed, rule_fingerprint(*rules)};
     rules_name = rules->name;
