@@ -114,17 +114,17 @@ TEST_CASE("accuracy suite, quick, default rules: grains conserved, hashes agree,
   CHECK(metric(cone, "fourfold_amplitude").measured < 0.03);
 }
 
-// The five tests of the fluid and gravel materials, quick, on the default rules. Asserted: what the
+// The six tests of the fluid and gravel materials, quick, on the default rules. Asserted: what the
 // model meets (grains of every material conserved, sand below and gas above the liquid, the gravel
 // cone's angle and the footprint checks the sand cone passes) and that each test measured
 // something. Reported only (docs/ACCURACY.md, "Gaps"): the U-tube's level difference, the dam
-// break's front against Ritter's and Torricelli's exponent, which need a pressure the model does
-// not have (liquid never moves up through a connected body).
+// break's front against Ritter's, the tank's levelling time and Torricelli's exponent, which need a
+// pressure the model does not have (liquid never moves up through a connected body).
 TEST_CASE("accuracy suite, quick, default rules: liquid, gas and gravel against hydrostatics, Ritter, Torricelli, Archimedes") {
   const std::string rules = WorldDef{}.rules;
-  const SuiteReport r =
-      run_suite(quick_options(rules), {"gravel_cone", "communicating_vessels", "dam_break", "torricelli", "buoyancy"});
-  REQUIRE(r.tests.size() == 5);
+  const SuiteReport r = run_suite(quick_options(rules),
+                                  {"gravel_cone", "communicating_vessels", "dam_break", "levelling", "torricelli", "buoyancy"});
+  REQUIRE(r.tests.size() == 6);
   for (const TestReport& t : r.tests) {
     for (const Metric& m : t.metrics)
       MESSAGE(rules << " " << t.test << " " << m.name << " = " << m.measured << " (target " << m.reference << " +- "
@@ -134,7 +134,11 @@ TEST_CASE("accuracy suite, quick, default rules: liquid, gas and gravel against 
   }
   CHECK(r.conserved());
   const TestReport& gravel = r.tests[0];
-  const TestReport& buoyancy = r.tests[4];
+  const TestReport& buoyancy = r.tests[5];
+  // A levelling time lies between 0 and the run's limit, 40 L / sqrt(g h).
+  const double levelling = metric(r.tests[3], "levelling_time").measured;
+  CHECK(levelling >= 0);
+  CHECK(levelling <= 40);
   CHECK(metric(buoyancy, "sand_over_liquid").met());
   CHECK(metric(buoyancy, "gas_under_liquid").met());
   CHECK(metric(buoyancy, "materials_not_conserved").met());

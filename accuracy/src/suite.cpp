@@ -22,7 +22,8 @@ TestReport open_report(const SuiteOptions& options, std::string test, std::strin
 std::vector<std::string> suite_test_names() {
   return {"cone",          "cone_sizes",            "gravel_cone", "hysteresis", "dug_slope",
           "silo",          "collapse",              "fall",        "falling_block",
-          "communicating_vessels", "dam_break",     "torricelli",  "buoyancy",   "conservation"};
+          "communicating_vessels", "dam_break",     "levelling",   "torricelli", "buoyancy",
+          "conservation"};
 }
 
 SuiteReport run_suite(const SuiteOptions& o, const std::vector<std::string>& tests) {
@@ -69,6 +70,7 @@ SuiteReport run_suite(const SuiteOptions& o, const std::vector<std::string>& tes
   if (wanted("falling_block")) report.tests.push_back(run_falling_block_test(o));
   if (wanted("communicating_vessels")) report.tests.push_back(run_communicating_vessels_test(o));
   if (wanted("dam_break")) report.tests.push_back(run_dam_break_test(o));
+  if (wanted("levelling")) report.tests.push_back(run_levelling_test(o));
   if (wanted("torricelli")) report.tests.push_back(run_torricelli_test(o));
   if (wanted("buoyancy")) report.tests.push_back(run_buoyancy_test(o));
   if (wanted("conservation")) {

@@ -1,6 +1,6 @@
 #pragma once
 /// @file suite_tests.hpp
-/// The fourteen tests of the accuracy suite. Each builds its scenes programmatically (sizes depend on
+/// The fifteen tests of the accuracy suite. Each builds its scenes programmatically (sizes depend on
 /// SuiteOptions::quick), runs them on the configured backend, measures from the grid and returns
 /// a TestReport with measured values, references and their sources, and the series of its plot.
 
@@ -81,17 +81,24 @@ TestReport run_communicating_vessels_test(const SuiteOptions& options);
 /// first 2 H0 of travel fitted as x_f = U t, U / (2 sqrt(g H0)) against Ritter's 1 (+- 0.15).
 TestReport run_dam_break_test(const SuiteOptions& options);
 
-/// 12. Torricelli: a cylindrical tank of liquid (quick: radius 8, 64 high, orifice 4; full: 32,
+/// 12. Levelling: a block of liquid 4 h high over the first quarter of a closed tank L long (h =
+/// L / 16 the depth at rest; quick: L in {64, 128}, 8 wide; full: {256, 512}, 32 wide) released at
+/// once and run until its surface has been flat (every x within 1 cell of h) for 2 L / sqrt(g h),
+/// at rest, or 40 L / sqrt(g h); the later of the two levelling times, in L / sqrt(g h), against 0
+/// (+- 5).
+TestReport run_levelling_test(const SuiteOptions& options);
+
+/// 13. Torricelli: a cylindrical tank of liquid (quick: radius 8, 64 high, orifice 4; full: 32,
 /// 192, 8) drains through a centred bottom orifice; the exponent n of Q = C h^n over windows of
 /// the head from 90% to 20% of the fill against 1/2 (+- 0.1).
 TestReport run_torricelli_test(const SuiteOptions& options);
 
-/// 13. Buoyancy: a block of sand dropped onto liquid in a closed box, with a gas pocket under the
+/// 14. Buoyancy: a block of sand dropped onto liquid in a closed box, with a gas pocket under the
 /// liquid (quick: 24^2 x 40; full: 96^2 x 160), run until at rest; sand cells with liquid below
 /// them, gas cells with liquid above them, and materials whose count changed, each against 0.
 TestReport run_buoyancy_test(const SuiteOptions& options);
 
-/// 14. Conservation and stability: random scenes (void/solid/granular, and all 8 states) stepped
+/// 15. Conservation and stability: random scenes (void/solid/granular, and all 8 states) stepped
 /// for many ticks (quick 2 x 10^4 each; full 10^6 and 10^5) must keep every material's count exactly
 /// and give the same hash on the configured backend and on the CPU with 1, 2 and 3 threads (full:
 /// 1 thread for the 10^6-tick scene, 1 and 3 for the other), and with sparse and dense stepping;

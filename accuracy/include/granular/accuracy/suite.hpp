@@ -11,8 +11,8 @@
 namespace granular::accuracy {
 
 /// Every test name, in the order the suite runs them: cone, cone_sizes, gravel_cone, hysteresis,
-/// dug_slope, silo, collapse, fall, falling_block, communicating_vessels, dam_break, torricelli,
-/// buoyancy, conservation (fall uses collapse's stop times; conservation checks every earlier test).
+/// dug_slope, silo, collapse, fall, falling_block, communicating_vessels, dam_break, levelling,
+/// torricelli, buoyancy, conservation (fall uses collapse's stop times; conservation checks every earlier test).
 std::vector<std::string> suite_test_names();
 
 /// Runs the named tests (a subset of suite_test_names(), any order; run in the suite's order)
