@@ -248,8 +248,8 @@ TEST_CASE("scene: the bowl is watertight below its rim and never overlaps the sa
 TEST_CASE("scene: every shipped scene instantiates at its default N and at N=96 with the expected content") {
   const ShippedAssets assets;
   const std::vector<std::string> names = list_scenes();
-  for (const char* expected : {"bowl", "column", "hourglass", "pile", "silo", "dam_break", "u_tube", "sand_into_water",
-                               "bubbles", "gravel_and_sand"})
+  for (const char* expected : {"bowl", "column", "hourglass", "pile", "silo", "dam_break", "u_tube", "reservoir",
+                               "sand_into_water", "bubbles", "gravel_and_sand"})
     CHECK(std::find(names.begin(), names.end(), expected) != names.end());
   for (const std::string& name : names) {
     const Scene scene = load_scene(find_scene(name));
@@ -454,6 +454,51 @@ TEST_CASE("scene: u_tube: the legs are joined only through the passage under the
       for (int yy = 0; yy < size.y; ++yy)
         for (int x = 0; x < size.x; ++x) blocked.set({x, yy, zz}, Material::Solid);
     CHECK_FALSE(reachable(blocked, {left, y, left_top})[blocked.index({right, y, right_top})]);
+  }
+}
+
+TEST_CASE("scene: reservoir: the tower is joined to the reservoir only through the closed pipe under the wall") {
+  const Scene scene = shipped("reservoir");
+  for (int n : {scene.min_n, 25, 26, 33, 64, 96}) {
+    CAPTURE(n);
+    const SceneInstance s = instantiate(scene, n);
+    const Int3 size = s.grid.size();
+    const int y = size.y / 2;
+    const int pipe_floor = face_at(0.1, n), pipe_roof = face_at(0.25, n);
+    const int wall_x0 = face_at(0.5, n), tower_x0 = face_at(0.8, n), tower_x1 = face_at(0.9, n);
+    // The reservoir: water from its floor at 0.4 N up to 0.85 N, air above it.
+    CHECK(bottom_of(s.grid, 0, y, Material::Liquid) == face_at(0.4, n));
+    CHECK(top_of(s.grid, 0, y, Material::Liquid) + 1 == face_at(0.85, n));
+    CHECK(top_of(s.grid, 0, y, Material::Solid) + 1 == face_at(0.4, n));
+    // The tower, at least 2 cells wide: the pipe's last stretch full of water, empty above it to the
+    // open top, solid below the pipe.
+    CHECK(tower_x1 - tower_x0 >= 2);
+    for (int x = tower_x0; x < tower_x1; ++x) {
+      CHECK(top_of(s.grid, x, y, Material::Solid) + 1 == pipe_floor);
+      CHECK(bottom_of(s.grid, x, y, Material::Liquid) == pipe_floor);
+      CHECK(top_of(s.grid, x, y, Material::Liquid) + 1 == pipe_roof);
+      CHECK(bottom_of(s.grid, x, y, Material::Void) == pipe_roof);
+      CHECK(top_of(s.grid, x, y, Material::Void) == size.z - 1);
+    }
+    // Under the middle of the wall: solid, the pipe full of water and at least 3 cells high, then the
+    // wall to the top of the grid: the pipe is closed above and below.
+    const int wall_x = (wall_x0 + tower_x0) / 2;
+    int z = 0;
+    while (s.grid.at({wall_x, y, z}) == Material::Solid) ++z;
+    CHECK(z == pipe_floor);
+    while (s.grid.at({wall_x, y, z}) == Material::Liquid) ++z;
+    CHECK(z == pipe_roof);
+    CHECK(pipe_roof - pipe_floor >= 3);
+    for (; z < size.z; ++z) CHECK(s.grid.at({wall_x, y, z}) == Material::Solid);
+    // The reservoir reaches the tower's open top through the pipe, and only through its run under
+    // the wall.
+    const Int3 reservoir_surface{0, y, face_at(0.85, n) - 1}, tower_top{tower_x0, y, size.z - 1};
+    CHECK(reachable(s.grid, reservoir_surface)[s.grid.index(tower_top)]);
+    Grid blocked = s.grid;
+    for (int zz = pipe_floor; zz < pipe_roof; ++zz)
+      for (int yy = 0; yy < size.y; ++yy)
+        for (int x = wall_x0; x < tower_x0; ++x) blocked.set({x, yy, zz}, Material::Solid);
+    CHECK_FALSE(reachable(blocked, reservoir_surface)[blocked.index(tower_top)]);
   }
 }
 
