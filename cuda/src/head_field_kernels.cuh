@@ -58,7 +58,8 @@ static __global__ void head_seed_kernel(HeadCells at, StepMaterials m, Int3 c, s
 /// One sweep pass along `axis` (0: x, 1: y, 2: z), forward or backward (head::sweep_line), one line
 /// per thread: line (p, q) starts at the coarse cell whose coordinate along the axis is 0 and whose
 /// other two are (p, q) in the CPU's order (x: (j, k), y: (i, k), z: (i, j)).
-static __global__ void head_sweep_kernel(std::int32_t* heads, const std::uint8_t* links, Int3 c, int axis, bool forward) {
+static __global__ void head_sweep_kernel(std::int32_t* heads, const std::uint8_t* links, Int3 c, int axis, bool forward,
+                                         bool dry) {
   const int u = axis == 0 ? c.y : c.x, v = axis == 2 ? c.y : c.z;
   const std::int64_t stride = axis == 0 ? 1 : axis == 1 ? std::int64_t(c.x) : std::int64_t(c.x) * c.y;
   const int count = axis == 0 ? c.x : axis == 1 ? c.y : c.z;
@@ -70,7 +71,7 @@ static __global__ void head_sweep_kernel(std::int32_t* heads, const std::uint8_t
     const std::int64_t first = axis == 0   ? head::coarse_index(c, 0, p, q)
                                : axis == 1 ? head::coarse_index(c, p, 0, q)
                                            : head::coarse_index(c, p, q, 0);
-    head::sweep_line(heads, links, first, stride, count, link, forward);
+    head::sweep_line(heads, links, first, stride, count, link, forward, dry);
   }
 }
 
@@ -109,7 +110,7 @@ inline unsigned head_blocks(std::uint64_t n) {
 }
 
 /// Enqueues the solve of the heads of the grid `at` into `heads` and `links` (one per coarse cell):
-/// the seeds, then head::kSweepRounds rounds of the passes +x, -x, +y, -y, +z, -z.
+/// the seeds, then the passes of head::sweep_pass in order.
 static inline void launch_head_solve(HeadCells at, const StepMaterials& m, std::int32_t* heads, std::uint8_t* links,
                                      cudaStream_t stream) {
   const Int3 c = head::coarse_size(at.size);
@@ -117,12 +118,12 @@ static inline void launch_head_solve(HeadCells at, const StepMaterials& m, std::
   check_launch("head seed kernel launch");
   const std::uint64_t lines[3] = {std::uint64_t(c.y) * std::uint64_t(c.z), std::uint64_t(c.x) * std::uint64_t(c.z),
                                   std::uint64_t(c.x) * std::uint64_t(c.y)};
-  for (int round = 0; round < head::kSweepRounds; ++round)
-    for (int axis = 0; axis < 3; ++axis)
-      for (const bool forward : {true, false}) {
-        head_sweep_kernel<<<head_blocks(lines[axis]), kHeadThreads, 0, stream>>>(heads, links, c, axis, forward);
-        check_launch("head sweep kernel launch");
-      }
+  for (int n = 0; n < head::kPassCount; ++n) {
+    const head::SweepPass pass = head::sweep_pass(n);
+    head_sweep_kernel<<<head_blocks(lines[pass.axis]), kHeadThreads, 0, stream>>>(heads, links, c, pass.axis,
+                                                                                  pass.forward, pass.dry);
+    check_launch("head sweep kernel launch");
+  }
 }
 
 /// Enqueues the wake of the bricks holding a coarse cell of `heads` where a pressure move may start

@@ -200,13 +200,17 @@ constexpr std::uint64_t fluid_pass(std::uint64_t bytes, std::uint32_t movers, in
       std::int32_t highest = top;
       for (int flip = 1; flip <= 4; flip <<= 1) {
         const int a = at(view ^ flip);
-        if (flip == 4 && view < 4 && heads[b] != head::kDry) continue;  // down only out of the body
         const std::uint32_t m = material_at(bytes, a);
         if (!free(a) || ((press_movers >> a) & 1u) == 0 || !mats.is_liquid(m) || mats.density[t] >= mats.density[m]) continue;
         if (a >= 4 && a - 4 != b) {  // a top cell over a void or a gas moves only down into it
           const std::uint32_t under = material_at(bytes, a - 4);
           if (mats.is_fluid(under) && !mats.is_liquid(under)) continue;
         }
+        // Down into a void of the body only where the head is higher above it than at the void: a
+        // void travels up the head, towards the body's highest surface (a bubble in a pool rises; a
+        // void in the rising leg of a U-tube sinks).
+        const bool down = flip == 4 && view < 4;
+        if (down && !head::outside_body(heads[b]) && heads[a] <= heads[b]) continue;
         if (heads[a] > highest && head::pushes(heads[a] - top, substep, flip == 4)) {
           highest = heads[a];
           from = a;
@@ -216,7 +220,7 @@ constexpr std::uint64_t fluid_pass(std::uint64_t bytes, std::uint32_t movers, in
       move(from, b);
       // Pushed down out of its body (into a coarse cell with no liquid at rest: a void inside the
       // body is filled from beside or below), a liquid leaves at the speed its head gives (Torricelli).
-      if (kLevels && from == b + 4) {
+      if (kLevels && from == b + 4 && head::outside_body(heads[b])) {
         const std::uint64_t level = std::uint64_t(head::exit_level(highest - top, max_level)) << kMotionShift;
         bytes = (bytes & ~(kLevelBits << (8 * b))) | (level << (8 * b));
       }

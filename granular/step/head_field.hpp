@@ -11,7 +11,7 @@
 /// *seed*: the highest free surface among its liquid cells (z + 1 of a liquid cell with a void or a
 /// gas straight above it, in kUnit per cell), or kSunk when none of them has one. The head then
 /// spreads through the liquid: a coarse cell takes the head of a face neighbour it is joined to,
-/// less one unit (1/1024 cell) per coarse step, when that is higher than its own. Two coarse cells
+/// less kWetStep units per coarse step, when that is higher than its own. Two coarse cells
 /// are joined when a liquid cell on their common face has a liquid cell across it. At the fixed
 /// point each coarse cell holds the highest free surface of its liquid body, less a small penalty
 /// for the distance to it: a connected body at rest has one head, its surface; a body whose
@@ -20,11 +20,14 @@
 /// the pressure stage), and the penalty makes the head fall towards the highest surface, which is
 /// where the voids left behind travel.
 ///
-/// The solver is a fixed number of sweep rounds (kSweepRounds): in each round, one pass along +x,
-/// -x, +y, -y, +z and -z, each carrying the head along whole lines of coarse cells (a line is one
-/// sequential loop; lines run in parallel). A path through the liquid with k turns reaches its end in
-/// k + 1 rounds whatever its length, so the cost is bounded at every size; a body joined only by a
-/// more winding path than kSweepRounds rounds follow gets the head of its part of the path.
+/// The solver is a fixed list of passes (sweep_pass): kSweepRounds rounds of one pass along +x, -x,
+/// +y, -y, +z and -z, each carrying the head along whole lines of coarse cells (a line is one
+/// sequential loop; lines run in parallel), then kDryRounds rounds that carry each body's head out
+/// into the dry coarse cells beside and above it, less kDryStep a coarse step and marked odd: a
+/// liquid the head pushes out of its body still feels it where it lands before the next solve. A
+/// path through the liquid with k turns reaches its end in k + 1 rounds whatever its length, so the
+/// cost is bounded at every size; a body joined only by a more winding path than kSweepRounds rounds
+/// follow gets the head of its part of the path.
 
 #include <cstdint>
 
@@ -43,8 +46,40 @@ inline constexpr std::int32_t kDry = INT32_MIN;
 /// The seed of a coarse cell whose liquid has no free surface: below every real head, so any joined
 /// neighbour's head replaces it; far enough above kDry that the penalty never reaches it.
 inline constexpr std::int32_t kSunk = -(1 << 30);
-/// Sweep rounds of the solver (each: +x, -x, +y, -y, +z, -z).
+/// Sweep rounds of the solver through the liquid (each: +x, -x, +y, -y, +z, -z).
 inline constexpr int kSweepRounds = 3;
+/// Rounds of the solver that carry a body's head out into dry coarse cells (each: +x, -x, +y, -y,
+/// +z): the head a liquid pushed out of its body meets where it lands within the tick.
+inline constexpr int kDryRounds = 2;
+/// Head units a wet coarse step costs (even, so a wet head stays even: head_of and carried_out).
+inline constexpr std::int32_t kWetStep = 2;
+/// Head units a dry coarse step costs: 1/4 cell each 2 cells, so a head reaches 4 (e - 1) coarse
+/// cells out of its body at a height e cells under it.
+inline constexpr std::int32_t kDryStep = kUnit / 4;
+
+/// One pass of the solver: along `axis` (0: x, 1: y, 2: z), `forward` or backward, through the
+/// liquid (`dry` false) or out into dry coarse cells (`dry` true).
+struct SweepPass {
+  int axis;      ///< 0: x, 1: y, 2: z
+  bool forward;  ///< towards increasing index
+  bool dry;      ///< carry heads into dry coarse cells (dilate) instead of through the liquid
+};
+
+/// The solver's passes in order, which every backend runs: kSweepRounds rounds of +x, -x, +y, -y,
+/// +z, -z through the liquid, then kDryRounds rounds of +x, -x, +y, -y, +z out into the dry coarse
+/// cells (up, never down: a liquid leaving its body downwards is in free fall).
+inline constexpr int kPassCount = 6 * kSweepRounds + 5 * kDryRounds;
+
+/// Pass `n` (0 .. kPassCount - 1) of the solver.
+constexpr SweepPass sweep_pass(int n) {
+  if (n < 6 * kSweepRounds) return {(n % 6) / 2, n % 2 == 0, false};
+  const int d = (n - 6 * kSweepRounds) % 5;
+  return {d / 2, d % 2 == 0, true};
+}
+
+/// True when a head read by the block step lies outside any body: a dry coarse cell (kDry) or one
+/// the solver carried a head into from a body (odd: carried_out).
+constexpr bool outside_body(std::int32_t h) { return h == kDry || (h & 1) != 0; }
 /// Link bits of a coarse cell: joined to its +x, +y, +z neighbour.
 inline constexpr std::uint8_t kLinkX = 1, kLinkY = 2, kLinkZ = 4;
 
@@ -97,25 +132,30 @@ constexpr std::int32_t seed(At at, Int3 size, const StepMaterials& m, int i, int
   return s;
 }
 
-/// One sweep along a line of `count` coarse cells starting at `first`, `stride` apart, in the
-/// direction of increasing index (`forward`) or decreasing: each cell takes its predecessor's head
-/// less one unit when the two are joined (bit `link` of the lower one's links) and that is higher.
-/// Returns nothing; `heads` and `links` are indexable arrays (plain pointers on both backends).
+/// One pass (sweep_pass) along a line of `count` coarse cells starting at `first`, `stride` apart,
+/// in the direction of increasing index (`forward`) or decreasing. Through the liquid (`dry` false)
+/// each cell takes its predecessor's head less kWetStep when the two are joined (bit `link` of the
+/// lower one's links) and that is higher. Out of the body (`dry` true) a dry coarse cell (kDry or
+/// already carried into) takes its predecessor's head (a body's or carried) less kDryStep, marked
+/// odd (outside_body), when that is higher; a wet cell keeps its own. `heads` and `links` are
+/// indexable (plain pointers on both backends).
 template <class Heads, class Links>
 constexpr void sweep_line(Heads heads, Links links, std::int64_t first, std::int64_t stride, int count, std::uint8_t link,
-                          bool forward) {
-  if (forward) {
-    for (int n = 1; n < count; ++n) {
-      const std::int64_t here = first + stride * n, before = here - stride;
-      if ((links[before] & link) == 0) continue;
-      const std::int32_t carried = heads[before] - 1;
+                          bool forward, bool dry = false) {
+  const std::int64_t step = forward ? stride : -stride;
+  const std::int64_t start = forward ? first : first + stride * (count - 1);
+  for (int n = 1; n < count; ++n) {
+    const std::int64_t here = start + step * n, before = here - step;
+    const std::int32_t from = heads[before];
+    if (from <= kSunk) continue;  // dry (kDry) or a liquid with no surface: nothing to carry
+    if (!dry) {
+      const std::int64_t lower = forward ? before : here;
+      if ((links[lower] & link) == 0) continue;
+      const std::int32_t carried = from - kWetStep;
       if (carried > heads[here]) heads[here] = carried;
-    }
-  } else {
-    for (int n = count - 2; n >= 0; --n) {
-      const std::int64_t here = first + stride * n, after = here + stride;
-      if ((links[here] & link) == 0) continue;
-      const std::int32_t carried = heads[after] - 1;
+    } else {
+      if (!outside_body(heads[here])) continue;
+      const std::int32_t carried = ((from & ~1) - kDryStep) | 1;
       if (carried > heads[here]) heads[here] = carried;
     }
   }
@@ -129,14 +169,14 @@ constexpr int root_cells(std::int32_t excess) {
 }
 
 /// True when a head `excess` units above a target's top pushes a liquid into it in sub-step
-/// `substep`: in the first 2 sqrt(e) sub-steps of each tick for a move up or down (`vertical`), the
-/// first 4 sqrt(e) for a move sideways (a sideways move finds its target in its block one sub-step
-/// in two), e the excess in cells. So a liquid moves under a head at up to 2 sqrt(e) = sqrt(2 g e)
-/// cells a tick (g = 2 cells per tick^2): Torricelli's exit speed, a speed that grows as the square
-/// root of the head.
+/// `substep`: in the first 4 sqrt(e) sub-steps of each tick for a move up or down (`vertical`), the
+/// first 6 sqrt(e) for a move sideways, e the excess in cells. A cell finds its target in its block
+/// one sub-step in two, so a liquid moves under a head at up to 2 sqrt(e) = sqrt(2 g e) cells a tick
+/// up or down (g = 2 cells per tick^2: Torricelli's exit speed) and 3 sqrt(e) sideways (Ritter's
+/// front, 2 sqrt(g e) = 2.8 sqrt(e)): speeds that grow as the square root of the head.
 constexpr bool pushes(std::int32_t excess, int substep, bool vertical) {
   // substep < k sqrt(e)  <=>  substep^2 < k^2 e
-  const std::int64_t k2 = vertical ? 4 : 16;
+  const std::int64_t k2 = vertical ? 16 : 36;
   return std::int64_t(substep) * substep * kUnit < k2 * std::int64_t(excess);
 }
 

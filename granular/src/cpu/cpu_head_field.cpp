@@ -44,23 +44,22 @@ std::vector<std::uint32_t> CpuHeadField::solve(const std::uint8_t* cells, const 
     std::uint8_t link;
   };
   const Axis axes[3] = {{1, c.x, head::kLinkX}, {c.x, c.y, head::kLinkY}, {std::int64_t(c.x) * c.y, c.z, head::kLinkZ}};
-  for (int round = 0; round < head::kSweepRounds; ++round)
-    for (int a = 0; a < 3; ++a)
-      for (const bool forward : {true, false}) {
-        const Axis& axis = axes[a];
-        // The lines of this axis: every coarse cell whose coordinate along it is 0.
-        const int u = a == 0 ? c.y : c.x, v = a == 2 ? c.y : c.z;
-        const int line_chunks = std::max(1, std::min(v, tasks.thread_count() * 4));
-        tasks.run(line_chunks, [&, u, v, a, forward](int t) {
-          for (int q = v * t / line_chunks; q < v * (t + 1) / line_chunks; ++q)
-            for (int p = 0; p < u; ++p) {
-              const std::int64_t first = a == 0 ? head::coarse_index(c, 0, p, q)
-                                         : a == 1 ? head::coarse_index(c, p, 0, q)
-                                                  : head::coarse_index(c, p, q, 0);
-              head::sweep_line(heads, links, first, axis.stride, axis.count, axis.link, forward);
-            }
-        });
-      }
+  for (int n = 0; n < head::kPassCount; ++n) {
+    const head::SweepPass pass = head::sweep_pass(n);
+    const Axis& axis = axes[pass.axis];
+    // The lines of this axis: every coarse cell whose coordinate along it is 0.
+    const int a = pass.axis, u = a == 0 ? c.y : c.x, v = a == 2 ? c.y : c.z;
+    const int line_chunks = std::max(1, std::min(v, tasks.thread_count() * 4));
+    tasks.run(line_chunks, [&, u, v, a](int t) {
+      for (int q = v * t / line_chunks; q < v * (t + 1) / line_chunks; ++q)
+        for (int p = 0; p < u; ++p) {
+          const std::int64_t first = a == 0   ? head::coarse_index(c, 0, p, q)
+                                     : a == 1 ? head::coarse_index(c, p, 0, q)
+                                              : head::coarse_index(c, p, q, 0);
+          head::sweep_line(heads, links, first, axis.stride, axis.count, axis.link, pass.forward, pass.dry);
+        }
+    });
+  }
   // The bricks where a pressure move may start.
   const Int3 bricks = brick_counts(s);
   std::fill(pressing_.begin(), pressing_.end(), std::uint8_t(0));
