@@ -418,8 +418,14 @@ constexpr std::uint64_t step_block_as(std::uint64_t bytes, const SubStep& m, int
     if (move >= kFell && level > max_level) level = max_level;
     if ((move == kRolled || move == kToppled) && level > int(mats.flow_level[material])) level = mats.flow_level[material];
     // Under pressure a liquid that rolled or toppled moves over a surface: it joins its body at rest
-    // (level 0), and the head moves it from there.
+    // (level 0), and the head moves it from there. One that falls out of its body (from a coarse cell
+    // of a body into one outside any) leaves at least at the speed its head gives (Torricelli).
     if (heads != nullptr && (move == kRolled || move == kToppled) && mats.is_liquid(material)) level = 0;
+    if (heads != nullptr && move == kFell && mats.is_liquid(material) && !head::outside_body(heads[4 + k]) &&
+        head::outside_body(heads[k])) {
+      const int exit = head::exit_level(heads[4 + k] - (z0 + 1) * head::kUnit, max_level);
+      if (exit > level) level = exit;
+    }
     const std::uint32_t updated = material | (std::uint32_t(level) << kMotionShift) | phase;
     new_top = (new_top & ~(0xFFu << (8 * k))) | (updated << (8 * k));
     if (kColumns && move == kFell) wakes_left |= (kWakeBit | (std::uint32_t(level) << kMotionShift)) << (8 * k);
