@@ -4,7 +4,9 @@
 /// loop after every tick of random scenes holding all 8 states (sand, gravel, water and gas among
 /// them), on odd and even grid sizes; the plain loop on several threads (as the benchmark runs it)
 /// against itself on one; the plain fluid pass against fluid::fluid_pass on random blocks; and,
-/// block by block, where the fast step departs from fluid_block.hpp's comment.
+/// block by block, where the fast step departs from fluid_block.hpp's comment. Under the pressure
+/// lever (inertial-24-pressure), also vessels whose water stands at different heights: a U-tube and
+/// a raised tank with an orifice in its wall and a hole in its floor.
 
 #include <doctest/doctest.h>
 
@@ -301,5 +303,133 @@ TEST_CASE("plain step: the fast step follows the comment: moving gravel sinks th
                   "sub-step 1 of tick 0, seed 1, block at the origin " << describe_block(in)
                                                                        << ": the comment sinks the gravel to level 0, the fast step gives "
                                                                        << describe_block(after));
+  }
+}
+
+// The pressure lever: scenes whose water has surfaces at different heights, so that its stage moves
+// water in every tick (the random scenes' water is mostly in small puddles).
+
+namespace {
+
+/// Ticks each pressure scene runs.
+constexpr int kPressureTicks = 48;
+
+/// A U-tube of 21 x 5 x 19 cells (odd extents: coarse cells cut at the far faces): a wall over x = 9,
+/// 10 from z = 3 up, water under it and in the left leg (x 0..8) up to z = 14, in the right leg
+/// (x 11..20) up to z = 4, a gas bubble at the left leg's floor and three grains of sand above the
+/// right leg. Surfaces at 15 and 5 cells.
+Grid u_tube() {
+  Grid g({21, 5, 19});
+  for (int z = 0; z < 19; ++z)
+    for (int y = 0; y < 5; ++y)
+      for (int x = 0; x < 21; ++x) {
+        Material m = Material::Void;
+        if ((x == 9 || x == 10) && z >= 3) m = Material::Solid;
+        else if (x < 9 ? z <= 14 : z <= (x <= 10 ? 2 : 4)) m = Material::Liquid;
+        g.set({x, y, z}, m);
+      }
+  g.set({3, 2, 1}, Material::Gas);
+  for (int x = 14; x <= 16; ++x) g.set({x, 2, 12}, Material::Granular);
+  return g;
+}
+
+/// A raised tank in 23 x 6 x 21 cells: a shelf at z = 8 over the whole grid with a hole at x = 4,
+/// y = 2..3; on it water over x 0..11 up to z = 17 behind a wall at x = 12 (z 9..20) with an orifice
+/// at y = 2..3, z = 9..10; void outside the wall and under the shelf, with gravel on the floor.
+Grid raised_tank() {
+  Grid g({23, 6, 21});
+  for (int z = 0; z < 21; ++z)
+    for (int y = 0; y < 6; ++y)
+      for (int x = 0; x < 23; ++x) {
+        Material m = Material::Void;
+        const bool hole = x == 4 && (y == 2 || y == 3), orifice = (y == 2 || y == 3) && (z == 9 || z == 10);
+        if (z == 8 && !hole) m = Material::Solid;
+        else if (x == 12 && z >= 9 && !orifice) m = Material::Solid;
+        else if (x < 12 && z >= 9 && z <= 17) m = Material::Liquid;
+        else if (z == 0 && x % 3 == 0) m = Material::Gravel;
+        g.set({x, y, z}, m);
+      }
+  return g;
+}
+
+/// Water cells of `cells` (a grid of `size`) with x in [x_min, x_max].
+int water_between(const std::vector<std::uint8_t>& cells, Int3 size, int x_min, int x_max) {
+  int n = 0;
+  for (std::size_t i = 0; i < cells.size(); ++i) {
+    const int x = int(i % std::size_t(size.x));
+    if (x >= x_min && x <= x_max && cell_material(cells[i]) == std::uint8_t(Material::Liquid)) ++n;
+  }
+  return n;
+}
+
+}  // namespace
+
+TEST_CASE("plain step: the plain head field gives the U-tube's low surface the head of its high one, less the way to it") {
+  const Grid g = u_tube();
+  const Int3 size = g.size();
+  const World world(test_def(size, "inertial-24-pressure", 1), g);
+  const reference::PlainRules rules = plain_rules_of(world);
+  const std::vector<std::uint8_t> cells(g.cells().begin(), g.cells().end());
+  const std::vector<std::int32_t> heads = reference::plain_heads(cells, size, rules);
+  const Int3 c{11, 3, 10};
+  REQUIRE(heads.size() == std::size_t(c.x * c.y * c.z));
+  auto head_of_cell = [&](int x, int y, int z) { return heads[std::size_t(x / 2 + c.x * (y / 2 + c.y * (z / 2)))]; };
+  const std::int32_t unit = reference::kPlainHeadUnit;
+  // The left surface's coarse cells seed 15 cells; the right leg's surface (z = 4) lies under it, so
+  // its head is 15 cells less one unit per coarse step on the way (at most 20 steps here).
+  CHECK(head_of_cell(2, 2, 14) == 15 * unit);
+  const std::int32_t right = head_of_cell(16, 2, 4);
+  CHECK_MESSAGE((right < 15 * unit && right > 15 * unit - 20), "right surface head " << right);
+  // Dry: the void over the right leg, the wall, and a coarse cell holding only the falling sand.
+  CHECK(head_of_cell(16, 2, 8) == reference::kPlainDry);
+  CHECK(head_of_cell(10, 0, 16) == reference::kPlainDry);
+  CHECK(head_of_cell(15, 2, 12) == reference::kPlainDry);
+  // The same water at motion level 1 everywhere is in free flight: no head anywhere.
+  std::vector<std::uint8_t> moving = cells;
+  for (auto& cell : moving)
+    if (cell_material(cell) == std::uint8_t(Material::Liquid)) cell = std::uint8_t(cell | (1u << kMotionShift));
+  for (const std::int32_t h : reference::plain_heads(moving, size, rules)) CHECK(h == reference::kPlainDry);
+}
+
+TEST_CASE("plain step: under pressure, World on the CPU, sparse and dense, 1 and 2 threads, equals the plain loop on a U-tube and a raised tank") {
+  struct Scene {
+    const char* name;
+    Grid grid;
+    int low_x_min, low_x_max;  ///< where the water the pressure moves arrives: its count grows
+  };
+  const Scene scenes[] = {{"u_tube", u_tube(), 11, 20}, {"raised_tank", raised_tank(), 13, 22}};
+  for (const Scene& scene : scenes) {
+    CAPTURE(scene.name);
+    const Int3 size = scene.grid.size();
+    const World first(test_def(size, "inertial-24-pressure", 1, 9), scene.grid);
+    const granular::test::PlainTrajectory plain = granular::test::plain_trajectory(first, scene.grid, kPressureTicks);
+    const std::vector<std::uint8_t> start(scene.grid.cells().begin(), scene.grid.cells().end());
+    const std::vector<std::uint8_t>& end = plain.after_tick.back();
+    // The lever moves water: without it the plain loop ends elsewhere, and with it water reaches the
+    // low side (the U-tube's right leg, the shelf outside the tank's wall).
+    reference::PlainRules without = plain_rules_of(first);
+    without.pressure = false;
+    std::vector<std::uint8_t> unpressed = start;
+    reference::plain_run(unpressed, size, without, 0, kPressureTicks);
+    CHECK_MESSAGE(unpressed != end, "the pressure stage changed nothing in " << kPressureTicks << " ticks");
+    const int before = water_between(start, size, scene.low_x_min, scene.low_x_max);
+    const int after = water_between(end, size, scene.low_x_min, scene.low_x_max);
+    CHECK_MESSAGE(after > before + 8, "water on the low side: " << before << " at tick 0, " << after << " at the end");
+    // Every material conserved, and the thread split changes nothing.
+    Grid last(size);
+    std::copy(end.begin(), end.end(), last.cells().begin());
+    for (auto& c : last.cells()) c = cell_material(c);
+    CHECK(last.count() == scene.grid.count());
+    std::vector<std::uint8_t> threaded = start;
+    reference::plain_run(threaded, size, plain_rules_of(first), 0, kPressureTicks, 3);
+    CHECK(threaded == end);
+    for (const bool sparse : {true, false})
+      for (const int threads : {1, 2}) {
+        WorldDef def = test_def(size, "inertial-24-pressure", threads, 9);
+        def.sparse = sparse;
+        World world(def, scene.grid);
+        const std::string departure = departure_from_plain_loop(world, plain);
+        CHECK_MESSAGE(departure.empty(), (sparse ? "sparse, " : "dense, ") << threads << " thread(s): " << departure);
+      }
   }
 }

@@ -1,5 +1,6 @@
 #include "plain_step.hpp"
 
+#include <algorithm>
 #include <cstddef>
 #include <stdexcept>
 #include <string>
@@ -56,6 +57,54 @@ void scatter(std::span<std::uint8_t> grid, const Gathered& g, const BlockCells& 
 
 /// How the rules treat the material of a cell byte.
 Behaviour behaviour_of(const PlainRules& r, std::uint8_t cell) { return r.materials[cell & kMaterialMask].behaviour; }
+
+/// True when the cell's material is a void or a gas.
+bool void_or_gas(const PlainRules& r, std::uint8_t cell) {
+  const Behaviour b = behaviour_of(r, cell);
+  return b == Behaviour::Void || b == Behaviour::Gas;
+}
+
+/// True when the cell is a liquid at motion level 0: a liquid that may be part of a body at rest.
+bool resting_liquid(const PlainRules& r, std::uint8_t cell) {
+  return behaviour_of(r, cell) == Behaviour::Liquid && cell_motion(cell) == 0;
+}
+
+/// True when a liquid whose head stands `excess` units above a cell's top pushes into it in sub-step
+/// `substep`: while substep < k sqrt(excess / kPlainHeadUnit), k = 2 for a push up or down and 4 for
+/// one sideways, compared squared in integers.
+bool pushes_in(std::int32_t excess, int substep, bool vertical) {
+  const std::int64_t k = vertical ? 2 : 4;
+  return std::int64_t(substep) * substep * kPlainHeadUnit < k * k * std::int64_t(excess);
+}
+
+/// The motion level of a liquid pushed down out of its body under a head `excess` units above the
+/// cell it enters: floor(sqrt(excess / kPlainHeadUnit)) (at most 64) + 1, at most `max_level`.
+int pushed_out_level(std::int32_t excess, int max_level) {
+  int root = 0;
+  while (root < 64 && std::int64_t(root + 1) * (root + 1) * kPlainHeadUnit <= std::int64_t(excess)) ++root;
+  return std::min(root + 1, max_level);
+}
+
+/// The coarse grid of a grid of `n` cells: one coarse cell per 2 x 2 x 2 cells, cut at the far faces.
+Int3 coarse_extent(Int3 n) { return {(n.x + 1) / 2, (n.y + 1) / 2, (n.z + 1) / 2}; }
+
+/// The heads of a block's cells by block position: each the head of its coarse cell in `heads`
+/// (plain_heads of a grid of `n`), kPlainDry outside the grid.
+std::array<std::int32_t, 8> heads_of_block(const std::vector<std::int32_t>& heads, Int3 n, const Gathered& g,
+                                           const BlockAt& b) {
+  const Int3 c = coarse_extent(n);
+  std::array<std::int32_t, 8> out{};
+  for (int i = 0; i < 8; ++i) {
+    const int x = b.x0 + (i & 1), y = b.y0 + ((i >> 1) & 1), z = b.z0 + ((i >> 2) & 1);
+    if (!g.inside[i]) {
+      out[std::size_t(i)] = kPlainDry;
+      continue;
+    }
+    const std::size_t x2 = std::size_t(x / 2), y2 = std::size_t(y / 2), z2 = std::size_t(z / 2);
+    out[std::size_t(i)] = heads[x2 + std::size_t(c.x) * (y2 + std::size_t(c.y) * z2)];
+  }
+  return out;
+}
 
 /// True when the cell's material falls as a grain: granular or liquid.
 bool is_faller(const PlainRules& r, std::uint8_t cell) {
@@ -131,8 +180,10 @@ bool alone_in_top_layer(const PlainRules& r, const BlockCells& cells, int i) {
 }
 
 /// The block after one sub-step of the motion model (motion.hpp, motion_block.hpp), then the fluid
-/// pass (fluid_block.hpp).
-BlockCells motion_block(const PlainRules& r, BlockCells cells, const BlockAt& b) {
+/// pass (fluid_block.hpp); under pressure `heads` holds the head of each cell by block position
+/// (heads_of_block), else it is null.
+BlockCells motion_block(const PlainRules& r, BlockCells cells, const BlockAt& b,
+                        const std::array<std::int32_t, 8>* heads) {
   const int s = b.substep;
   // Columns: a wake (a void with the wake bit) under a faller makes it a follower at the wake's level
   // if that is higher; every wake is cleared.
@@ -181,7 +232,13 @@ BlockCells motion_block(const PlainRules& r, BlockCells cells, const BlockAt& b)
       if (level > 0 && roll_draw(i) < r.materials[cells[i] & kMaterialMask].roll_chance) code[i] = kCodeRoller;
     }
   }
-  if (!any_moving && !any_gas_turn) return cells;  // its wakes cleared
+  // Under pressure every liquid at rest takes part too: it may start a pressure move in every sub-step.
+  bool at_rest_liquid[8] = {};
+  bool any_at_rest_liquid = false;
+  if (heads != nullptr)
+    for (int i = 0; i < 8; ++i)
+      if (resting_liquid(r, cells[i])) at_rest_liquid[i] = any_at_rest_liquid = true;
+  if (!any_moving && !any_gas_turn && !any_at_rest_liquid) return cells;  // its wakes cleared
 
   const int symmetry = r.random_symmetry ? int(random & 7u) : 0;
   const auto map = horizontal_symmetry(symmetry);
@@ -255,7 +312,16 @@ BlockCells motion_block(const PlainRules& r, BlockCells cells, const BlockAt& b)
         out[i] = std::uint8_t(out[i] | (1 << kMotionShift));
     }
   const std::uint64_t draws = block_random(r.seed ^ kPlainFluidDrawSalt, step, b.x0, b.y0, b.z0);
-  BlockCells after = plain_fluid_pass(r, out, mover, symmetry, draws, true);
+  // The pressure stage's movers: the liquids at rest that kept their place in the first pass.
+  PlainPressure pressure;
+  if (heads != nullptr) {
+    pressure.heads = *heads;
+    for (int i = 0; i < 8; ++i) pressure.movers[std::size_t(i)] = at_rest_liquid[i] && destination_of[i] == i;
+    pressure.z0 = b.z0;
+    pressure.substep = s;
+    pressure.max_level = max_level;
+  }
+  BlockCells after = plain_fluid_pass(r, out, mover, symmetry, draws, true, heads != nullptr ? &pressure : nullptr);
   for (int i = 4; i < 8; ++i)
     if (wake_left[i] != 0 && after[i] == 0) after[i] = wake_left[i];
   return after;
@@ -288,9 +354,10 @@ void paper_interior_block(std::uint8_t* base, std::size_t sy, std::size_t sz, co
   for (int i = 0; i < 8; ++i) *cell[i] = out[i];
 }
 
-/// Every block of one layer of one pass.
+/// Every block of one layer of one pass; `heads` is the tick's head field (plain_heads) under
+/// pressure, else null.
 void plain_layer(std::span<std::uint8_t> grid, Int3 n, const PlainRules& r, BlockOffset o, std::uint64_t tick,
-                 int substep, int layer) {
+                 int substep, int layer, const std::vector<std::int32_t>* heads) {
   const int z0 = 2 * layer - o.z;
   const std::size_t sy = std::size_t(n.x), sz = sy * std::size_t(n.y);
   const bool plain_rule = !r.motion() && !r.random_symmetry;
@@ -305,24 +372,31 @@ void plain_layer(std::span<std::uint8_t> grid, Int3 n, const PlainRules& r, Bloc
       }
       const BlockAt at{x0, y0, z0, tick, substep};
       const Gathered g = gather(grid, n, at);
-      scatter(grid, g, r.motion() ? motion_block(r, g.cells, at) : one_step_block(r, g.cells, at));
+      if (!r.motion()) {
+        scatter(grid, g, one_step_block(r, g.cells, at));
+        continue;
+      }
+      std::array<std::int32_t, 8> block_heads{};
+      if (heads != nullptr) block_heads = heads_of_block(*heads, n, g, at);
+      scatter(grid, g, motion_block(r, g.cells, at, heads != nullptr ? &block_heads : nullptr));
     }
   }
 }
 
-/// One pass (a tick, or a sub-step of one) over every layer, split over `threads` threads.
+/// One pass (a tick, or a sub-step of one) over every layer, split over `threads` threads; `heads` as
+/// plain_layer reads it.
 void plain_pass(std::span<std::uint8_t> grid, Int3 n, const PlainRules& r, BlockOffset o, std::uint64_t tick,
-                int substep, int threads) {
+                int substep, int threads, const std::vector<std::int32_t>* heads = nullptr) {
   const int layers = block_count(n.z, o.z);
   if (threads <= 1) {
-    for (int layer = 0; layer < layers; ++layer) plain_layer(grid, n, r, o, tick, substep, layer);
+    for (int layer = 0; layer < layers; ++layer) plain_layer(grid, n, r, o, tick, substep, layer, heads);
     return;
   }
   std::vector<std::thread> pool;
   for (int t = 0; t < threads; ++t)
     pool.emplace_back([=, &r] {
       for (int layer = layers * t / threads; layer < layers * (t + 1) / threads; ++layer)
-        plain_layer(grid, n, r, o, tick, substep, layer);
+        plain_layer(grid, n, r, o, tick, substep, layer, heads);
     });
   for (auto& th : pool) th.join();
 }
@@ -330,7 +404,7 @@ void plain_pass(std::span<std::uint8_t> grid, Int3 n, const PlainRules& r, Block
 }  // namespace
 
 BlockCells plain_fluid_pass(const PlainRules& r, const BlockCells& cells, const std::array<bool, 8>& mover,
-                            int symmetry, std::uint64_t draws, bool levels) {
+                            int symmetry, std::uint64_t draws, bool levels, const PlainPressure* pressure) {
   // The block in its viewed frame: position map[i] holds block cell i, with whether it may start a
   // move and the draw of block position i. moved[p]: the cell now at p has moved in this pass.
   const auto map = horizontal_symmetry(symmetry);
@@ -435,9 +509,90 @@ BlockCells plain_fluid_pass(const PlainRules& r, const BlockCells& cells, const 
   };
   for (int c = 0; c < 4; ++c) gas_spread(c);
   for (int c = 0; c < 4; ++c) gas_around_ceiling(c);
+  // 5. Pressure: each void or gas that has not moved, in the viewed order, takes the liquid beside it
+  // (x, then y neighbour), below it or above it whose head stands highest above its top, among those
+  // the sub-step's gate lets push.
+  if (pressure != nullptr) {
+    std::int32_t head[8] = {};
+    bool presses[8] = {};
+    for (int i = 0; i < 8; ++i) {
+      head[map[i]] = pressure->heads[std::size_t(i)];
+      presses[map[i]] = pressure->movers[std::size_t(i)];
+    }
+    auto light = [&](int p) { return is(p, Behaviour::Void) || is(p, Behaviour::Gas); };
+    for (int p = 0; p < 8; ++p) {
+      if (moved[p] || !light(p)) continue;
+      const std::int32_t top = (pressure->z0 + p / 4 + 1) * kPlainHeadUnit;  // the head that just fills the cell
+      int from = -1;
+      std::int32_t highest = top;
+      for (const int q : {p ^ 1, p ^ 2, p ^ 4}) {
+        const bool vertical = q == (p ^ 4);
+        // A push down only out of the body: into a cell whose coarse cell holds no liquid at rest.
+        if (vertical && q > p && head[p] != kPlainDry) continue;
+        if (moved[q] || !presses[q] || !is(q, Behaviour::Liquid) || density(q) <= density(p)) continue;
+        // A top cell over a void or a gas gives its liquid only to the cell under it.
+        if (q >= 4 && q - 4 != p && light(q - 4)) continue;
+        if (head[q] > highest && pushes_in(head[q] - top, pressure->substep, vertical)) {
+          highest = head[q];
+          from = q;
+        }
+      }
+      if (from < 0) continue;
+      exchange(from, p);
+      // Pushed down out of its body, a liquid leaves at the speed its head gives.
+      if (levels && from == p + 4)
+        cell[p] = std::uint8_t((cell[p] & ~kLevelBits) |
+                               (pushed_out_level(highest - top, pressure->max_level) << kMotionShift));
+    }
+  }
   BlockCells out{};
   for (int i = 0; i < 8; ++i) out[i] = cell[map[i]];
   return out;
+}
+
+std::vector<std::int32_t> plain_heads(std::span<const std::uint8_t> cells, Int3 n, const PlainRules& r) {
+  const Int3 c = coarse_extent(n);
+  const std::size_t count = std::size_t(c.x) * std::size_t(c.y) * std::size_t(c.z);
+  auto at = [&](int x, int y, int z) {
+    return cells[std::size_t(x) + std::size_t(n.x) * (std::size_t(y) + std::size_t(n.y) * std::size_t(z))];
+  };
+  auto coarse = [&](int x, int y, int z) {
+    return std::size_t(x / 2) + std::size_t(c.x) * (std::size_t(y / 2) + std::size_t(c.y) * std::size_t(z / 2));
+  };
+  // A cell of the body: a liquid at rest on the floor or on something other than a void or a gas.
+  auto in_body = [&](int x, int y, int z) {
+    return resting_liquid(r, at(x, y, z)) && (z == 0 || !void_or_gas(r, at(x, y, z - 1)));
+  };
+  // Seeds, and joined[a][k]: coarse cell k is joined to its neighbour one step up axis a (x, y, z).
+  std::vector<std::int32_t> heads(count, kPlainDry);
+  std::array<std::vector<bool>, 3> joined{std::vector<bool>(count), std::vector<bool>(count), std::vector<bool>(count)};
+  for (int z = 0; z < n.z; ++z)
+    for (int y = 0; y < n.y; ++y)
+      for (int x = 0; x < n.x; ++x) {
+        if (!in_body(x, y, z)) continue;
+        const std::size_t k = coarse(x, y, z);
+        heads[k] = std::max(heads[k], kPlainSunk);
+        if (z + 1 < n.z && void_or_gas(r, at(x, y, z + 1))) heads[k] = std::max(heads[k], (z + 1) * kPlainHeadUnit);
+        // A cell on the upper face of its coarse cell (odd coordinate) with a body cell across it.
+        if (x % 2 == 1 && x + 1 < n.x && in_body(x + 1, y, z)) joined[0][k] = true;
+        if (y % 2 == 1 && y + 1 < n.y && in_body(x, y + 1, z)) joined[1][k] = true;
+        if (z % 2 == 1 && z + 1 < n.z && in_body(x, y, z + 1)) joined[2][k] = true;
+      }
+  // Sweeps. Walking every coarse cell in increasing index order walks each line of an axis up that
+  // axis in sequence (a line's cells read and write only each other), and decreasing order down it.
+  const std::size_t stride[3] = {1, std::size_t(c.x), std::size_t(c.x) * std::size_t(c.y)};
+  const int extent[3] = {c.x, c.y, c.z};
+  auto coordinate = [&](std::size_t k, int a) { return int(k / stride[a] % std::size_t(extent[a])); };
+  for (int round = 0; round < kPlainSweepRounds; ++round)
+    for (int a = 0; a < 3; ++a) {
+      for (std::size_t k = 0; k < count; ++k)
+        if (coordinate(k, a) > 0 && joined[std::size_t(a)][k - stride[a]])
+          heads[k] = std::max(heads[k], heads[k - stride[a]] - 1);
+      for (std::size_t k = count; k-- > 0;)
+        if (coordinate(k, a) + 1 < extent[a] && joined[std::size_t(a)][k])
+          heads[k] = std::max(heads[k], heads[k + stride[a]] - 1);
+    }
+  return heads;
 }
 
 PlainRules plain_rules(const RuleSet& rules, const Lut& lut, std::uint64_t seed) {
@@ -447,6 +602,7 @@ PlainRules plain_rules(const RuleSet& rules, const Lut& lut, std::uint64_t seed)
   plain.random_axis_order = rules.random_axis_order;
   plain.substeps = rules.motion.substeps;
   plain.columns = rules.motion.columns;
+  plain.pressure = rules.motion.pressure;
   bool have_static = false, have_granular = false, have_liquid = false;
   for (int s = 0; s < kMaterialCount; ++s) {
     const MaterialDef& d = rules.materials[std::size_t(s)];
@@ -485,8 +641,12 @@ void plain_step(std::span<std::uint8_t> cells, Int3 size, const PlainRules& rule
     plain_pass(cells, size, rules, block_offset(tick, rules.seed, rules.random_axis_order), tick, 0, threads);
     return;
   }
+  // Under pressure, the tick's heads from its cells before sub-step 0.
+  std::vector<std::int32_t> heads;
+  if (rules.pressure) heads = plain_heads(cells, size, rules);
   for (int s = 0; s < rules.substeps; ++s)
-    plain_pass(cells, size, rules, motion_pass_offset(rules, tick, s), tick, s, threads);
+    plain_pass(cells, size, rules, motion_pass_offset(rules, tick, s), tick, s, threads,
+               rules.pressure ? &heads : nullptr);
 }
 
 void plain_run(std::span<std::uint8_t> cells, Int3 size, const PlainRules& rules, std::uint64_t first_tick, int ticks,

@@ -14,10 +14,16 @@
 /// written from the text, not from the code: it shares nothing with fluid::fluid_pass but the
 /// random word block_random. Its readings of what the text leaves open are listed at
 /// plain_fluid_pass.
+///
+/// Under MotionParams::pressure each tick starts with the head field (plain_heads, a second
+/// implementation of granular/step/head_field.hpp) solved from the cells at the start of the tick,
+/// and the fluid pass of every sub-step ends with the pressure stage (PlainPressure).
 
 #include <array>
+#include <climits>
 #include <cstdint>
 #include <span>
+#include <vector>
 
 #include "granular/extend/block.hpp"
 #include "granular/geometry.hpp"
@@ -48,6 +54,7 @@ struct PlainRules {
   bool random_axis_order = false;  ///< draw the offset order per cycle (RuleSet::random_axis_order)
   int substeps = 1;                ///< Margolus sub-steps per tick; above 1 the motion model is on
   bool columns = false;            ///< MotionParams::columns: wakes, followers, falling layers accelerate
+  bool pressure = false;           ///< MotionParams::pressure: a head per coarse cell moves liquids at rest
   std::array<PlainMaterial, kMaterialCount> materials{};  ///< per state
   /// Without a motion model the Lut is indexed by materials: the state it is asked for in place of
   /// each gravity-and-flow code 0, 1, 2 (void, the first static and the first granular material),
@@ -69,6 +76,37 @@ inline constexpr int kPlainStuckCost = 64;
 /// Salt of the fluid pass's draws: block_random(seed ^ salt, step, x0, y0, z0) (fluid::kDrawSalt,
 /// written out: the ASCII of "FluidDra").
 inline constexpr std::uint64_t kPlainFluidDrawSalt = 0x466C756964447261ull;
+
+/// Head units per cell of height (head::kUnit, written out).
+inline constexpr std::int32_t kPlainHeadUnit = 1024;
+/// The head of a coarse cell without liquid at rest (head::kDry, written out).
+inline constexpr std::int32_t kPlainDry = INT32_MIN;
+/// The seed of a coarse cell whose liquid at rest has no free surface (head::kSunk, written out).
+inline constexpr std::int32_t kPlainSunk = -(1 << 30);
+/// Rounds of the head solve, each a sweep along +x, -x, +y, -y, +z, -z (head::kSweepRounds).
+inline constexpr int kPlainSweepRounds = 3;
+
+/// The head field of `cells` (x fastest, `size` extent) under `rules`, as head_field.hpp's comment
+/// and CpuHeadField::solve specify it: one head per coarse cell of 2 x 2 x 2 cells (coarse cell
+/// (i, j, k) at index i + cx (j + cy k), cx = (size.x + 1) / 2, ...). A cell belongs to the body when
+/// it is a liquid at motion level 0 on the grid's floor or on a cell that is neither a void nor a
+/// gas. A coarse cell without such a cell is kPlainDry; one with some starts at the highest z + 1
+/// (in kPlainHeadUnit) of its body cells with a void or a gas above them inside the grid, or at
+/// kPlainSunk when none has. Two face-neighbouring coarse cells are joined when a body cell on one
+/// side of their common face has a body cell across it. kPlainSweepRounds rounds of six sweeps then
+/// carry each head to the joined neighbour less one unit when that is higher, each sweep one
+/// sequential walk along every line of coarse cells in its direction.
+std::vector<std::int32_t> plain_heads(std::span<const std::uint8_t> cells, Int3 size, const PlainRules& rules);
+
+/// What the pressure stage of the fluid pass (stage 5 of fluid_block.hpp's comment) reads of a block.
+struct PlainPressure {
+  std::array<std::int32_t, 8> heads{};  ///< by block position: the head of the cell's coarse cell
+                                        ///< (kPlainDry outside the grid)
+  std::array<bool, 8> movers{};         ///< by block position: may start a pressure move
+  int z0 = 0;                           ///< the block's lowest z
+  int substep = 0;                      ///< the sub-step (the pushes' gates)
+  int max_level = 0;                    ///< the motion model's top level (a pushed-down liquid's cap)
+};
 
 /// The fluid pass on one block (cells in block order, cell i at block position i), as
 /// fluid_block.hpp's comment specifies it: `mover[i]` says whether the cell at i takes part (may
@@ -92,8 +130,17 @@ inline constexpr std::uint64_t kPlainFluidDrawSalt = 0x466C756964447261ull;
 ///    tick): the one-step rules' reading of "while it moves".
 ///  * The gas spread and the gas around a ceiling try the other columns in the liquid spread's
 ///    order; the gas around a ceiling takes no chance draw.
+/// With `pressure` (MotionParams::pressure), stage 5 follows, as fluid::fluid_pass gives it: each
+/// void or gas cell that has not moved, in the viewed frame's order, takes the liquid denser than
+/// it that has not moved, may start a pressure move, and stands beside it (x, then y neighbour),
+/// below it, or above it when its own coarse cell is dry (a push down leaves the body only), whose
+/// head is the highest one above the cell's top ((z + 1) kPlainHeadUnit) among those the sub-step's
+/// gate lets push (sub-step s < 2 sqrt(e) up or down, < 4 sqrt(e) sideways, e the excess head in
+/// cells; the first in that order on a tie). A top cell over a void or a gas gives its liquid only
+/// to the cell under it. A liquid pushed down takes the level floor(sqrt(e)) + 1 (at most
+/// max_level); any other keeps its level.
 BlockCells plain_fluid_pass(const PlainRules& rules, const BlockCells& cells, const std::array<bool, 8>& mover,
-                            int symmetry, std::uint64_t draws, bool levels);
+                            int symmetry, std::uint64_t draws, bool levels, const PlainPressure* pressure = nullptr);
 
 /// One tick `tick` of the plain loop over the whole grid `cells` (x fastest, `size` extent), split
 /// over `threads` std::threads by block layers (the result does not depend on `threads`).
