@@ -147,13 +147,17 @@ struct MotionRule {
   /// What a block stepped in this sub-step (`before`, `after`) adds to its owner brick's reach
   /// (motion::reach_of): every block in sub-steps 0 and 1, where every brick is stepped, and later a
   /// block that changed (a faller that did not move, and whose level did not change, is counted already).
+  /// Under pressure a block holding a liquid adds 31: the pressure stage moves liquids at rest in
+  /// every sub-step, so the bricks around them never idle.
   constexpr std::uint32_t reach_added(std::uint64_t before, std::uint64_t after) const {
-    return sub.substep < 2 || before != after ? motion::reach_of(after, kColumns) : 0u;
+    if (sub.substep >= 2 && before == after) return 0u;
+    // Under pressure a liquid at rest may move in any sub-step: its brick and their neighbours step in all.
+    if (kPressure && (present_materials<ByteOpsOf<Platform>>(after) & sub.materials.liquids) != 0) return 31u;
+    return motion::reach_of(after, kColumns);
   }
 
-  /// True in a sub-step where a brick may be idle (from sub-step 2 on: every brick steps in 0 and 1);
-  /// never under pressure, whose stage moves liquids at rest in every sub-step.
-  constexpr bool may_idle() const { return !kPressure && sub.substep >= 2; }
+  /// True in a sub-step where a brick may be idle (from sub-step 2 on: every brick steps in 0 and 1).
+  constexpr bool may_idle() const { return sub.substep >= 2; }
 
   /// True when the sub-step leaves every block of a brick as it is, `nearby` being the largest reach
   /// of the brick and its 26 neighbours (brick_reach.hpp).
