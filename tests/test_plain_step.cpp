@@ -374,21 +374,59 @@ TEST_CASE("plain step: the plain head field gives the U-tube's low surface the h
   const Int3 c{11, 3, 10};
   REQUIRE(heads.size() == std::size_t(c.x * c.y * c.z));
   auto head_of_cell = [&](int x, int y, int z) { return heads[std::size_t(x / 2 + c.x * (y / 2 + c.y * (z / 2)))]; };
-  const std::int32_t unit = reference::kPlainHeadUnit;
+  const std::int32_t unit = reference::kPlainHeadUnit, wet = reference::kPlainWetStep, dry = reference::kPlainDryStep;
   // The left surface's coarse cells seed 15 cells; the right leg's surface (z = 4) lies under it, so
-  // its head is 15 cells less one unit per coarse step on the way (at most 20 steps here).
+  // its head is 15 cells less a wet step per coarse step on the shortest way: 6 down the left leg, 4
+  // under the wall, 1 up the right leg.
   CHECK(head_of_cell(2, 2, 14) == 15 * unit);
-  const std::int32_t right = head_of_cell(16, 2, 4);
-  CHECK_MESSAGE((right < 15 * unit && right > 15 * unit - 20), "right surface head " << right);
-  // Dry: the void over the right leg, the wall, and a coarse cell holding only the falling sand.
-  CHECK(head_of_cell(16, 2, 8) == reference::kPlainDry);
-  CHECK(head_of_cell(10, 0, 16) == reference::kPlainDry);
-  CHECK(head_of_cell(15, 2, 12) == reference::kPlainDry);
+  CHECK(head_of_cell(16, 2, 4) == 15 * unit - 11 * wet);
+  // Carried out of the body, odd: the void two coarse cells over the right surface takes its head less
+  // two dry steps (the left leg's head, carried over the wall, arrives lower), and the coarse cell of
+  // the wall's top beside and above the left surface takes the left head less two dry steps.
+  CHECK(head_of_cell(16, 2, 8) == 15 * unit - 11 * wet - 2 * dry + 1);
+  CHECK(head_of_cell(10, 0, 16) == 15 * unit - 2 * dry + 1);
+  // Every coarse cell with a cell of the body keeps an even head; every other one is dry or odd, and
+  // here every one is reached.
+  std::vector<bool> wet_cell(heads.size());
+  for (int z = 0; z < size.z; ++z)
+    for (int y = 0; y < size.y; ++y)
+      for (int x = 0; x < size.x; ++x) {
+        const Material below = z == 0 ? Material::Solid : g.at({x, y, z - 1});
+        if (g.at({x, y, z}) == Material::Liquid && below != Material::Void && below != Material::Gas)
+          wet_cell[std::size_t(x / 2 + c.x * (y / 2 + c.y * (z / 2)))] = true;
+      }
+  for (std::size_t k = 0; k < heads.size(); ++k) {
+    CAPTURE(k);
+    CHECK(reference::plain_outside_body(heads[k]) == !wet_cell[k]);
+    CHECK(heads[k] != reference::kPlainDry);
+  }
   // The same water at motion level 1 everywhere is in free flight: no head anywhere.
   std::vector<std::uint8_t> moving = cells;
   for (auto& cell : moving)
     if (cell_material(cell) == std::uint8_t(Material::Liquid)) cell = std::uint8_t(cell | (1u << kMotionShift));
   for (const std::int32_t h : reference::plain_heads(moving, size, rules)) CHECK(h == reference::kPlainDry);
+}
+
+TEST_CASE("plain step: the plain head field carries a body's head up and sideways into dry coarse cells, never down") {
+  // The raised tank: its water on the shelf (z 9..17) is the body; nothing under the shelf (coarse
+  // layers 0..3, z 0..7) is reached, while the void over the surface (z 18, 19) is.
+  const Grid g = raised_tank();
+  const Int3 size = g.size();
+  const World world(test_def(size, "inertial-24-pressure", 1), g);
+  const std::vector<std::uint8_t> cells(g.cells().begin(), g.cells().end());
+  const std::vector<std::int32_t> heads = reference::plain_heads(cells, size, plain_rules_of(world));
+  const Int3 c{12, 3, 11};
+  REQUIRE(heads.size() == std::size_t(c.x * c.y * c.z));
+  auto head_of = [&](int i, int j, int k) { return heads[std::size_t(i + c.x * (j + c.y * k))]; };
+  for (int k = 0; k < 4; ++k)
+    for (int j = 0; j < c.y; ++j)
+      for (int i = 0; i < c.x; ++i) {
+        INFO("coarse cell " << i << ", " << j << ", " << k);
+        CHECK(head_of(i, j, k) == reference::kPlainDry);
+      }
+  // The surface seeds 18 cells in coarse layer 8 (z 16, 17); the coarse cell over it lies one dry step up.
+  CHECK(head_of(2, 1, 8) == 18 * reference::kPlainHeadUnit);
+  CHECK(head_of(2, 1, 9) == 18 * reference::kPlainHeadUnit - reference::kPlainDryStep + 1);
 }
 
 TEST_CASE("plain step: under pressure, World on the CPU, sparse and dense, 1 and 2 threads, equals the plain loop on a U-tube and a raised tank") {

@@ -70,15 +70,16 @@ bool resting_liquid(const PlainRules& r, std::uint8_t cell) {
 }
 
 /// True when a liquid whose head stands `excess` units above a cell's top pushes into it in sub-step
-/// `substep`: while substep < k sqrt(excess / kPlainHeadUnit), k = 2 for a push up or down and 4 for
+/// `substep`: while substep < k sqrt(excess / kPlainHeadUnit), k = 4 for a push up or down and 6 for
 /// one sideways, compared squared in integers.
 bool pushes_in(std::int32_t excess, int substep, bool vertical) {
-  const std::int64_t k = vertical ? 2 : 4;
+  const std::int64_t k = vertical ? 4 : 6;
   return std::int64_t(substep) * substep * kPlainHeadUnit < k * k * std::int64_t(excess);
 }
 
-/// The motion level of a liquid pushed down out of its body under a head `excess` units above the
-/// cell it enters: floor(sqrt(excess / kPlainHeadUnit)) (at most 64) + 1, at most `max_level`.
+/// The motion level of a liquid pushed or fallen down out of its body under a head `excess` units
+/// above the top of the cell it enters: floor(sqrt(excess / kPlainHeadUnit)) (at most 64) + 1, at
+/// most `max_level`.
 int pushed_out_level(std::int32_t excess, int max_level) {
   int root = 0;
   while (root < 64 && std::int64_t(root + 1) * (root + 1) * kPlainHeadUnit <= std::int64_t(excess)) ++root;
@@ -294,6 +295,15 @@ BlockCells motion_block(const PlainRules& r, BlockCells cells, const BlockAt& b,
       // A grain that rolled or toppled keeps at most its material's flow level (0: no limit).
       const bool rolled_or_toppled = to != i && !fell_straight(i);
       if (rolled_or_toppled && mat.flow_level > 0 && level > mat.flow_level) level = mat.flow_level;
+      // Under pressure a liquid that rolled or toppled joins its body at rest; one that fell straight
+      // down from a coarse cell inside a body into one outside any leaves at least at the speed the
+      // head of its own coarse cell gives above the top of the cell it fell into.
+      if (heads != nullptr && mat.behaviour == Behaviour::Liquid) {
+        const std::int32_t own = (*heads)[std::size_t(i)], below = (*heads)[std::size_t(i - 4)];
+        if (rolled_or_toppled) level = 0;
+        if (fell_straight(i) && !plain_outside_body(own) && plain_outside_body(below))
+          level = std::max(level, pushed_out_level(own - (b.z0 + 1) * kPlainHeadUnit, max_level));
+      }
       cell = std::uint8_t((cell & kMaterialMask) | (level << kMotionShift) | phase);
       if (r.columns && fell_straight(i)) wake_left[i] = std::uint8_t(kWakeBit | (level << kMotionShift));
     }
@@ -527,11 +537,11 @@ BlockCells plain_fluid_pass(const PlainRules& r, const BlockCells& cells, const 
       std::int32_t highest = top;
       for (const int q : {p ^ 1, p ^ 2, p ^ 4}) {
         const bool vertical = q == (p ^ 4);
-        // A push down only out of the body: into a cell whose coarse cell holds no liquid at rest.
-        if (vertical && q > p && head[p] != kPlainDry) continue;
         if (moved[q] || !presses[q] || !is(q, Behaviour::Liquid) || density(q) <= density(p)) continue;
         // A top cell over a void or a gas gives its liquid only to the cell under it.
         if (q >= 4 && q - 4 != p && light(q - 4)) continue;
+        // Down into a cell inside a body only from a higher head than that cell's.
+        if (vertical && q > p && !plain_outside_body(head[p]) && head[q] <= head[p]) continue;
         if (head[q] > highest && pushes_in(head[q] - top, pressure->substep, vertical)) {
           highest = head[q];
           from = q;
@@ -539,8 +549,9 @@ BlockCells plain_fluid_pass(const PlainRules& r, const BlockCells& cells, const 
       }
       if (from < 0) continue;
       exchange(from, p);
-      // Pushed down out of its body, a liquid leaves at the speed its head gives.
-      if (levels && from == p + 4)
+      // Pushed down out of its body (into a cell outside any body), a liquid leaves at the speed its
+      // head gives.
+      if (levels && from == p + 4 && plain_outside_body(head[p]))
         cell[p] = std::uint8_t((cell[p] & ~kLevelBits) |
                                (pushed_out_level(highest - top, pressure->max_level) << kMotionShift));
     }
@@ -587,10 +598,25 @@ std::vector<std::int32_t> plain_heads(std::span<const std::uint8_t> cells, Int3 
     for (int a = 0; a < 3; ++a) {
       for (std::size_t k = 0; k < count; ++k)
         if (coordinate(k, a) > 0 && joined[std::size_t(a)][k - stride[a]])
-          heads[k] = std::max(heads[k], heads[k - stride[a]] - 1);
+          heads[k] = std::max(heads[k], heads[k - stride[a]] - kPlainWetStep);
       for (std::size_t k = count; k-- > 0;)
         if (coordinate(k, a) + 1 < extent[a] && joined[std::size_t(a)][k])
-          heads[k] = std::max(heads[k], heads[k + stride[a]] - 1);
+          heads[k] = std::max(heads[k], heads[k + stride[a]] - kPlainWetStep);
+    }
+  // Out into the dry coarse cells: `here` outside any body takes the head of `from`, the cell before
+  // it on the walk (a body's or one carried out), less a dry step and marked odd.
+  auto carry_out = [&](std::size_t here, std::size_t from) {
+    if (heads[from] <= kPlainSunk || !plain_outside_body(heads[here])) return;
+    const std::int32_t even = heads[from] % 2 != 0 ? heads[from] - 1 : heads[from];
+    heads[here] = std::max(heads[here], (even - kPlainDryStep) + 1);
+  };
+  for (int round = 0; round < kPlainDryRounds; ++round)
+    for (int a = 0; a < 3; ++a) {
+      for (std::size_t k = 0; k < count; ++k)
+        if (coordinate(k, a) > 0) carry_out(k, k - stride[a]);
+      if (a == 2) continue;  // never down: a liquid leaving its body downwards falls free
+      for (std::size_t k = count; k-- > 0;)
+        if (coordinate(k, a) + 1 < extent[a]) carry_out(k, k + stride[a]);
     }
   return heads;
 }

@@ -17,7 +17,11 @@
 ///
 /// Under MotionParams::pressure each tick starts with the head field (plain_heads, a second
 /// implementation of granular/step/head_field.hpp) solved from the cells at the start of the tick,
-/// and the fluid pass of every sub-step ends with the pressure stage (PlainPressure).
+/// and the fluid pass of every sub-step ends with the pressure stage (PlainPressure). In the first
+/// pass of a sub-step under pressure, a liquid that rolls or topples takes level 0 (it joins its body
+/// at rest), and one that falls straight down from a coarse cell inside a body into one outside any
+/// takes at least the level of its exit speed: floor(sqrt(e)) + 1 (at most the top level), e the
+/// head of its own coarse cell above the top of the cell it falls into, in cells.
 
 #include <array>
 #include <climits>
@@ -83,8 +87,19 @@ inline constexpr std::int32_t kPlainHeadUnit = 1024;
 inline constexpr std::int32_t kPlainDry = INT32_MIN;
 /// The seed of a coarse cell whose liquid at rest has no free surface (head::kSunk, written out).
 inline constexpr std::int32_t kPlainSunk = -(1 << 30);
-/// Rounds of the head solve, each a sweep along +x, -x, +y, -y, +z, -z (head::kSweepRounds).
+/// Rounds of the head solve through the liquid, each a sweep along +x, -x, +y, -y, +z, -z
+/// (head::kSweepRounds).
 inline constexpr int kPlainSweepRounds = 3;
+/// Rounds of the head solve out into the dry coarse cells, each a sweep along +x, -x, +y, -y, +z
+/// (head::kDryRounds).
+inline constexpr int kPlainDryRounds = 2;
+/// Head units a step between two joined coarse cells costs (head::kWetStep).
+inline constexpr std::int32_t kPlainWetStep = 2;
+/// Head units a step into a dry coarse cell costs (head::kDryStep: a quarter cell).
+inline constexpr std::int32_t kPlainDryStep = 256;
+
+/// True when a head of plain_heads lies outside any body: kPlainDry, or carried out of a body (odd).
+constexpr bool plain_outside_body(std::int32_t h) { return h == kPlainDry || h % 2 != 0; }
 
 /// The head field of `cells` (x fastest, `size` extent) under `rules`, as head_field.hpp's comment
 /// and CpuHeadField::solve specify it: one head per coarse cell of 2 x 2 x 2 cells (coarse cell
@@ -94,8 +109,11 @@ inline constexpr int kPlainSweepRounds = 3;
 /// (in kPlainHeadUnit) of its body cells with a void or a gas above them inside the grid, or at
 /// kPlainSunk when none has. Two face-neighbouring coarse cells are joined when a body cell on one
 /// side of their common face has a body cell across it. kPlainSweepRounds rounds of six sweeps then
-/// carry each head to the joined neighbour less one unit when that is higher, each sweep one
-/// sequential walk along every line of coarse cells in its direction.
+/// carry each head to the joined neighbour less kPlainWetStep when that is higher, each sweep one
+/// sequential walk along every line of coarse cells in its direction. kPlainDryRounds rounds of five
+/// sweeps (no -z) follow: a coarse cell outside any body (plain_outside_body) takes the head of the
+/// one before it on the walk, with its lowest bit cleared, less kPlainDryStep and made odd, when
+/// that is higher; a head at or below kPlainSunk carries nothing, and a body's head never changes.
 std::vector<std::int32_t> plain_heads(std::span<const std::uint8_t> cells, Int3 size, const PlainRules& rules);
 
 /// What the pressure stage of the fluid pass (stage 5 of fluid_block.hpp's comment) reads of a block.
@@ -105,7 +123,7 @@ struct PlainPressure {
   std::array<bool, 8> movers{};         ///< by block position: may start a pressure move
   int z0 = 0;                           ///< the block's lowest z
   int substep = 0;                      ///< the sub-step (the pushes' gates)
-  int max_level = 0;                    ///< the motion model's top level (a pushed-down liquid's cap)
+  int max_level = 0;                    ///< the motion model's top level (a pushed-out liquid's cap)
 };
 
 /// The fluid pass on one block (cells in block order, cell i at block position i), as
@@ -133,12 +151,13 @@ struct PlainPressure {
 /// With `pressure` (MotionParams::pressure), stage 5 follows, as fluid::fluid_pass gives it: each
 /// void or gas cell that has not moved, in the viewed frame's order, takes the liquid denser than
 /// it that has not moved, may start a pressure move, and stands beside it (x, then y neighbour),
-/// below it, or above it when its own coarse cell is dry (a push down leaves the body only), whose
-/// head is the highest one above the cell's top ((z + 1) kPlainHeadUnit) among those the sub-step's
-/// gate lets push (sub-step s < 2 sqrt(e) up or down, < 4 sqrt(e) sideways, e the excess head in
-/// cells; the first in that order on a tie). A top cell over a void or a gas gives its liquid only
-/// to the cell under it. A liquid pushed down takes the level floor(sqrt(e)) + 1 (at most
-/// max_level); any other keeps its level.
+/// below it, or above it, whose head is the highest one above the cell's top ((z + 1)
+/// kPlainHeadUnit) among those the sub-step's gate lets push (sub-step s < 4 sqrt(e) up or down,
+/// < 6 sqrt(e) sideways, e the excess head in cells; the first in that order on a tie). A top cell
+/// over a void or a gas gives its liquid only to the cell under it. A liquid above a cell whose
+/// coarse cell is inside a body (not plain_outside_body) pushes down into it only when its head is
+/// higher than that cell's. A liquid pushed down into a cell outside any body takes the level
+/// floor(sqrt(e)) + 1 (at most max_level); any other keeps its level.
 BlockCells plain_fluid_pass(const PlainRules& rules, const BlockCells& cells, const std::array<bool, 8>& mover,
                             int symmetry, std::uint64_t draws, bool levels, const PlainPressure* pressure = nullptr);
 
