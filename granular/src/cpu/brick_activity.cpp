@@ -83,4 +83,11 @@ void BrickActivity::take_changed(std::span<std::uint8_t> flags) {
   std::fill(changed_.begin(), changed_.end(), 0);
 }
 
+bool BrickActivity::changed_since(std::uint32_t pass) const {
+  if (pass_ < pass) return true;  // the count wrapped
+  for (const std::uint32_t changed : changed_pass_)
+    if (changed > pass) return true;
+  return false;
+}
+
 }  // namespace granular

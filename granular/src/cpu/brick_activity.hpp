@@ -46,6 +46,11 @@ class BrickActivity {
   void wake(std::span<const std::uint32_t> bricks);
   /// Sets flags[i] = 1 for every brick whose cells changed since the last call; clears the record.
   void take_changed(std::span<std::uint8_t> flags);
+  /// The last pass started (next_pass); 0 before the first and right after the count wraps.
+  std::uint32_t pass() const { return pass_; }
+  /// True when a cell of some brick changed (in a pass, or by a tool's wake) after pass `pass`, or
+  /// the pass count wrapped since (it forgets every brick's passes).
+  bool changed_since(std::uint32_t pass) const;
 
  private:
   void set_neighbours_awake(std::uint32_t brick);

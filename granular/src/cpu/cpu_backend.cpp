@@ -86,9 +86,18 @@ void CpuBackend::step(std::uint64_t first_tick, int ticks) {
   for (int i = 0; i < ticks; ++i) {
     const std::uint64_t tick = first_tick + std::uint64_t(i);
     if (head_field_) {
-      // The heads of this tick; the bricks where a pressure move may start stay awake.
-      const std::vector<std::uint32_t> pressing = head_field_->solve(grid_.cells().data(), step_rules_.materials, pool_);
-      if (sparse_) activity_.wake(pressing);
+      // The heads of this tick, solved again only when a cell changed since the last solve (the
+      // heads are a function of the cells, so a world at rest keeps them and costs nothing); the
+      // bricks where a pressure move may start stay awake.
+      // While a pressure move may start somewhere the heads are solved every tick.
+      if (!sparse_ || !heads_solved_ || !pressing_.empty() || activity_.changed_since(heads_pass_)) {
+        pressing_ = head_field_->solve(grid_.cells().data(), step_rules_.materials, pool_);
+        heads_solved_ = true;
+      }
+      if (sparse_) {
+        activity_.wake(pressing_);
+        heads_pass_ = activity_.pass();
+      }
     }
     if (sparse_) {
       last_.active_bricks = activity_.active().size();
@@ -208,6 +217,7 @@ void CpuBackend::write(const Box& box, std::span<const std::uint8_t> in, std::sp
     for (int y = box.min.y; y < box.max.y; ++y, o += std::size_t(w))
       std::memcpy(grid_.cells().data() + grid_.index({box.min.x, y, z}), in.data() + o, std::size_t(w));
   if (sparse_) activity_.wake(wake_bricks);
+  heads_solved_ = false;
 }
 
 MaterialCounts CpuBackend::count() const {

@@ -59,6 +59,10 @@ class CpuBackend final : public Backend {
   std::vector<std::uint8_t> outside_row_;  ///< a row of cells outside the grid (StepContext::outside_row)
   BrickActivity activity_;
   std::optional<CpuHeadField> head_field_;  ///< MotionParams::pressure with a liquid in the table: the heads
+  bool heads_solved_ = false;                ///< head_field_ holds the heads of the cells of activity_'s pass
+                                             ///< heads_pass_ (sparse stepping; a write clears it)
+  std::uint32_t heads_pass_ = 0;             ///< the pass the heads were last solved after
+  std::vector<std::uint32_t> pressing_;      ///< the bricks the last solve found a pressure move may start in
   ActivityStats last_{};
   std::shared_ptr<TaskSystem> task_system_;  ///< info.task_system, or the backend's own ThreadPool
   TaskSystem& pool_;                         ///< *task_system_: runs every parallel loop
