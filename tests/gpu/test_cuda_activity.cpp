@@ -24,8 +24,11 @@
 #include "granular/rule_presets.hpp"
 #include "granular/scene.hpp"
 #include "granular/world.hpp"
+#include "gpu_worlds.hpp"
 
 using namespace granular;
+using granular::test::first_difference;
+using granular::test::gpu_test_def;
 using granular::test::random_grid;
 using granular::test::random_size;
 
@@ -34,18 +37,10 @@ namespace {
 /// The GPU worlds' WorldDef::cuda.dense_fraction (and motion_dense_fraction) values: always dense-recording, never, the default, half.
 const std::array<double, 4> kFractions = {0.0, 1.0, CudaOptions{}.dense_fraction, 0.5};
 
-/// A WorldDef for `backend` (the CPU with 2 threads), sparse or dense, with the build tree's table
-/// cache and the given dense_fraction.
+/// A WorldDef for `backend` (the CPU with 2 threads), sparse or dense, with the given dense fractions.
 WorldDef activity_def(BackendKind backend, bool sparse, const char* rules, std::uint64_t seed,
                       double dense_fraction = CudaOptions{}.dense_fraction) {
-  WorldDef def;
-  def.rules = rules;
-  def.seed = seed;
-  def.backend = backend;
-  def.threads = 2;
-  def.sparse = sparse;
-  def.cuda.dense_fraction = def.cuda.motion_dense_fraction = dense_fraction;
-  return def;
+  return gpu_test_def(backend, sparse, rules, seed, dense_fraction);
 }
 
 /// The reference (dense CPU), the CPU's sparse stepping and the GPU's, one GPU world per fraction of
@@ -74,18 +69,6 @@ struct Trio {
   }
 };
 
-/// "" when both worlds hold the same cells, else the first differing cell and both values.
-std::string first_difference(const World& a, const World& b) {
-  const Grid x = a.read_grid(), y = b.read_grid();
-  for (int k = 0; k < x.size().z; ++k)
-    for (int j = 0; j < x.size().y; ++j)
-      for (int i = 0; i < x.size().x; ++i)
-        if (x.at({i, j, k}) != y.at({i, j, k}))
-          return "first difference at (" + std::to_string(i) + ", " + std::to_string(j) + ", " + std::to_string(k) +
-                 "): dense cpu " + std::to_string(unsigned(to_cell(x.at({i, j, k})))) + ", sparse gpu " +
-                 std::to_string(unsigned(to_cell(y.at({i, j, k})))) + " at tick " + std::to_string(a.tick());
-  return {};
-}
 
 /// Every sparse GPU world == dense CPU (cells), and its activity figures == the sparse CPU's.
 void require_same(const Trio& w) {

@@ -23,12 +23,15 @@
 #include "granular/rule_presets.hpp"
 #include "granular/rule_set.hpp"
 #include "granular/world.hpp"
+#include "gpu_worlds.hpp"
 #include "granular_cuda/cuda_backend_factory.hpp"
 #include "step/motion_block.hpp"
 #include "step/step_materials.hpp"
 #include "../reference/material_scenes.hpp"
 
 using namespace granular;
+using granular::test::first_difference;
+using granular::test::gpu_test_def;
 
 namespace {
 
@@ -109,31 +112,11 @@ MaterialCounts count_materials(const std::vector<std::uint8_t>& cells) {
   return counts;
 }
 
-/// A WorldDef for the motion worlds: `backend` (the CPU with 2 threads), dense or sparse.
+/// A WorldDef for `backend` (the CPU with 2 threads) under the inertial preset, sparse or dense.
 WorldDef motion_def(BackendKind backend, bool sparse, std::uint64_t seed) {
-  WorldDef def;
-  def.rules = "inertial";
-  def.seed = seed;
-  def.backend = backend;
-  def.threads = 2;
-  def.sparse = sparse;
-  return def;
+  return gpu_test_def(backend, sparse, "inertial", seed, CudaOptions{}.motion_dense_fraction);
 }
 
-/// "" when both worlds report the same region, else the first differing cell and both values.
-std::string first_difference(const World& a, const World& b) {
-  const Box whole{{0, 0, 0}, a.size()};
-  const std::vector<std::uint8_t> x = a.read_region(whole), y = b.read_region(whole);
-  for (std::size_t i = 0; i < x.size(); ++i)
-    if (x[i] != y[i]) {
-      const std::int64_t sx = a.size().x, sy = a.size().y;
-      return "first difference at (" + std::to_string(std::int64_t(i) % sx) + ", " +
-             std::to_string(std::int64_t(i) / sx % sy) + ", " + std::to_string(std::int64_t(i) / (sx * sy)) + "): " +
-             std::to_string(unsigned(x[i])) + " vs " + std::to_string(unsigned(y[i])) + " at tick " +
-             std::to_string(a.tick());
-    }
-  return {};
-}
 
 }  // namespace
 

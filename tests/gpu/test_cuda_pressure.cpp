@@ -19,39 +19,21 @@
 #include "granular/rule_set.hpp"
 #include "granular/scene.hpp"
 #include "granular/world.hpp"
+#include "gpu_worlds.hpp"
 
 using namespace granular;
+using granular::test::first_difference;
+using granular::test::gpu_test_def;
 
 namespace {
 
 /// A WorldDef for `backend` (the CPU with 2 threads), dense or sparse, under `rules`, with the
-/// given CUDA dense_fraction (motion_dense_fraction).
+/// given CUDA dense fractions (by default the motion model's).
 WorldDef pressure_def(BackendKind backend, bool sparse, const char* rules, std::uint64_t seed,
                       double dense_fraction = CudaOptions{}.motion_dense_fraction) {
-  WorldDef def;
-  def.rules = rules;
-  def.seed = seed;
-  def.backend = backend;
-  def.threads = 2;
-  def.sparse = sparse;
-  def.cuda.dense_fraction = def.cuda.motion_dense_fraction = dense_fraction;
-  return def;
+  return gpu_test_def(backend, sparse, rules, seed, dense_fraction);
 }
 
-/// "" when both worlds hold the same cells, else the first differing cell and both bytes.
-std::string first_difference(const World& a, const World& b) {
-  const Box whole{{0, 0, 0}, a.size()};
-  const std::vector<std::uint8_t> x = a.read_region(whole), y = b.read_region(whole);
-  for (std::size_t i = 0; i < x.size(); ++i)
-    if (x[i] != y[i]) {
-      const std::int64_t sx = a.size().x, sy = a.size().y;
-      return "first difference at (" + std::to_string(std::int64_t(i) % sx) + ", " +
-             std::to_string(std::int64_t(i) / sx % sy) + ", " + std::to_string(std::int64_t(i) / (sx * sy)) + "): " +
-             std::to_string(unsigned(x[i])) + " vs " + std::to_string(unsigned(y[i])) + " at tick " +
-             std::to_string(a.tick());
-    }
-  return {};
-}
 
 /// The worlds compared, all from one grid under inertial-24-pressure: [0] dense CPU (the reference),
 /// [1] sparse CPU, [2] dense GPU, [3] sparse GPU with dense-recording ticks only (dense_fraction 0),
