@@ -46,7 +46,8 @@ struct StepRules {
   StepMaterials materials;                 ///< RuleSet::materials as the step reads it
   std::uint64_t origin = 0;                ///< block_position_offset of WorldDef::domain_origin
   const std::int32_t* heads = nullptr;     ///< the head field (MotionParams::pressure, head_field.hpp), where
-                                           ///< the backend keeps it
+                                           ///< the backend keeps it; null while the grid holds no liquid
+                                           ///< (the Rules without pressure step such a grid the same)
   Int3 grid{};                             ///< the grid's extent (the head field's coarse cells follow from it)
 };
 
@@ -245,9 +246,10 @@ constexpr Rule make_rule(const StepRules& r, std::uint64_t n) {
 /// caller's path per Rule type.
 template <class Platform, class Fn>
 constexpr void with_rule_type(const StepRules& r, Fn&& fn) {
-  if (r.motion.enabled() && r.motion.pressure && r.motion.columns)
+  const bool pressure = r.motion.enabled() && r.motion.pressure && r.heads != nullptr;
+  if (pressure && r.motion.columns)
     fn(static_cast<MotionRule<Platform, true, true>*>(nullptr));
-  else if (r.motion.enabled() && r.motion.pressure)
+  else if (pressure)
     fn(static_cast<MotionRule<Platform, false, true>*>(nullptr));
   else if (r.motion.enabled() && r.motion.columns)
     fn(static_cast<MotionRule<Platform, true>*>(nullptr));

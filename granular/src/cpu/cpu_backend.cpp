@@ -72,6 +72,7 @@ CpuBackend::CpuBackend(const BackendCreateInfo& info)
                                                  .inert = inert_ ? inert_->data() : nullptr,
                                                  .heads = head_field_ ? head_field_->heads() : nullptr});
   outside_row_.assign(std::size_t(grid_.size().x), std::uint8_t(step_rules_.materials.outside));
+  if (head_field_) liquid_cells_ = liquid_in(grid_.cells());
 }
 
 std::string CpuBackend::description() const {
@@ -89,8 +90,12 @@ void CpuBackend::step(std::uint64_t first_tick, int ticks) {
       // The heads of this tick, solved again only when a cell changed since the last solve (the
       // heads are a function of the cells, so a world at rest keeps them and costs nothing); the
       // bricks where a pressure move may start stay awake.
-      // While a pressure move may start somewhere the heads are solved every tick.
-      if (!sparse_ || !heads_solved_ || !pressing_.empty() || activity_.changed_since(heads_pass_)) {
+      // While a pressure move may start somewhere the heads are solved every tick. A grid without
+      // liquid (stepping never makes one: it permutes cells) has none.
+      step_rules_.heads = liquid_cells_ == 0 ? nullptr : head_field_->heads();
+      if (liquid_cells_ == 0) {
+        pressing_.clear();
+      } else if (!sparse_ || !heads_solved_ || !pressing_.empty() || activity_.changed_since(heads_pass_)) {
         pressing_ = head_field_->solve(grid_.cells().data(), step_rules_.materials, pool_);
         heads_solved_ = true;
       }
@@ -181,6 +186,21 @@ void CpuBackend::step_pass(const StepContext& c) {
   });
 }
 
+std::uint64_t CpuBackend::liquid_in(std::span<const std::uint8_t> cells) const {
+  std::uint64_t n = 0;
+  for (const std::uint8_t c : cells) n += step_rules_.materials.is_liquid(c & kMaterialMask) ? 1u : 0u;
+  return n;
+}
+
+std::uint64_t CpuBackend::liquid_in(const Box& box) const {
+  const int w = box.max.x - box.min.x;
+  std::uint64_t n = 0;
+  for (int z = box.min.z; z < box.max.z; ++z)
+    for (int y = box.min.y; y < box.max.y; ++y)
+      n += liquid_in(grid_.cells().subspan(grid_.index({box.min.x, y, z}), std::size_t(w)));
+  return n;
+}
+
 void CpuBackend::read(const Box& box, std::span<std::uint8_t> out) const { copy_box(grid_.cells().data(), box, out); }
 
 void CpuBackend::copy_box(const std::uint8_t* cells, const Box& box, std::span<std::uint8_t> out) const {
@@ -212,6 +232,7 @@ void CpuBackend::drop_checkpoint() {
 
 void CpuBackend::write(const Box& box, std::span<const std::uint8_t> in, std::span<const std::uint32_t> wake_bricks) {
   const int w = box.max.x - box.min.x;
+  if (head_field_) liquid_cells_ = liquid_cells_ - liquid_in(box) + liquid_in(in);
   std::size_t o = 0;
   for (int z = box.min.z; z < box.max.z; ++z)
     for (int y = box.min.y; y < box.max.y; ++y, o += std::size_t(w))

@@ -44,6 +44,10 @@ class CpuBackend final : public Backend {
  private:
   // Copies the cells of `box` from `cells` (this grid's layout) into `out`, x fastest.
   void copy_box(const std::uint8_t* cells, const Box& box, std::span<std::uint8_t> out) const;
+  /// Liquid cells among `cells` (the rule set's liquids).
+  std::uint64_t liquid_in(std::span<const std::uint8_t> cells) const;
+  /// Liquid cells of the grid inside `box`.
+  std::uint64_t liquid_in(const Box& box) const;
   StepContext context(std::uint64_t tick, int substep);
   void step_pass(const StepContext& c);
   void step_pass_sparse(const StepContext& c);
@@ -63,6 +67,7 @@ class CpuBackend final : public Backend {
                                              ///< heads_pass_ (sparse stepping; a write clears it)
   std::uint32_t heads_pass_ = 0;             ///< the pass the heads were last solved after
   std::vector<std::uint32_t> pressing_;      ///< the bricks the last solve found a pressure move may start in
+  std::uint64_t liquid_cells_ = 0;           ///< liquid cells of the grid (head_field_ only; writes update it)
   ActivityStats last_{};
   std::shared_ptr<TaskSystem> task_system_;  ///< info.task_system, or the backend's own ThreadPool
   TaskSystem& pool_;                         ///< *task_system_: runs every parallel loop

@@ -17,8 +17,8 @@ class CpuHeadField {
  public:
   /// The field of a grid of `size` cells (one head and one link byte per coarse cell).
   explicit CpuHeadField(Int3 size);
-  /// Computes the heads from `cells` (the seeds, then head::kSweepRounds rounds of sweeps) and
-  /// returns the bricks (bricks.hpp) that hold a coarse cell where a pressure move may start
+  /// Computes the heads from `cells` (the seeds, then the passes of head::sweep_pass) and returns
+  /// the bricks (bricks.hpp) that hold a coarse cell where a pressure move may start
   /// (head::may_press), ascending and each once.
   std::vector<std::uint32_t> solve(const std::uint8_t* cells, const StepMaterials& materials, TaskSystem& tasks);
   /// The heads, one per coarse cell (head::coarse_index).
