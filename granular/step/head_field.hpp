@@ -32,6 +32,7 @@
 #include <cstdint>
 
 #include "granular/geometry.hpp"
+#include "granular/grid.hpp"
 #include "granular/motion.hpp"
 #include "step/step_materials.hpp"
 
@@ -43,6 +44,8 @@ inline constexpr int kCoarseEdge = 2;
 inline constexpr std::int32_t kUnit = 1024;
 /// The head of a coarse cell that holds no liquid.
 inline constexpr std::int32_t kDry = INT32_MIN;
+static_assert(std::int64_t(kMaxGridExtent + 2) * kUnit < (std::int64_t(1) << 30),
+              "a head of any cell of a grid, in kUnit, lies far above kSunk and far below INT32_MAX");
 /// The seed of a coarse cell whose liquid has no free surface: below every real head, so any joined
 /// neighbour's head replaces it; far enough above kDry that the penalty never reaches it.
 inline constexpr std::int32_t kSunk = -(1 << 30);
