@@ -30,13 +30,17 @@
 ///     and the one below it are denser fluids (the mirror of the grains' topple).
 ///  5. Pressure (MotionParams::pressure; the caller passes each cell's head, head_field.hpp): each
 ///     void or gas cell, in the viewed frame's order, takes the liquid beside it in its layer (the
-///     x neighbour, then y) or below it with the highest head, when that head stands above the
-///     cell's own top (head > kUnit (z + 1)) and the liquid is denser and may start a move
-///     (`press_movers`). So a liquid under the head of a higher surface of its body rises into void,
-///     leaves a void that the liquid with the highest head around fills (the void travels towards
-///     the highest surface and leaves there), pours out sideways from under its surface, and levels.
-///     A liquid moved so keeps its motion level. No draw: the stage moves the same cells whatever the random words, so a block it leaves as it is
-///     stays so while the heads stay (the backend wakes the bricks where a move may start).
+///     x neighbour, then y), below it or above it with the highest head, when that head stands above
+///     the cell's own top (head > kUnit (z + 1)), the liquid is denser and may start a move
+///     (`press_movers`: liquids at rest that kept their place) and the excess head allows a push in
+///     this sub-step (head::pushes). A top cell over a void moves only down into it; a void inside
+///     a body is filled from above only where the head above is higher than at the void. So a
+///     liquid under the head of a higher surface of its body rises into void, leaves a void that
+///     travels up the head to the highest surface, pours out sideways from under its surface, and
+///     levels; one pushed down out of its body takes the motion level of its exit speed
+///     (head::exit_level). No draw: the stage moves the same cells whatever the random words, so a
+///     block it leaves as it is stays so while the heads stay (the backend wakes the bricks where a
+///     move may start).
 /// Each step walks the block's columns in the viewed frame's order 0..3, and a move's targets in the
 /// order x neighbour, y neighbour, diagonal. A cell moves at most once per pass (neither starting nor
 /// taking a second move), and only cells the caller names as movers start a move. A faller that
@@ -189,7 +193,8 @@ constexpr std::uint64_t fluid_pass(std::uint64_t bytes, std::uint32_t movers, in
       }
     }
   }
-  // 5. Pressure: each void or gas takes the liquid beside or below it whose head stands highest above its top.
+  // 5. Pressure: each void or gas takes the liquid beside, below or above it whose head stands highest
+  // above its top.
   if (heads != nullptr)
     for (int view = 0; view < 8; ++view) {
       const int b = at(view);
@@ -218,8 +223,8 @@ constexpr std::uint64_t fluid_pass(std::uint64_t bytes, std::uint32_t movers, in
       }
       if (from < 0) continue;
       move(from, b);
-      // Pushed down out of its body (into a coarse cell with no liquid at rest: a void inside the
-      // body is filled from beside or below), a liquid leaves at the speed its head gives (Torricelli).
+      // Pushed down out of its body (into a coarse cell outside any body), a liquid leaves at the
+      // speed its head gives (Torricelli).
       if (kLevels && from == b + 4 && head::outside_body(heads[b])) {
         const std::uint64_t level = std::uint64_t(head::exit_level(highest - top, max_level)) << kMotionShift;
         bytes = (bytes & ~(kLevelBits << (8 * b))) | (level << (8 * b));
