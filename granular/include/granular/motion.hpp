@@ -38,10 +38,11 @@ struct MotionParams {
   /// Liquids feel the head of their body (a motion model's lever): each tick the backend computes a
   /// hydraulic head per coarse cell of 2 x 2 x 2 cells, the highest free surface of the liquid body
   /// the coarse cell belongs to (granular/step/head_field.hpp), and the block step lets a liquid
-  /// under a head above a void's top move into it, sideways or up, at the speed that head gives.
-  /// So connected vessels level, a column of water pours out from every row, and voids left in a
-  /// body travel to its highest surface. A world of such a rule set keeps the field beside its
-  /// cells; one without a liquid material never computes it.
+  /// under a head above a void's top move into it, sideways, up or down out of its body, at the
+  /// speed that head gives. So connected vessels level, a column of water pours out from every row,
+  /// and voids left in a body travel to its highest surface (docs/design/pressure.md). A world of
+  /// such a rule set keeps the field beside its cells; one without a liquid never computes it. A
+  /// DistributedWorld refuses it.
   bool pressure = false;
   /// True when the rule set uses the motion model.
   constexpr bool enabled() const { return substeps > 1; }
