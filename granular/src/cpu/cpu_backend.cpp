@@ -86,24 +86,7 @@ void CpuBackend::step(std::uint64_t first_tick, int ticks) {
   const int substeps = step_rules_.motion.substeps;
   for (int i = 0; i < ticks; ++i) {
     const std::uint64_t tick = first_tick + std::uint64_t(i);
-    if (head_field_) {
-      // The heads of this tick, solved again only when a cell changed since the last solve (the
-      // heads are a function of the cells, so a world at rest keeps them and costs nothing); the
-      // bricks where a pressure move may start stay awake.
-      // While a pressure move may start somewhere the heads are solved every tick. A grid without
-      // liquid (stepping never makes one: it permutes cells) has none.
-      step_rules_.heads = liquid_cells_ == 0 ? nullptr : head_field_->heads();
-      if (liquid_cells_ == 0) {
-        pressing_.clear();
-      } else if (!sparse_ || !heads_solved_ || !pressing_.empty() || activity_.changed_since(heads_pass_)) {
-        pressing_ = head_field_->solve(grid_.cells().data(), step_rules_.materials, pool_);
-        heads_solved_ = true;
-      }
-      if (sparse_) {
-        activity_.wake(pressing_);
-        heads_pass_ = activity_.pass();
-      }
-    }
+    if (head_field_) prepare_heads();
     if (sparse_) {
       last_.active_bricks = activity_.active().size();
       last_.active_cells = activity_.active_cells();
@@ -126,6 +109,24 @@ void CpuBackend::step(std::uint64_t first_tick, int ticks) {
     ++last_.ticks;
     last_.brick_ticks += last_.active_bricks;
     last_.cell_ticks += last_.active_cells;
+  }
+}
+
+void CpuBackend::prepare_heads() {
+  // A grid without liquid (stepping never makes one: it permutes cells) has no head, and steps with
+  // the Rules without pressure. Otherwise the heads are solved again when a cell changed since the
+  // last solve, or while a pressure move may start somewhere: they are a function of the cells, so a
+  // world at rest keeps them and costs nothing. The bricks where a pressure move may start stay awake.
+  step_rules_.heads = liquid_cells_ == 0 ? nullptr : head_field_->heads();
+  if (liquid_cells_ == 0) {
+    pressing_.clear();
+  } else if (!sparse_ || !heads_solved_ || !pressing_.empty() || activity_.changed_since(heads_pass_)) {
+    pressing_ = head_field_->solve(grid_.cells().data(), step_rules_.materials, pool_);
+    heads_solved_ = true;
+  }
+  if (sparse_) {
+    activity_.wake(pressing_);
+    heads_pass_ = activity_.pass();
   }
 }
 

@@ -44,6 +44,9 @@ class CpuBackend final : public Backend {
  private:
   // Copies the cells of `box` from `cells` (this grid's layout) into `out`, x fastest.
   void copy_box(const std::uint8_t* cells, const Box& box, std::span<std::uint8_t> out) const;
+  /// Before a tick under MotionParams::pressure: StepRules::heads (null without liquid), the heads
+  /// solved when they may have changed, and the bricks where a pressure move may start woken.
+  void prepare_heads();
   /// Liquid cells among `cells` (the rule set's liquids).
   std::uint64_t liquid_in(std::span<const std::uint8_t> cells) const;
   /// Liquid cells of the grid inside `box`.
