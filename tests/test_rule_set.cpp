@@ -72,7 +72,12 @@ TEST_CASE("rule set: a preset is a value whose material table a game may change"
   CHECK_FALSE(flow.motion.pressure);
   CHECK(pressure.materials[2].grain.flow_level == flow.materials[2].grain.flow_level);  // sand as in the default
   CHECK(rule_fingerprint(pressure) != rule_fingerprint(flow));
-  CHECK(rule_preset_names().size() == 9);
+  const RuleSet momentum = preset("inertial-24-momentum");
+  CHECK(momentum.motion.pressure);
+  CHECK(momentum.motion.momentum);
+  CHECK_FALSE(pressure.motion.momentum);
+  CHECK(rule_fingerprint(momentum) != rule_fingerprint(pressure));
+  CHECK(rule_preset_names().size() == 10);
   for (const auto& name : rule_preset_names()) CHECK(preset(name).name == name);
 }
 

@@ -625,6 +625,10 @@ std::unique_ptr<Backend> make_cuda_backend(const BackendCreateInfo& info) {
   if (!info.lut || info.lut->entries().size() != kBlockKeyCount)
     throw InvalidArgument("cuda backend: BackendCreateInfo::lut must be a full transition table (16,777,216 entries)");
   if (!info.rules) throw InvalidArgument("cuda backend: BackendCreateInfo::rules is null");
+  if (info.rules->motion.momentum)
+    throw InvalidArgument("cuda backend: rule set '" + info.rules->name +
+                          "' has RuleSet::motion.momentum = true; the CUDA backend does not step the side plane yet "
+                          "(docs/design/momentum.md): use the CPU backend, or a rule set without momentum");
   for (const auto& [field, value] : {std::pair{"dense_fraction", info.cuda.dense_fraction},
                                      std::pair{"motion_dense_fraction", info.cuda.motion_dense_fraction}})
     if (!(value >= 0.0 && value <= 1.0))

@@ -49,6 +49,8 @@ struct StepRules {
                                            ///< the backend keeps it; null while the grid holds no liquid
                                            ///< (the Rules without pressure step such a grid the same)
   Int3 grid{};                             ///< the grid's extent (the head field's coarse cells follow from it)
+  bool side = false;                       ///< the path carries a side plane (MotionParams::momentum, momentum.hpp):
+                                           ///< set with heads, while the grid holds liquid
 };
 
 /// The byte operations of a Platform: its own (Platform::ByteOps, e.g. a GPU's byte permute), or
@@ -117,8 +119,9 @@ struct OneStepRule {
 };
 
 /// One sub-step of a rule set's motion model; `kColumns` is its MotionParams::columns, `kPressure`
-/// its MotionParams::pressure.
-template <class Platform, bool kColumns, bool kPressure = false>
+/// its MotionParams::pressure, `kSide` its MotionParams::momentum (with kPressure): the Rule steps a
+/// block's side bytes (momentum.hpp) with its cell bytes.
+template <class Platform, bool kColumns, bool kPressure = false, bool kSide = false>
 struct MotionRule {
   const motion::MotionEntry* table;///< the motion entries (motion_table.hpp)
   const std::uint64_t* inert;   ///< inert-key bits (sparse stepping)
@@ -132,6 +135,8 @@ struct MotionRule {
 
   /// The motion model.
   static constexpr bool kMotion = true;
+  /// The Rule steps a side plane with the cells: a path calls step(bytes, side, ...).
+  static constexpr bool kStepsSide = kSide;
   /// Cell bytes hold a grain's motion state above its material.
   static constexpr std::uint64_t kCellMask = ~std::uint64_t(0);
 
@@ -171,6 +176,12 @@ struct MotionRule {
   /// of 2 or more takes part (motion_window), or one over a wake, so a block without either is left
   /// at once.
   constexpr std::uint64_t step(std::uint64_t bytes, int x0, int y0, int z0) const {
+    std::uint64_t none = 0;
+    return step(bytes, none, x0, y0, z0);
+  }
+
+  /// The block's bytes after the sub-step, and (kSide) its side bytes `side` with them.
+  constexpr std::uint64_t step(std::uint64_t bytes, std::uint64_t& side, int x0, int y0, int z0) const {
     if (sub.substep >= 2 && ((bytes >> 32) & 0x70707070u) == 0 &&
         (!kColumns || motion::wake_bytes(bytes & 0xFFFFFFFFull) == 0) &&
         (!kPressure || (present_materials<ByteOpsOf<Platform>>(bytes) & sub.materials.liquids) == 0))
@@ -180,7 +191,8 @@ struct MotionRule {
       if ((present_materials<ByteOpsOf<Platform>>(bytes) & sub.materials.liquids) != 0) {
         std::int32_t block_heads[8];
         block_heads_at(x0, y0, z0, block_heads);
-        return motion::step_block_as<kColumns, ByteOpsOf<Platform>>(bytes, sub, x0, y0, z0, load, block_heads);
+        return motion::step_block_as<kColumns, ByteOpsOf<Platform>>(bytes, sub, x0, y0, z0, load, block_heads,
+                                                                    kSide ? &side : nullptr);
       }
     }
     return motion::step_block_as<kColumns, ByteOpsOf<Platform>>(bytes, sub, x0, y0, z0, load);
@@ -242,11 +254,30 @@ constexpr Rule make_rule(const StepRules& r, std::uint64_t n) {
   }
 }
 
+/// True when a Platform's paths step a side plane (Platform::kSidePlane; StepRules::side is only
+/// ever set on such a platform's rules).
+template <class Platform>
+constexpr bool platform_steps_side() {
+  if constexpr (requires { Platform::kSidePlane; })
+    return Platform::kSidePlane;
+  else
+    return false;
+}
+
 /// Calls fn(type_tag) with a value of the Rule type of `r`'s steps: one instantiation of the
 /// caller's path per Rule type.
 template <class Platform, class Fn>
 constexpr void with_rule_type(const StepRules& r, Fn&& fn) {
   const bool pressure = r.motion.enabled() && r.motion.pressure && r.heads != nullptr;
+  if constexpr (platform_steps_side<Platform>()) {
+    if (pressure && r.side) {
+      if (r.motion.columns)
+        fn(static_cast<MotionRule<Platform, true, true, true>*>(nullptr));
+      else
+        fn(static_cast<MotionRule<Platform, false, true, true>*>(nullptr));
+      return;
+    }
+  }
   if (pressure && r.motion.columns)
     fn(static_cast<MotionRule<Platform, true, true>*>(nullptr));
   else if (pressure)

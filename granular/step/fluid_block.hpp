@@ -41,6 +41,13 @@
 ///     (head::exit_level). No draw: the stage moves the same cells whatever the random words, so a
 ///     block it leaves as it is stays so while the heads stay (the backend wakes the bricks where a
 ///     move may start).
+///  6. Momentum (MotionParams::momentum; the caller passes the block's side bytes, momentum.hpp):
+///     every move above exchanges the side bytes with the cells; a liquid the pressure stage pushes
+///     sideways leaves at the speed its head gives (2 sqrt(e) + 1 cells a tick), and one that spreads
+///     in step 2 gains a unit along its move. Then each liquid with a velocity that kept its place
+///     (`glide_movers`) steps along it, x then y, in the window of its speed: into a lighter fluid
+///     beside it, or into a liquid, which takes its velocity in exchange for its own, losing a unit
+///     with chance kHandOnLoss / 256; a static cell or a grain in the way zeroes that component.
 /// Each step walks the block's columns in the viewed frame's order 0..3, and a move's targets in the
 /// order x neighbour, y neighbour, diagonal. A cell moves at most once per pass (neither starting nor
 /// taking a second move), and only cells the caller names as movers start a move. A faller that
@@ -57,6 +64,7 @@
 #include "granular/motion.hpp"
 #include "step/block_bytes.hpp"
 #include "step/head_field.hpp"
+#include "step/momentum.hpp"
 #include "step/paper_rule.hpp"
 #include "step/step_materials.hpp"
 
@@ -104,11 +112,16 @@ constexpr bool topples_into(const StepMaterials& mats, std::uint32_t m, std::uin
 /// `heads` (MotionParams::pressure; null for none) holds each cell's head (head_field.hpp) by block
 /// position, `press_movers` the cells that may start a pressure move, `z0` the block's lowest z,
 /// `substep` the sub-step and `max_level` the motion model's top level.
+/// `side` (MotionParams::momentum; null for none) holds the block's side bytes (momentum.hpp, byte p
+/// for the cell at p): every move exchanges them with the cells, the stages above set a liquid's
+/// velocity, and stage 6 moves the liquids of `glide_movers` along it; `substeps` is the tick's
+/// sub-step count.
 template <bool kLevels>
 constexpr std::uint64_t fluid_pass(std::uint64_t bytes, std::uint32_t movers, int symmetry, std::uint64_t draws,
                                    const StepMaterials& mats, const std::int32_t* heads = nullptr,
                                    std::uint32_t press_movers = 0, int z0 = 0, int substep = 0,
-                                   int max_level = 0) {
+                                   int max_level = 0, std::uint64_t* side = nullptr, std::uint32_t glide_movers = 0,
+                                   int substeps = 0) {
   constexpr std::uint64_t kLevelBits = std::uint64_t(kMotionLevelMask) << kMotionShift;
   auto at = [&](int view) { return symmetry_preimage(view, symmetry); };
   auto level_above_zero = [&](int p) { return kLevels && ((bytes >> (8 * p)) & kLevelBits) != 0; };
@@ -118,7 +131,24 @@ constexpr std::uint64_t fluid_pass(std::uint64_t bytes, std::uint32_t movers, in
   auto free = [&](int p) { return ((moved >> p) & 1u) == 0; };
   auto move = [&](int p, int q) {
     bytes = exchange(bytes, p, q);
+    if (side != nullptr) *side = exchange(*side, p, q);
     moved |= (1u << p) | (1u << q);
+  };
+  auto side_of = [&](int p) { return side != nullptr ? std::uint32_t(*side >> (8 * p)) & 0xFFu : 0u; };
+  auto set_side = [&](int p, std::uint32_t v) {
+    if (side != nullptr) *side = (*side & ~(0xFFull << (8 * p))) | (std::uint64_t(v) << (8 * p));
+  };
+  // A liquid that moved from `p` to `q` in its layer speeds up along that move by one (gravity down the
+  // surface it left), each axis of the move.
+  auto speed_up = [&](int p, int q) {
+    std::uint32_t v = side_of(q);
+    for (int axis = 0; axis < 2; ++axis) {
+      if (((p ^ q) >> axis & 1) == 0) continue;
+      const int sign = ((q >> axis) & 1) != 0 ? 1 : -1;
+      const int now = momentum::component(v, axis);
+      v = momentum::with_component(v, axis, now * sign > 0 ? now + sign : sign);
+    }
+    set_side(q, v);
   };
   // 1. Density, column by column.
   for (int column = 0; column < 4; ++column) {
@@ -154,6 +184,7 @@ constexpr std::uint64_t fluid_pass(std::uint64_t bytes, std::uint32_t movers, in
       const std::uint32_t t = material_at(bytes, target);
       if (free(target) && mats.is_fluid(t) && mats.density[t] < mats.density[m] && (moving || mats.is_void(t))) {
         move(top, target);
+        speed_up(top, target);
         break;
       }
     }
@@ -223,11 +254,51 @@ constexpr std::uint64_t fluid_pass(std::uint64_t bytes, std::uint32_t movers, in
       }
       if (from < 0) continue;
       move(from, b);
+      // Pushed sideways, a liquid leaves at the speed its head gives (Bernoulli: 2 sqrt(e) cells a tick).
+      if (side != nullptr && (from ^ b) < 4) {
+        const int axis = (from ^ b) == 1 ? 0 : 1, sign = ((b >> axis) & 1) != 0 ? 1 : -1;
+        const int speed = momentum::speed_of(2 * head::root_cells(highest - top) + 1, substeps);
+        set_side(b, momentum::with_component(0u, axis, sign * speed));
+      }
       // Pushed down out of its body (into a coarse cell outside any body), a liquid leaves at the
       // speed its head gives (Torricelli).
       if (kLevels && from == b + 4 && head::outside_body(heads[b])) {
         const std::uint64_t level = std::uint64_t(head::exit_level(highest - top, max_level)) << kMotionShift;
         bytes = (bytes & ~(kLevelBits << (8 * b))) | (level << (8 * b));
+      }
+    }
+  // 6. Momentum: each liquid of `glide_movers` with a sideways velocity steps along it, x then y, in
+  // the window of its speed: into a lighter fluid (it glides), or into a liquid, which takes its
+  // velocity in exchange for its own (the push runs on through a body at one cell a step); a
+  // static cell or a grain in the way stops that component.
+  if (side != nullptr)
+    for (int view = 0; view < 8; ++view) {
+      const int b = at(view);
+      if (!free(b) || ((glide_movers >> b) & 1u) == 0) continue;
+      const std::uint32_t m = material_at(bytes, b);
+      if (!mats.is_liquid(m)) continue;
+      for (int axis = 0; axis < 2; ++axis) {
+        const std::uint32_t v = side_of(b);
+        const int c = momentum::component(v, axis);
+        if (c == 0 || (((b >> axis) & 1) != 0) == (c > 0)) continue;  // its neighbour along c is in another block
+        if (!momentum::in_window(c > 0 ? c : -c, substep, substeps)) continue;
+        const int q = b ^ (1 << axis);
+        if (!free(q)) continue;
+        const std::uint32_t t = material_at(bytes, q);
+        if (mats.is_fluid(t) && mats.density[t] < mats.density[m]) {
+          move(b, q);
+          break;
+        }
+        if (mats.is_liquid(t)) {
+          // The push loses one speed unit with chance kHandOnLoss / 256 (the liquid's viscosity).
+          const std::uint32_t w = side_of(q);
+          const bool loses = int((draws >> (8 * q)) & 0xFFu) < momentum::kHandOnLoss;
+          set_side(q, loses ? momentum::with_component(v, axis, c > 0 ? c - 1 : c + 1) : v);
+          set_side(b, w);
+          moved |= (1u << b) | (1u << q);
+          break;
+        }
+        set_side(b, momentum::with_component(v, axis, 0));
       }
     }
   return bytes;

@@ -39,6 +39,9 @@
 ///     block_random(seed ^ fluid::kDrawSalt, t * substeps + s, x0, y0, z0).
 ///  5. Under MotionParams::columns, each top cell whose grain fell straight down and that holds a
 ///     plain void now becomes a wake: kWakeBit and the grain's level, for the next sub-step.
+/// Under MotionParams::momentum the block's side bytes (momentum.hpp) move with its cells in 3 and
+/// 4, a liquid that rolled or toppled in 3 takes the velocity of its move at the speed of its level,
+/// and a liquid with a velocity takes part in 4 whatever its window.
 /// A grain's window is motion_window(level) sub-steps from its phase: in sub-step 0 every grain
 /// notes its layer (top: phase 0, bottom: phase 1, where it is top one sub-step later), so a grain
 /// starting from rest falls 1, 4, 9, ... cells after 1, 2, 3 ticks whichever layer it starts in,
@@ -54,6 +57,7 @@
 #include "step/block_bytes.hpp"
 #include "step/fluid_block.hpp"
 #include "step/head_field.hpp"
+#include "step/momentum.hpp"
 #include "step/paper_rule.hpp"
 #include "step/step_materials.hpp"
 
@@ -318,9 +322,12 @@ constexpr std::uint64_t entrain_step_edges(std::uint64_t out, std::uint64_t code
 /// `heads` (MotionParams::pressure; null without) holds the head (head_field.hpp) of each cell of
 /// the block by block position: the fluid pass's pressure stage reads it, and every liquid of the
 /// block that kept its place may start a pressure move, in every sub-step.
+/// `side` (MotionParams::momentum; null without) holds the block's side bytes (momentum.hpp): they
+/// move with the cells, a liquid that rolls or topples takes the velocity of its move, and the fluid
+/// pass moves each liquid with a velocity that kept its place along it.
 template <bool kColumns, class ByteOps = PortableByteOps, class Load>
 constexpr std::uint64_t step_block_as(std::uint64_t bytes, const SubStep& m, int x0, int y0, int z0, Load load,
-                                      const std::int32_t* heads = nullptr) {
+                                      const std::int32_t* heads = nullptr, std::uint64_t* side = nullptr) {
   const StepMaterials& mats = m.materials;
   const int s = m.substep;
   const std::uint64_t props = ByteOps::lookup(mats.cell_props, bytes);  // byte i: material i's cell_props
@@ -366,7 +373,15 @@ constexpr std::uint64_t step_block_as(std::uint64_t bytes, const SubStep& m, int
   std::uint32_t pressed = 0;
   if (heads != nullptr)
     for (int p = 0; p < 8; ++p) pressed |= (head::at_rest_liquid(mats, std::uint32_t(bytes >> (8 * p)) & 0xFFu) ? 1u : 0u) << p;
-  if ((part | gases | pressed) == 0) return bytes;
+  // Under momentum, every liquid with a sideways velocity (bit p for cell p).
+  auto gliders = [&](std::uint64_t cells) {
+    std::uint32_t g = 0;
+    if (side != nullptr)
+      for (int p = 0; p < 8; ++p)
+        g |= (((*side >> (8 * p)) & 0xFFu) != 0 && mats.is_liquid(std::uint32_t(cells >> (8 * p)) & kMaterialMask) ? 1u : 0u) << p;
+    return g;
+  };
+  if ((part | gases | pressed | gliders(bytes)) == 0) return bytes;
   const std::uint64_t random = block_random_keyed(m.random_key, m.step(), x0, y0, z0, m.origin);
   const int symmetry = m.random_symmetry ? int(random & 7u) : 0;
   // The table codes: a top faller outside its window is too slow to move now, an obstacle (code 2 ->
@@ -397,12 +412,15 @@ constexpr std::uint64_t step_block_as(std::uint64_t bytes, const SubStep& m, int
   std::uint32_t new_top = top;
   std::uint32_t wakes_left = 0;  // byte k: the wake top cell 4 + k leaves if it fell, else 0
   bool flowed = false;           // a moving grain rolled or toppled (GrainMotion::entrain)
+  int slid[4] = {};              // under momentum: the speed of a liquid in top cell 4 + k that rolled or toppled
   for (int k = 0; k < 4; ++k) {
     if (((part >> (8 * k)) & 1u) == 0) continue;
     const std::uint32_t byte = (top >> (8 * k)) & 0xFFu;
     const std::uint32_t material = byte & kMaterialMask, phase = byte & kMotionPhaseBit;
     int level = int((byte >> kMotionShift) & kMotionLevelMask);
     const std::uint32_t move = move_of(k);
+    if (side != nullptr && (move == kRolled || move == kToppled) && mats.is_liquid(material))
+      slid[k] = momentum::speed_of(level > 0 ? motion_window(level) : 1, m.substeps);
     flowed = flowed || (level > 0 && (move == kRolled || move == kToppled));
     const int draw = int((random >> (40 + 6 * k)) & 63u) * 4;
     if (move == kFell) {
@@ -431,6 +449,18 @@ constexpr std::uint64_t step_block_as(std::uint64_t bytes, const SubStep& m, int
     if (kColumns && move == kFell) wakes_left |= (kWakeBit | (std::uint32_t(level) << kMotionShift)) << (8 * k);
   }
   std::uint64_t out = ByteOps::gather((bytes & 0xFFFFFFFFull) | (std::uint64_t(new_top) << 32), entry & 0x77777777u);
+  if (side != nullptr) {
+    *side = ByteOps::gather(*side, entry & 0x77777777u);
+    // A liquid that rolled or toppled moves on sideways along its move.
+    for (int p = 0; p < 8; ++p) {
+      const int from = int((entry >> (4 * p)) & 7u);
+      if (from < 4 || slid[from - 4] == 0) continue;
+      int v[2] = {momentum::vx(std::uint32_t(*side >> (8 * p))), momentum::vy(std::uint32_t(*side >> (8 * p)))};
+      for (int axis = 0; axis < 2; ++axis)
+        if (((p ^ from) >> axis) & 1) v[axis] = (((p >> axis) & 1) != 0 ? 1 : -1) * slid[from - 4];
+      *side = (*side & ~(0xFFull << (8 * p))) | (std::uint64_t(momentum::pack(v[0], v[1])) << (8 * p));
+    }
+  }
   if (flowed && mats.entrained != 0) out = entrain_step_edges<ByteOps>(out, codes, entry, random, mats);
   // The fluid pass, on a block holding a liquid, a gas or two granular materials.
   if (!mats.fluid_pass_applies(present_materials<ByteOps>(bytes))) return kColumns ? leave_wakes(out, wakes_left) : out;
@@ -445,7 +475,8 @@ constexpr std::uint64_t step_block_as(std::uint64_t bytes, const SubStep& m, int
   const std::uint64_t draws = block_random_keyed(m.draw_key, m.step(), x0, y0, z0, m.origin);
   const std::uint64_t passed =
       fluid::fluid_pass<true>(out, took_part & stayed, symmetry, draws, mats, heads,
-                              heads != nullptr ? pressed & stayed : 0u, z0, s, max_level);
+                              heads != nullptr ? pressed & stayed : 0u, z0, s, max_level, side,
+                              side != nullptr ? gliders(out) & stayed : 0u, m.substeps);
   return kColumns ? leave_wakes(passed, wakes_left) : passed;
 }
 

@@ -44,6 +44,14 @@ struct MotionParams {
   /// such a rule set keeps the field beside its cells; one without a liquid never computes it. A
   /// DistributedWorld refuses it.
   bool pressure = false;
+  /// Liquids keep a sideways velocity (a lever of pressure): each liquid cell carries one in a side
+  /// plane beside the cell bytes, moved with the cells by the block step's permutations
+  /// (granular/step/momentum.hpp). A liquid pushed out sideways by its head leaves at the speed the
+  /// head gives, one that rolls off a surface or runs down its slope gathers speed, and each goes on
+  /// along its velocity until a wall or a grain stops it, or hands it on to the liquid ahead: fronts
+  /// run instead of diffusing. Needs pressure. A world of such a rule set keeps the plane while it
+  /// holds liquid.
+  bool momentum = false;
   /// True when the rule set uses the motion model.
   constexpr bool enabled() const { return substeps > 1; }
   /// The highest motion level: a grain at it falls motion_window(max_level()) <= substeps - 1 cells

@@ -73,6 +73,10 @@ CpuBackend::CpuBackend(const BackendCreateInfo& info)
                                                  .heads = head_field_ ? head_field_->heads() : nullptr});
   outside_row_.assign(std::size_t(grid_.size().x), std::uint8_t(step_rules_.materials.outside));
   if (head_field_) liquid_cells_ = liquid_in(grid_.cells());
+  if (head_field_ && info.rules->motion.momentum) {
+    side_.assign(grid_.cells().size(), 0);
+    outside_side_row_.assign(std::size_t(grid_.size().x), 0);
+  }
 }
 
 std::string CpuBackend::description() const {
@@ -118,6 +122,7 @@ void CpuBackend::prepare_heads() {
   // last solve, or while a pressure move may start somewhere: they are a function of the cells, so a
   // world at rest keeps them and costs nothing. The bricks where a pressure move may start stay awake.
   step_rules_.heads = liquid_cells_ == 0 ? nullptr : head_field_->heads();
+  step_rules_.side = step_rules_.heads != nullptr && !side_.empty();
   if (liquid_cells_ == 0) {
     pressing_.clear();
   } else if (!sparse_ || !heads_solved_ || !pressing_.empty() || activity_.changed_since(heads_pass_)) {
@@ -134,6 +139,8 @@ StepContext CpuBackend::context(std::uint64_t tick, int substep) {
   return StepContext{.cells = grid_.cells().data(),
                      .size = grid_.size(),
                      .outside_row = outside_row_.data(),
+                     .side = step_rules_.side ? side_.data() : nullptr,
+                     .outside_side_row = step_rules_.side ? outside_side_row_.data() : nullptr,
                      .rules = step_rules_,
                      .tick = tick,
                      .substep = substep};
@@ -236,8 +243,14 @@ void CpuBackend::write(const Box& box, std::span<const std::uint8_t> in, std::sp
   if (head_field_) liquid_cells_ = liquid_cells_ - liquid_in(box) + liquid_in(in);
   std::size_t o = 0;
   for (int z = box.min.z; z < box.max.z; ++z)
-    for (int y = box.min.y; y < box.max.y; ++y, o += std::size_t(w))
-      std::memcpy(grid_.cells().data() + grid_.index({box.min.x, y, z}), in.data() + o, std::size_t(w));
+    for (int y = box.min.y; y < box.max.y; ++y, o += std::size_t(w)) {
+      const std::size_t at = grid_.index({box.min.x, y, z});
+      // A cell a write changes loses its velocity (it is a new cell, at rest).
+      if (!side_.empty())
+        for (int x = 0; x < w; ++x)
+          if (grid_.cells()[at + std::size_t(x)] != in[o + std::size_t(x)]) side_[at + std::size_t(x)] = 0;
+      std::memcpy(grid_.cells().data() + at, in.data() + o, std::size_t(w));
+    }
   if (sparse_) activity_.wake(wake_bricks);
   heads_solved_ = false;
 }
@@ -271,6 +284,8 @@ std::uint64_t CpuBackend::hash() const {
   });
   std::uint64_t sum = 0;
   for (auto p : partial) sum += p;
+  // With a side plane, the velocities are part of the state.
+  if (!side_.empty()) sum += mix64(hash_words(side_, 0, words) ^ 0x73696465706C616Eull);
   return finish_hash(grid_.size(), sum);
 }
 

@@ -71,6 +71,9 @@ class CpuBackend final : public Backend {
   std::uint32_t heads_pass_ = 0;             ///< the pass the heads were last solved after
   std::vector<std::uint32_t> pressing_;      ///< the bricks the last solve found a pressure move may start in
   std::uint64_t liquid_cells_ = 0;           ///< liquid cells of the grid (head_field_ only; writes update it)
+  std::vector<std::uint8_t> side_;           ///< the side plane (MotionParams::momentum with a liquid in the table;
+                                             ///< else empty), laid out as the cells
+  std::vector<std::uint8_t> outside_side_row_;  ///< a row of zero side bytes (StepContext::outside_side_row)
   ActivityStats last_{};
   std::shared_ptr<TaskSystem> task_system_;  ///< info.task_system, or the backend's own ThreadPool
   TaskSystem& pool_;                         ///< *task_system_: runs every parallel loop

@@ -24,7 +24,17 @@ namespace granular::cpu_ops {
 struct BlockRow {
   std::uint8_t* cells[4];  ///< cell row r at x = 0
   std::uint64_t inside;    ///< the bytes of a block that lie in cell rows inside the grid
+  std::uint8_t* side[4];   ///< the side plane's row r at x = 0 (StepContext::side; null without)
 };
+
+/// True when `Rule` steps a side plane with the cells (MotionRule's kStepsSide).
+template <class Rule>
+constexpr bool steps_side() {
+  if constexpr (requires { Rule::kStepsSide; })
+    return Rule::kStepsSide;
+  else
+    return false;
+}
 
 /// Every byte of a block lies in a cell row inside the grid.
 inline constexpr std::uint64_t kWholeBlock = ~std::uint64_t(0);
@@ -42,9 +52,11 @@ inline BlockRow block_row(const StepContext& c, int y0, int z0) {
     const int y = y0 + (r & 1), z = z0 + (r >> 1);
     if (y >= 0 && y < c.size.y && z >= 0 && z < c.size.z) {
       row.cells[r] = c.cells + sy * std::size_t(y) + sz * std::size_t(z);
+      row.side[r] = c.side != nullptr ? c.side + sy * std::size_t(y) + sz * std::size_t(z) : nullptr;
       row.inside |= std::uint64_t(0xFFFFu) << (16 * r);
     } else {
       row.cells[r] = c.outside_row;
+      row.side[r] = c.outside_side_row;
     }
   }
   return row;
@@ -54,25 +66,43 @@ inline BlockRow block_row(const StepContext& c, int y0, int z0) {
 /// steps, in order along x: a group of eight at once, or one.
 struct NoNotes {
   /// The blocks at x0, x0 + 2, ... (count of them): `before[k]`, `after[k]` their bytes; `inside`:
-  /// those of their bytes that are cells of the grid.
-  void blocks(int, const std::uint64_t*, const std::uint64_t*, int, std::uint64_t) {}
+  /// those of their bytes that are cells of the grid; `side_before`, `side_after` their side bytes
+  /// (null when the rule steps no side plane).
+  void blocks(int, const std::uint64_t*, const std::uint64_t*, int, std::uint64_t, const std::uint64_t* = nullptr,
+              const std::uint64_t* = nullptr) {}
 };
 
-/// The bytes of the block at x0 (both its cell columns inside the grid).
-inline std::uint64_t load_block(const BlockRow& row, int x0) {
-  return load_pair(row.cells[0] + x0) | (load_pair(row.cells[1] + x0) << 16) | (load_pair(row.cells[2] + x0) << 32) |
-         (load_pair(row.cells[3] + x0) << 48);
+/// The bytes of the block at x0 of the rows `rows` (both its cell columns inside the grid).
+inline std::uint64_t load_block(std::uint8_t* const (&rows)[4], int x0) {
+  return load_pair(rows[0] + x0) | (load_pair(rows[1] + x0) << 16) | (load_pair(rows[2] + x0) << 32) |
+         (load_pair(rows[3] + x0) << 48);
 }
 
-/// Steps the block at x0 (both its cell columns inside the grid). With kWhole (every cell row inside)
-/// the store is branch-free: a block that stays rewrites its own bytes.
+/// The bytes of the block at x0 (both its cell columns inside the grid).
+inline std::uint64_t load_block(const BlockRow& row, int x0) { return load_block(row.cells, x0); }
+
+/// Steps the block at x0 (both its cell columns inside the grid), and its side bytes when the rule
+/// steps a side plane. With kWhole (every cell row inside) the store is branch-free: a block that
+/// stays rewrites its own bytes.
 template <bool kWhole, class Rule, class Notes>
 inline void step_block_at(const Rule& rule, const BlockRow& row, int x0, int y0, int z0, Notes& notes) {
   const std::uint64_t v = load_block(row, x0);
-  const std::uint64_t out = rule.step(v, x0, y0, z0);
-  for (int r = 0; r < 4; ++r)
-    if (kWhole || ((row.inside >> (16 * r)) & 1u)) store_pair(row.cells[r] + x0, out >> (16 * r));
-  notes.blocks(x0, &v, &out, 1, kWhole ? kWholeBlock : row.inside);
+  if constexpr (steps_side<Rule>()) {
+    const std::uint64_t side_before = load_block(row.side, x0);
+    std::uint64_t side = side_before;
+    const std::uint64_t out = rule.step(v, side, x0, y0, z0);
+    for (int r = 0; r < 4; ++r)
+      if (kWhole || ((row.inside >> (16 * r)) & 1u)) {
+        store_pair(row.cells[r] + x0, out >> (16 * r));
+        store_pair(row.side[r] + x0, side >> (16 * r));
+      }
+    notes.blocks(x0, &v, &out, 1, kWhole ? kWholeBlock : row.inside, &side_before, &side);
+  } else {
+    const std::uint64_t out = rule.step(v, x0, y0, z0);
+    for (int r = 0; r < 4; ++r)
+      if (kWhole || ((row.inside >> (16 * r)) & 1u)) store_pair(row.cells[r] + x0, out >> (16 * r));
+    notes.blocks(x0, &v, &out, 1, kWhole ? kWholeBlock : row.inside);
+  }
 }
 
 /// An edge block's bytes before and after its step, and those of its bytes that are grid cells.
@@ -80,6 +110,8 @@ struct EdgeBlock {
   std::uint64_t before;  ///< the bytes before (outside cells as the rule's outside state)
   std::uint64_t after;   ///< the bytes after
   std::uint64_t inside;  ///< the bytes that are cells of the grid (the ones written)
+  std::uint64_t side_before = 0;  ///< the side bytes before (0 outside the grid; rules that step a side plane)
+  std::uint64_t side_after = 0;   ///< the side bytes after
 };
 
 /// Steps the edge block at x0 = -1 (cell column x0 outside the grid) or x0 = size.x - 1 (cell
@@ -93,19 +125,36 @@ template <class Rule>
   const std::uint64_t outside = std::uint64_t(rule.outside & 0xFFu) << (8u - inside_shift);
   std::uint64_t v = 0;
   for (int r = 0; r < 4; ++r) v |= ((std::uint64_t(row.cells[r][x]) << inside_shift) | outside) << (16 * r);
-  const std::uint64_t out = rule.step(v, x0, y0, z0);
   const std::uint64_t inside = row.inside & (low ? kHighColumn : kLowColumn);
-  if (((v ^ out) & inside) != 0)
-    for (int r = 0; r < 4; ++r)
-      if ((row.inside >> (16 * r)) & 1u) row.cells[r][x] = std::uint8_t(out >> (16 * r + int(inside_shift)));
-  return {v, out, inside};
+  if constexpr (steps_side<Rule>()) {
+    std::uint64_t side_before = 0;
+    for (int r = 0; r < 4; ++r) side_before |= (std::uint64_t(row.side[r][x]) << inside_shift) << (16 * r);
+    std::uint64_t side = side_before;
+    const std::uint64_t out = rule.step(v, side, x0, y0, z0);
+    if ((((v ^ out) | (side_before ^ side)) & inside) != 0)
+      for (int r = 0; r < 4; ++r)
+        if ((row.inside >> (16 * r)) & 1u) {
+          row.cells[r][x] = std::uint8_t(out >> (16 * r + int(inside_shift)));
+          row.side[r][x] = std::uint8_t(side >> (16 * r + int(inside_shift)));
+        }
+    return {v, out, inside, side_before, side};
+  } else {
+    const std::uint64_t out = rule.step(v, x0, y0, z0);
+    if (((v ^ out) & inside) != 0)
+      for (int r = 0; r < 4; ++r)
+        if ((row.inside >> (16 * r)) & 1u) row.cells[r][x] = std::uint8_t(out >> (16 * r + int(inside_shift)));
+    return {v, out, inside};
+  }
 }
 
 /// Steps the edge block at x0 (-1 or size.x - 1) and hands it to `notes`.
 template <class Rule, class Notes>
 inline void step_edge_block(const Rule& rule, const BlockRow& row, int x0, int y0, int z0, Notes& notes) {
   const EdgeBlock e = step_edge(rule, row, x0, y0, z0);
-  notes.blocks(x0, &e.before, &e.after, 1, e.inside);
+  if constexpr (steps_side<Rule>())
+    notes.blocks(x0, &e.before, &e.after, 1, e.inside, &e.side_before, &e.side_after);
+  else
+    notes.blocks(x0, &e.before, &e.after, 1, e.inside);
 }
 
 /// Steps the eight blocks at x, x + 2, ..., x + 14 (inside the grid along x), unless their 64 cells
@@ -114,6 +163,10 @@ inline void step_edge_block(const Rule& rule, const BlockRow& row, int x0, int y
 /// transposed into the blocks' bytes, and back.
 template <bool kWhole, class Rule, class Notes>
 inline void step_group(const Rule& rule, const BlockRow& row, int x, int y0, int z0, Notes& notes) {
+  if constexpr (steps_side<Rule>()) {  // a side plane is stepped block by block
+    for (int k = 0; k < 8; ++k) step_block_at<kWhole>(rule, row, x + 2 * k, y0, z0, notes);
+    return;
+  }
   const std::uint64_t inside = kWhole ? kWholeBlock : row.inside;
   std::uint64_t in[8], out[8];
 #ifdef GRANULAR_ROW_SSE2

@@ -74,15 +74,19 @@ struct BrickNotes {
   std::uint32_t reach = 0;       ///< the largest reach the blocks added (Rule::kReach)
 
   /// Adds stepped blocks.
-  void blocks(int x0, const std::uint64_t* before, const std::uint64_t* after, int count, std::uint64_t inside) {
+  /// A side byte that changed counts as a changed cell, and a block holding a velocity is not quiet.
+  void blocks(int x0, const std::uint64_t* before, const std::uint64_t* after, int count, std::uint64_t inside,
+              const std::uint64_t* side_before = nullptr, const std::uint64_t* side_after = nullptr) {
     if constexpr (Rule::kReach)
       for (int k = 0; k < count; ++k) {
         const std::uint32_t added = rule.reach_added(before[k], after[k]);
         if (added > reach) reach = added;
       }
-    const std::uint64_t first = (before[0] ^ after[0]) & inside;
+    const std::uint64_t first = ((before[0] ^ after[0]) | (side_after ? side_before[0] ^ side_after[0] : 0)) & inside;
     std::uint64_t rest = 0;
-    for (int k = 1; k < count; ++k) rest |= before[k] ^ after[k];
+    for (int k = 1; k < count; ++k) rest |= (before[k] ^ after[k]) | (side_after ? side_before[k] ^ side_after[k] : 0);
+    if (side_after != nullptr)
+      for (int k = 0; k < count && !non_inert; ++k) non_inert = side_after[k] != 0;
     rest &= inside;
     if (x0 == below_x)
       below_diff = first;

@@ -19,6 +19,9 @@ struct StepContext {
   Int3 size{};                    ///< grid extent
   std::uint8_t* outside_row = nullptr;  ///< size.x cells of the outside state (rules.materials.outside),
                                         ///< what a row of cells outside the grid reads; never written
+  std::uint8_t* side = nullptr;   ///< the side plane (MotionParams::momentum, momentum.hpp), laid out as
+                                  ///< cells; null without (then rules.side is false)
+  std::uint8_t* outside_side_row = nullptr;  ///< size.x zero bytes: the side bytes outside the grid; never written
   StepRules rules;                ///< the rule set's tables and parameters (host memory)
   std::uint64_t tick = 0;         ///< the tick being computed
   int substep = 0;                ///< its sub-step (0 without a motion model)

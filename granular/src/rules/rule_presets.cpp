@@ -67,9 +67,10 @@ struct PresetEntry {
   bool columns = false;  ///< MotionParams::columns
   GrainMotion grain = kInertialGrain;  ///< sand's motion under a motion model (gravel's follows from it)
   bool pressure = false;  ///< MotionParams::pressure
+  bool momentum = false;  ///< MotionParams::momentum
 };
 
-constexpr std::array<PresetEntry, 9> kPresets = {{
+constexpr std::array<PresetEntry, 10> kPresets = {{
     {"paper", "gravity then flow, fixed preference order (the paper's rules)", 1, false, false, 1},
     {"isotropic",
      "the paper's rules under a random horizontal symmetry per block and tick and a random offset order per cycle", 2,
@@ -97,6 +98,10 @@ constexpr std::array<PresetEntry, 9> kPresets = {{
      "inertial-24-flow with liquids under the head of their body: connected vessels level, a water column pours out "
      "from every row, and a liquid under a higher surface of its body rises",
      1, true, true, 24, false, kFlowGrain, true},
+    {"inertial-24-momentum",
+     "inertial-24-pressure with liquids that keep a sideways velocity: a liquid pushed out by its head, or running "
+     "off a surface, goes on until a wall stops it, so a burst dam's front runs instead of diffusing",
+     1, true, true, 24, false, kFlowGrain, true, true},
 }};
 
 RuleSet make_preset(const PresetEntry& e) {
@@ -109,6 +114,7 @@ RuleSet make_preset(const PresetEntry& e) {
   r.motion.substeps = e.substeps;
   r.motion.columns = e.columns;
   r.motion.pressure = e.pressure;
+  r.motion.momentum = e.momentum;
   r.materials = default_materials(r.motion.enabled() ? e.grain : GrainMotion{});
   r.transition = r.motion.enabled() ? &motion_transition : &paper_transition;
   r.device_rule = r.motion.enabled() ? "motion" : "paper";

@@ -120,6 +120,9 @@ void validate_rule_set(const RuleSet& rules) {
   if (rules.motion.pressure && !rules.motion.enabled())
     throw RuleError(who + "RuleSet::motion.pressure = true with motion.substeps = 1; pressure is a lever of the "
                           "motion model: set substeps to a multiple of 8 up to 32, or pressure to false");
+  if (rules.motion.momentum && !rules.motion.pressure)
+    throw RuleError(who + "RuleSet::motion.momentum = true with motion.pressure = false; momentum is a lever of "
+                          "pressure (the head sets a liquid's speed): set pressure to true, or momentum to false");
   if (rules.motion.columns && !rules.motion.enabled())
     throw RuleError(who + "RuleSet::motion.columns = true with motion.substeps = 1; columns are a lever of the motion "
                           "model: set substeps to a multiple of 8 up to 32, or columns to false");
@@ -138,6 +141,7 @@ std::uint64_t rule_fingerprint(const RuleSet& rules) {
   if (rules.motion.enabled()) h = mix64(h ^ 0x6D6F74696F6E0000ull ^ std::uint64_t(rules.motion.substeps));
   if (rules.motion.columns) h = mix64(h ^ 0x636F6C756D6E7300ull);
   if (rules.motion.pressure) h = mix64(h ^ 0x7072657373757265ull);
+  if (rules.motion.momentum) h = mix64(h ^ 0x6D6F6D656E74756Dull);
   for (const MaterialDef& d : rules.materials) {
     add_text(d.name);
     h = mix64(h ^ (std::uint64_t(d.behaviour) << 56) ^ std::uint64_t(d.grain.topple_gain) ^

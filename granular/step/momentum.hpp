@@ -1,0 +1,63 @@
+#pragma once
+/// @file momentum.hpp
+/// The side plane of MotionParams::momentum: one byte per cell beside the cell byte, carried with
+/// it by every permutation of the block step (the paper's "concurrent buffers that map properties to
+/// specific cells"). A liquid's side byte is its sideways velocity, two signed nibbles: bits 0..3 its
+/// x component, bits 4..7 its y component, each -kTopSpeed .. kTopSpeed. Every other cell's side byte
+/// is 0: only the fluid pass sets one, and only on a liquid.
+///
+/// Speed n (a component's magnitude) lets the liquid take a sideways step along that axis in the
+/// first n / kTopSpeed of a tick's sub-steps (in_window). A cell finds its x (or y) neighbour in its
+/// block one sub-step in two, so speed kTopSpeed is substeps / 2 cells a tick (12 under 24
+/// sub-steps), the schedule's top sideways speed, and speed n about n / kTopSpeed of it.
+
+#include <cstdint>
+
+namespace granular::momentum {
+
+/// The largest speed of a component.
+inline constexpr int kTopSpeed = 7;
+
+/// Chance out of 256 that a push handed on to the liquid ahead loses one speed unit.
+inline constexpr int kHandOnLoss = 32;
+
+/// The x component of side byte `side`.
+constexpr int vx(std::uint32_t side) {
+  const int v = int(side & 15u);
+  return v >= 8 ? v - 16 : v;
+}
+
+/// The y component of side byte `side`.
+constexpr int vy(std::uint32_t side) {
+  const int v = int((side >> 4) & 15u);
+  return v >= 8 ? v - 16 : v;
+}
+
+/// The component along axis `axis` (0: x, 1: y) of side byte `side`.
+constexpr int component(std::uint32_t side, int axis) { return axis == 0 ? vx(side) : vy(side); }
+
+/// `v` clamped to -kTopSpeed .. kTopSpeed.
+constexpr int clamp_speed(int v) { return v > kTopSpeed ? kTopSpeed : (v < -kTopSpeed ? -kTopSpeed : v); }
+
+/// The side byte of components (x, y), each clamped to the top speed.
+constexpr std::uint32_t pack(int x, int y) {
+  return std::uint32_t(clamp_speed(x) & 15) | (std::uint32_t(clamp_speed(y) & 15) << 4);
+}
+
+/// `side` with its component along `axis` set to `v` (clamped).
+constexpr std::uint32_t with_component(std::uint32_t side, int axis, int v) {
+  return axis == 0 ? pack(v, vy(side)) : pack(vx(side), v);
+}
+
+/// True when a component of speed `speed` (its magnitude) may take a step in sub-step `substep` of
+/// a tick of `substeps`: in the first speed / kTopSpeed of the tick.
+constexpr bool in_window(int speed, int substep, int substeps) { return substep * kTopSpeed < speed * substeps; }
+
+/// The speed of `cells_per_tick` cells a tick under `substeps` sub-steps, rounded, at most kTopSpeed
+/// (kTopSpeed is substeps / 2 cells a tick).
+constexpr int speed_of(int cells_per_tick, int substeps) {
+  const int half = substeps / 2;
+  return clamp_speed((2 * kTopSpeed * cells_per_tick + half) / (2 * half));
+}
+
+}  // namespace granular::momentum

@@ -1,0 +1,133 @@
+/// @file test_momentum.cpp
+/// The momentum lever (MotionParams::momentum, preset inertial-24-momentum; granular/step/momentum.hpp
+/// and the fluid pass's momentum stage): a burst dam's front runs much farther than under pressure
+/// alone, connected vessels still level, sparse = dense on any thread count with the side plane in the
+/// hash, every material is conserved, the velocities die out so a levelled U-tube sleeps, and the rule
+/// set checks that the lever has pressure under it. (The plain loop does not implement the lever; the
+/// golden pins hold its behaviour: test_golden.cpp.)
+
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "granular/errors.hpp"
+#include "granular/rule_presets.hpp"
+#include "granular/rule_set.hpp"
+#include "granular/world.hpp"
+#include "reference/material_scenes.hpp"
+#include "test_support.hpp"
+
+using namespace granular;
+using granular::test::test_def;
+using granular::test::with_sparse;
+
+namespace {
+
+/// The accuracy suite's quick dam break at H0 = 16 (dam_break_test.cpp): a liquid column 16 high and
+/// 32 long at the closed end of a dry channel 8 wide, on a floor of solid.
+struct Dam {
+  static constexpr int kHead = 16, kColumn = 2 * kHead, kWidth = 8;
+  static Int3 size() { return {kColumn + 2 * kHead + kHead / 2 + 8, kWidth, 1 + kHead + 4}; }
+  static Grid build() {
+    const Int3 s = size();
+    Grid g(s);
+    g.fill(Box{{0, 0, 0}, {s.x, s.y, 1}}, Material::Solid);
+    g.fill(Box{{0, 0, 1}, {kColumn, s.y, 1 + kHead}}, Material::Liquid);
+    return g;
+  }
+  /// The front's travel past the dam: the end of the run of wet columns on the floor (the suite's front).
+  static int travel(const World& w) {
+    const Int3 s = size();
+    const std::vector<std::uint8_t> cells = w.read_region(Box{{0, 0, 1}, {s.x, s.y, 2}});
+    for (int x = 0; x < s.x; ++x) {
+      bool wet = false;
+      for (int y = 0; y < s.y && !wet; ++y) wet = cells[std::size_t(x) + std::size_t(s.x) * std::size_t(y)] == to_cell(Material::Liquid);
+      if (!wet) return std::max(0, x - kColumn);
+    }
+    return s.x - kColumn;
+  }
+};
+
+}  // namespace
+
+TEST_CASE("momentum: a burst dam's front reaches 2 H0 within 24 ticks, as it does not under pressure alone") {
+  // Ritter's front covers 2 H0 = 32 cells in 2.8 ticks; under pressure alone it takes about 50.
+  const Grid initial = Dam::build();
+  World moving(test_def(Dam::size(), "inertial-24-momentum", 2, 1), initial);
+  World pressed(test_def(Dam::size(), "inertial-24-pressure", 2, 1), initial);
+  const MaterialCounts before = moving.count();
+  int ran = 0, crept = 0;  // the farthest travel of each front
+  for (int t = 0; t < 24; ++t) {
+    moving.step(1);
+    pressed.step(1);
+    ran = std::max(ran, Dam::travel(moving));
+    crept = std::max(crept, Dam::travel(pressed));
+  }
+  CAPTURE(ran);
+  CAPTURE(crept);
+  CHECK(ran >= 2 * Dam::kHead);
+  CHECK(crept < 2 * Dam::kHead);
+  CHECK(moving.count() == before);
+}
+
+TEST_CASE("momentum: the legs of a U-tube still level within a cell, and the tube comes to rest and sleeps") {
+  const int leg = 8, wall = 8, channel_top = 5, head = 40;
+  const Int3 s{2 * leg + wall, leg, channel_top + head + 4};
+  Grid g(s);
+  g.fill(Box{{0, 0, 0}, {s.x, s.y, 1}}, Material::Solid);
+  g.fill(Box{{leg, 0, channel_top}, {leg + wall, s.y, s.z}}, Material::Solid);
+  g.fill(Box{{0, 0, 1}, {s.x, s.y, channel_top}}, Material::Liquid);
+  g.fill(Box{{0, 0, channel_top}, {leg, s.y, channel_top + head}}, Material::Liquid);
+  World w(test_def(s, "inertial-24-momentum", 2, 1), g);
+  w.step(480);
+  auto level = [&](int x0) {
+    const std::vector<std::uint8_t> cells = w.read_region(Box{{x0, 0, channel_top}, {x0 + leg, s.y, s.z}});
+    return double(std::count(cells.begin(), cells.end(), to_cell(Material::Liquid))) / double(leg * leg);
+  };
+  const double left = level(0), right = level(leg + wall);
+  CAPTURE(left);
+  CAPTURE(right);
+  CHECK(std::abs(left - right) <= 1.0);
+  w.step(1);
+  CHECK(w.activity().active_bricks == 0);  // no velocity is left in the level tube
+}
+
+TEST_CASE("momentum: sparse = dense on 1 and 2 threads every few ticks, and every material is conserved") {
+  struct Scene {
+    Grid grid;
+    int ticks;
+  };
+  Grid mixed = granular::test::all_materials_scene({33, 20, 24}, 0x5EED);
+  std::vector<Scene> scenes;
+  scenes.push_back({Dam::build(), 300});
+  scenes.push_back({std::move(mixed), 200});
+  for (const Scene& scene : scenes) {
+    const Int3 size = scene.grid.size();
+    CAPTURE(size.x);
+    std::vector<std::vector<std::uint64_t>> runs;
+    MaterialCounts end{};
+    for (const int threads : {1, 2})
+      for (const bool sparse : {false, true}) {
+        World w(with_sparse(test_def(size, "inertial-24-momentum", threads, 5), sparse), scene.grid);
+        std::vector<std::uint64_t> hashes;
+        for (int t = 0; t < scene.ticks; t += 7) {
+          w.step(7);
+          hashes.push_back(w.hash());
+        }
+        runs.push_back(hashes);
+        end = w.count();
+      }
+    for (std::size_t i = 1; i < runs.size(); ++i) CHECK(runs[i] == runs[0]);
+    CHECK(end == scene.grid.count());
+  }
+}
+
+TEST_CASE("momentum: the lever needs pressure, and the error names the field") {
+  RuleSet r = preset("inertial-24-momentum");
+  r.motion.pressure = false;
+  CHECK_THROWS_WITH_AS(validate_rule_set(r), doctest::Contains("RuleSet::motion.momentum = true with motion.pressure = false"),
+                       RuleError);
+}
