@@ -3,13 +3,15 @@
 /// and the fluid pass's momentum stage): a burst dam's front runs much farther than under pressure
 /// alone, connected vessels still level, sparse = dense on any thread count with the side plane in the
 /// hash, every material is conserved, the velocities die out so a levelled U-tube sleeps, and the rule
-/// set checks that the lever has pressure under it. (The plain loop does not implement the lever; the
+/// set checks that the lever has pressure under it; snapshots hold the side plane and a world made
+/// from one continues bit-identically. (The plain loop does not implement the lever; the
 /// golden pins hold its behaviour: test_golden.cpp.)
 
 #include <doctest/doctest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <cstdint>
 #include <vector>
 
@@ -17,6 +19,7 @@
 #include "granular/rule_presets.hpp"
 #include "granular/rule_set.hpp"
 #include "granular/world.hpp"
+#include "granular/world_snapshot.hpp"
 #include "reference/material_scenes.hpp"
 #include "test_support.hpp"
 
@@ -130,4 +133,68 @@ TEST_CASE("momentum: the lever needs pressure, and the error names the field") {
   r.motion.pressure = false;
   CHECK_THROWS_WITH_AS(validate_rule_set(r), doctest::Contains("RuleSet::motion.momentum = true with motion.pressure = false"),
                        RuleError);
+}
+
+TEST_CASE("momentum: a snapshot holds the velocities, in memory and in a version 4 file, and a world made from it continues bit-identically") {
+  const Grid initial = Dam::build();
+  const WorldDef def = test_def(Dam::size(), "inertial-24-momentum", 2, 3);
+  World running(def, initial);
+  running.step(6);  // mid-burst: liquids run with velocities
+  const WorldSnapshot snap = running.capture();
+  REQUIRE(snap.side.size() == snap.cells.size());
+  CHECK(snap.hash() == running.hash());
+  const std::filesystem::path path = std::filesystem::temp_directory_path() / "granular_test_momentum.gsnap";
+  save_snapshot(snap, path);
+  const std::vector<std::uint8_t> bytes = encode_snapshot(snap);
+  CHECK(bytes[4] == kSideSnapshotVersion);
+  const WorldSnapshot loaded = load_snapshot(path);
+  std::filesystem::remove(path);
+  CHECK(loaded.side == snap.side);
+  World from_file(def, loaded);
+  World restored(def, initial);
+  restored.step(40);  // a different state, velocities included, which restore replaces
+  restored.restore(snap);
+  CHECK(from_file.hash() == running.hash());
+  CHECK(restored.hash() == running.hash());
+  for (int t = 0; t < 30; ++t) {
+    running.step(1);
+    from_file.step(1);
+    restored.step(1);
+  }
+  CHECK(from_file.hash() == running.hash());
+  CHECK(restored.hash() == running.hash());
+  // Without its velocities the same cells continue differently: the side plane is state.
+  WorldSnapshot stripped = snap;
+  stripped.side.clear();
+  World forgetful(def, stripped);
+  World remembering(def, snap);
+  forgetful.step(10);
+  remembering.step(10);
+  CHECK(forgetful.hash() != remembering.hash());
+}
+
+TEST_CASE("momentum: a snapshot's side plane is checked, and each error names the field, the cell and the value") {
+  const Grid initial = Dam::build();
+  const WorldDef def = test_def(Dam::size(), "inertial-24-momentum", 2, 3);
+  World running(def, initial);
+  running.step(6);
+  const WorldSnapshot snap = running.capture();
+  REQUIRE(!snap.side.empty());
+  WorldSnapshot short_side = snap;
+  short_side.side.resize(10);
+  CHECK_THROWS_WITH_AS(World(def, short_side), doctest::Contains("WorldSnapshot::side holds 10 bytes"), InvalidArgument);
+  WorldSnapshot on_solid = snap;
+  on_solid.side[0] = 0x01;  // cell (0, 0, 0) is the floor
+  CHECK_THROWS_WITH_AS(World(def, on_solid), doctest::Contains("WorldSnapshot::side of cell (0, 0, 0) is 1 but the cell holds 1, not a liquid"),
+                       InvalidArgument);
+  WorldSnapshot minus_eight = snap;
+  const std::size_t liquid = std::size_t(Dam::size().x) * std::size_t(Dam::size().y);  // cell (0, 0, 1)
+  REQUIRE(minus_eight.cells[liquid] == to_cell(Material::Liquid));
+  minus_eight.side[liquid] = 0x08;
+  CHECK_THROWS_WITH_AS(running.restore(minus_eight), doctest::Contains("a component of -8"), InvalidArgument);
+  WorldSnapshot other_rules = snap;
+  other_rules.rules = "inertial-24-pressure";
+  other_rules.rule_fingerprint = rule_fingerprint(preset("inertial-24-pressure"));
+  CHECK_THROWS_WITH_AS(World(test_def(Dam::size(), "inertial-24-pressure", 2, 3), other_rules),
+                       doctest::Contains("has no side plane (RuleSet::motion.momentum = false)"), InvalidArgument);
 }

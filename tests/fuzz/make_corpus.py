@@ -29,13 +29,22 @@ def mix64(z):
     return z ^ (z >> 31)
 
 
-def hash_cells(nx, ny, nz, cells):
-    """granular::hash_cells: the grid hash a snapshot's header holds."""
-    padded = bytes(cells) + bytes(-len(cells) % 8)
+def hash_words(data):
+    """granular::hash_words over every word of `data`: the summand of the grid hash."""
+    padded = bytes(data) + bytes(-len(data) % 8)
     total = 0
     for i in range(len(padded) // 8):
         word = struct.unpack_from("<Q", padded, 8 * i)[0]
         total = (total + mix64((word + (i + 1) * 0x9E3779B97F4A7C15) & MASK64)) & MASK64
+    return total
+
+
+def hash_cells(nx, ny, nz, cells, side=b""):
+    """granular::hash_cells: the grid hash a snapshot's header holds; with a side plane that holds a
+    nonzero byte, plus granular::side_hash_term of it (WorldSnapshot::hash)."""
+    total = hash_words(cells)
+    if any(side):
+        total = (total + mix64(hash_words(side) ^ 0x73696465706C616E)) & MASK64
     dims = nx | ny << 21 | nz << 42
     return mix64((mix64(dims ^ 0x6772616E756C6172) + total) & MASK64)
 
@@ -66,13 +75,14 @@ def snapshot_file_hash(nx, ny, nz, cells_hash, version, tick, seed, tool_calls, 
 
 
 def snapshot(nx, ny, nz, cells, blocks, tick=100, seed=0, tool_calls=3, rules=b"inertial-24", fingerprint=0,
-             version=1, frames=None):
-    """A snapshot file (docs/FORMATS.md) of `version` holding `cells`, compressed as `blocks` in one
-    frame, or as `frames` (a list of (blocks, content bytes)) one after the other."""
+             version=1, frames=None, side=b""):
+    """A snapshot file (docs/FORMATS.md) of `version` holding `cells` (and in version 4 the side
+    plane `side` after them), compressed as `blocks` in one frame, or as `frames` (a list of
+    (blocks, content bytes)) one after the other."""
     if frames is None:
-        frames = [(blocks, len(cells))]
+        frames = [(blocks, len(cells) + len(side))]
     body = b"".join(zstd_frame(b, size) for b, size in frames)
-    check = snapshot_file_hash(nx, ny, nz, hash_cells(nx, ny, nz, cells), version, tick, seed, tool_calls,
+    check = snapshot_file_hash(nx, ny, nz, hash_cells(nx, ny, nz, cells, side), version, tick, seed, tool_calls,
                                fingerprint, rules)
     header = b"GSNP" + struct.pack("<IIIII", version, nx, ny, nz, len(rules)) + struct.pack(
         "<QQQQQQ", tick, seed, tool_calls, fingerprint, check, len(body))
@@ -178,6 +188,10 @@ def main():
     slabs = [([(1, (1, 12)), (1, (2, 372))], 384), ([(1, (0, 384))], 384)]
     (OUT / "snapshot-slab-frames-v2.gsnap").write_bytes(snapshot(4, 3, 64, tall, None, version=2, frames=slabs))
     (OUT / "snapshot-slab-frames-v3.gsnap").write_bytes(snapshot(4, 3, 64, tall, None, version=3, frames=slabs))
+    # Version 4: the side plane (liquid velocities, signed nibbles) after the cells.
+    side = bytes([0, 0, 0x1F, 0, 0, 0, 0, 0] * 3)
+    (OUT / "snapshot-side-plane-v4.gsnap").write_bytes(
+        snapshot(4, 3, 2, cells, [(0, cells + side)], rules=b"inertial-24-momentum", version=4, side=side))
 
 
 if __name__ == "__main__":

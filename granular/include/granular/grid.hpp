@@ -89,6 +89,11 @@ class Grid {
 /// The sum makes it order-independent, so GPUs and threads can reduce it in any order.
 std::uint64_t hash_cells(Int3 size, std::span<const std::uint8_t> cells);
 
+/// What a side plane (MotionParams::momentum: one byte per cell, x fastest) adds to the sum of
+/// hash_words partials of its grid: 0 when it holds only zeros (a world at rest hashes as its
+/// cells), else a mix of its own hash_words sum. Backends and WorldSnapshot::hash add it alike.
+std::uint64_t side_hash_term(std::span<const std::uint8_t> side);
+
 /// Partial hash of a word range [first_word, first_word + count) of `cells` (the summand of
 /// hash_cells), for backends that reduce in parallel; combine with finish_hash.
 std::uint64_t hash_words(std::span<const std::uint8_t> cells, std::size_t first_word, std::size_t word_count);

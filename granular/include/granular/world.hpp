@@ -106,7 +106,8 @@ class World {
 
   /// Cells per material.
   MaterialCounts count() const;
-  /// 64-bit hash of the grid's cell bytes, grains' motion state included (identical across backends
+  /// 64-bit hash of the grid's cell bytes, grains' motion state included, and under
+  /// MotionParams::momentum of the liquids' velocities while one is not 0 (identical across backends
   /// and thread counts).
   std::uint64_t hash() const;
   /// Copies the materials of the cells of `box` (which must lie inside the grid) into a vector, x
@@ -125,8 +126,8 @@ class World {
   /// material is unchanged keeps its motion state).
   void load(const Grid& grid);
 
-  /// The world's whole state: every cell byte (motion state included), the tick, the seed, the tool
-  /// calls and the rule set's name and fingerprint. A world made from it (World(def, snapshot), or
+  /// The world's whole state: every cell byte (motion state included), the liquids' velocities under
+  /// MotionParams::momentum, the tick, the seed, the tool calls and the rule set's name and fingerprint. A world made from it (World(def, snapshot), or
   /// restore()) continues bit-identically: the same hash() after every later tick and tool.
   WorldSnapshot capture() const;
   /// Puts back the state `snapshot` holds: every cell byte, the tick and the tool calls. Throws

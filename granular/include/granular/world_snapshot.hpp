@@ -26,7 +26,10 @@ struct WorldSnapshot {
   std::uint64_t tool_calls = 0;     ///< World::tool_calls()
   std::string rules;                ///< the rule set's name (RuleSet::name)
   std::uint64_t rule_fingerprint = 0;  ///< rule_fingerprint() of the rule set
-  /// The World::hash() of the cells.
+  std::vector<std::uint8_t> side;      ///< the side plane under MotionParams::momentum (a liquid's velocity per
+                                       ///< cell, x fastest; granular/step/momentum.hpp), or empty when every
+                                       ///< cell is at rest
+  /// The World::hash() of the cells and their velocities.
   std::uint64_t hash() const;
 };
 
@@ -38,6 +41,12 @@ inline constexpr char kSnapshotMagic[4] = {'G', 'S', 'N', 'P'};
 /// the header's fields (extents, tick, seed, tool calls, rule fingerprint, rule set name) as well
 /// as the cells (snapshot_file_hash).
 inline constexpr std::uint32_t kSnapshotVersion = 3;
+
+/// The snapshot format version of a snapshot with a side plane (WorldSnapshot::side not empty): as
+/// kSnapshotVersion, but the zstd frames hold the side plane after the cells (2 nx ny nz bytes in
+/// all), and the hash covers it (WorldSnapshot::hash). A snapshot without one is written as
+/// kSnapshotVersion, which every earlier reader reads.
+inline constexpr std::uint32_t kSideSnapshotVersion = 4;
 
 /// An older version, still read: the cells in one zstd frame; the header hash covers the cells only.
 inline constexpr std::uint32_t kOneFrameSnapshotVersion = 1;
@@ -55,7 +64,8 @@ inline constexpr std::size_t kMaxSnapshotRulesName = 256;
 inline constexpr const char* kSnapshotExtension = ".gsnap";
 
 /// Encodes `snapshot` in the snapshot format, version kSnapshotVersion (header, rule set name, one
-/// zstd frame of the cells).
+/// zstd frame of the cells), or kSideSnapshotVersion when it has a side plane (the frame holds the
+/// cells, then the side plane).
 /// Throws InvalidArgument for a bad size, a cell count other than the size's, or a rule set name
 /// that is empty, longer than kMaxSnapshotRulesName or holds a control character; OutOfMemory when
 /// the buffer cannot be allocated.

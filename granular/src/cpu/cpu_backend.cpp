@@ -285,8 +285,33 @@ std::uint64_t CpuBackend::hash() const {
   std::uint64_t sum = 0;
   for (auto p : partial) sum += p;
   // With a side plane, the velocities are part of the state.
-  if (!side_.empty()) sum += mix64(hash_words(side_, 0, words) ^ 0x73696465706C616Eull);
+  sum += side_hash_term(side_);
   return finish_hash(grid_.size(), sum);
+}
+
+std::vector<std::uint8_t> CpuBackend::read_side() const {
+  if (std::all_of(side_.begin(), side_.end(), [](std::uint8_t b) { return b == 0; })) return {};
+  return side_;
+}
+
+void CpuBackend::write_side(std::span<const std::uint8_t> side) {
+  if (side.empty()) {
+    std::fill(side_.begin(), side_.end(), std::uint8_t(0));
+    return;
+  }
+  if (side_.empty())
+    throw InvalidArgument("cpu backend: write_side: the rule set has no side plane (MotionParams::momentum with a "
+                          "liquid material) to write WorldSnapshot::side into");
+  if (side.size() != side_.size())
+    throw InvalidArgument("cpu backend: write_side: " + std::to_string(side.size()) + " side bytes for the " +
+                          std::to_string(side_.size()) + " cells of the " + to_string(grid_.size()) + " grid");
+  std::copy(side.begin(), side.end(), side_.begin());
+  // Every brick steps again: a velocity may start a move anywhere.
+  if (sparse_) {
+    std::vector<std::uint32_t> all(last_.total_bricks);
+    for (std::size_t b = 0; b < all.size(); ++b) all[b] = std::uint32_t(b);
+    activity_.wake(all);
+  }
 }
 
 std::unique_ptr<Backend> make_cpu_backend(const BackendCreateInfo& info) {

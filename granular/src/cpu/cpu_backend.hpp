@@ -33,6 +33,8 @@ class CpuBackend final : public Backend {
   void write(const Box& box, std::span<const std::uint8_t> in, std::span<const std::uint32_t> wake_bricks) override;
   MaterialCounts count() const override;
   std::uint64_t hash() const override;
+  std::vector<std::uint8_t> read_side() const override;
+  void write_side(std::span<const std::uint8_t> side) override;
   void take_changed_bricks(std::span<std::uint8_t> flags) override;
   ActivityStats last_activity() const override { return last_; }
   /// A host copy of the cells.

@@ -58,6 +58,9 @@ DistributedWorld::DistributedWorld(const WorldDef& def, Communicator& comm, cons
         const SnapshotHeader& h = opened.second;
         const Int3 size = h.meta.size;
         const std::string src = path.string();
+        if (h.version == kSideSnapshotVersion)
+          throw ParseError(src + ": snapshot version " + std::to_string(h.version) +
+                           " holds a side plane (MotionParams::momentum), which a DistributedWorld cannot step");
         // The slab's cells are checked against the memory budget before they are allocated.
         check_grid_size(local.size, src + ": header fields nx, ny, nz (" + to_string(size) + "): this rank's slab");
         WorldSnapshot part = h.meta;

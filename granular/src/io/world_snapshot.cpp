@@ -71,7 +71,9 @@ Int3 parse_extents(std::span<const std::uint8_t> head, const std::string& src) {
 
 }  // namespace
 
-std::uint64_t WorldSnapshot::hash() const { return hash_cells(size, cells); }
+std::uint64_t WorldSnapshot::hash() const {
+  return finish_hash(size, hash_words(cells, 0, (cells.size() + 7) / 8) + side_hash_term(side));
+}
 
 std::uint64_t snapshot_file_hash(const WorldSnapshot& meta, std::uint64_t cells_hash, std::uint32_t version) {
   if (version < kSnapshotVersion) return cells_hash;
@@ -93,9 +95,24 @@ std::vector<std::uint8_t> encode_snapshot(const WorldSnapshot& s) {
                           " bytes; the " + to_string(s.size) + " grid has " + std::to_string(cells) + " cells");
   if (const std::string problem = name_problem(s.rules); !problem.empty())
     throw InvalidArgument("encode_snapshot: WorldSnapshot::rules '" + s.rules.substr(0, 40) + "' " + problem);
-  const std::vector<std::uint8_t> packed = zstd_compress(s.cells, 3, "encode_snapshot");
-  std::vector<std::uint8_t> out =
-      snapshot_header_bytes(s, kSnapshotVersion, snapshot_file_hash(s, s.hash(), kSnapshotVersion), packed.size());
+  if (!s.side.empty() && s.side.size() != cells)
+    throw InvalidArgument("encode_snapshot: WorldSnapshot::side holds " + std::to_string(s.side.size()) +
+                          " bytes; the " + to_string(s.size) + " grid has " + std::to_string(cells) +
+                          " cells (or 0 bytes: no velocity)");
+  const std::uint32_t version = s.side.empty() ? kSnapshotVersion : kSideSnapshotVersion;
+  std::vector<std::uint8_t> body;
+  if (!s.side.empty()) {
+    try {
+      body.reserve(s.cells.size() + s.side.size());
+    } catch (const std::bad_alloc&) {
+      throw OutOfMemory("encode_snapshot: could not allocate " + std::to_string(2 * cells) +
+                        " bytes for the cells and side plane of a " + to_string(s.size) + " grid");
+    }
+    body.insert(body.end(), s.cells.begin(), s.cells.end());
+    body.insert(body.end(), s.side.begin(), s.side.end());
+  }
+  const std::vector<std::uint8_t> packed = zstd_compress(s.side.empty() ? s.cells : body, 3, "encode_snapshot");
+  std::vector<std::uint8_t> out = snapshot_header_bytes(s, version, snapshot_file_hash(s, s.hash(), version), packed.size());
   try {
     out.insert(out.end(), packed.begin(), packed.end());
   } catch (const std::bad_alloc&) {
@@ -140,10 +157,10 @@ SnapshotHeader parse_snapshot_header(std::span<const std::uint8_t> bytes, std::u
   }
   SnapshotHeader h;
   h.version = get_u32(bytes, kVersionField.at);
-  if (h.version < kOneFrameSnapshotVersion || h.version > kSnapshotVersion)
+  if (h.version < kOneFrameSnapshotVersion || h.version > kSideSnapshotVersion)
     throw ParseError(src + ": unsupported snapshot version " + std::to_string(h.version) + " (field " +
                      field_text(kVersionField) + "); this build reads versions " +
-                     std::to_string(kOneFrameSnapshotVersion) + ".." + std::to_string(kSnapshotVersion));
+                     std::to_string(kOneFrameSnapshotVersion) + ".." + std::to_string(kSideSnapshotVersion));
   WorldSnapshot& s = h.meta;
   s.size = parse_extents(bytes, src);
   const std::uint32_t name_length = get_u32(bytes, kNameLengthField.at);
@@ -174,11 +191,12 @@ SnapshotHeader parse_snapshot_header(std::span<const std::uint8_t> bytes, std::u
                      "the file should be " + std::to_string(h.body_at + h.packed_size) + " bytes but it is " +
                      std::to_string(total));
   const std::uint64_t cells = std::uint64_t(s.size.x) * std::uint64_t(s.size.y) * std::uint64_t(s.size.z);
-  if (exceeds_expansion(cells, h.packed_size, kMaxZstdExpansion))
+  const std::uint64_t planes = h.version == kSideSnapshotVersion ? 2 : 1;  // the cells, and the side plane
+  if (exceeds_expansion(planes * cells, h.packed_size, kMaxZstdExpansion))
     throw ParseError(src + ": header fields nx, ny, nz (" + to_string(s.size) + " = " + std::to_string(cells) +
-                     " cells) cannot come from " + std::to_string(h.packed_size) +
-                     " bytes of compressed cells (zstd expands at most " + std::to_string(kMaxZstdExpansion) +
-                     "-fold)");
+                     " cells" + (planes == 2 ? ", and as many side bytes" : "") + ") cannot come from " +
+                     std::to_string(h.packed_size) + " bytes of compressed cells (zstd expands at most " +
+                     std::to_string(kMaxZstdExpansion) + "-fold)");
   return h;
 }
 
@@ -198,8 +216,15 @@ namespace {
 WorldSnapshot decode_body(SnapshotHeader h, std::span<const std::uint8_t> packed, const std::string& src) {
   WorldSnapshot& s = h.meta;
   const std::uint64_t cells = std::uint64_t(s.size.x) * std::uint64_t(s.size.y) * std::uint64_t(s.size.z);
-  s.cells = zstd_decompress(packed, cells, src + ": the compressed cells at byte " + std::to_string(h.body_at),
+  const bool with_side = h.version == kSideSnapshotVersion;
+  s.cells = zstd_decompress(packed, with_side ? 2 * cells : cells,
+                            src + ": the compressed cells at byte " + std::to_string(h.body_at),
                             h.version != kOneFrameSnapshotVersion);
+  if (with_side) {
+    s.side.assign(s.cells.begin() + std::ptrdiff_t(cells), s.cells.end());
+    s.cells.resize(std::size_t(cells));
+    s.cells.shrink_to_fit();
+  }
   const std::uint64_t found = snapshot_file_hash(s, s.hash(), h.version);
   if (found != h.hash) throw ParseError(src + ": " + snapshot_hash_problem(found, h.hash, h.version));
   return std::move(s);
@@ -210,8 +235,9 @@ WorldSnapshot decode_body(SnapshotHeader h, std::span<const std::uint8_t> packed
 void check_snapshot_memory(const SnapshotHeader& h, double extra, const std::string& src) {
   const Int3 size = h.meta.size;
   const std::uint64_t cells = std::uint64_t(size.x) * std::uint64_t(size.y) * std::uint64_t(size.z);
+  // A snapshot with a side plane decodes twice the cells, then keeps the cells and the side plane.
   check_grid_size(size, src + ": header fields nx, ny, nz (" + to_string(size) + " = " + std::to_string(cells) + " cells)",
-                  1.0, extra);
+                  h.version == kSideSnapshotVersion ? 3.0 : 1.0, extra);
 }
 
 }  // namespace

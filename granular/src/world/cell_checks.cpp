@@ -1,5 +1,6 @@
 #include "world/cell_checks.hpp"
 
+#include "granular/grid.hpp"
 #include "granular/material.hpp"
 #include "granular/motion.hpp"
 #include "granular/rule_set.hpp"
@@ -37,6 +38,28 @@ std::array<std::string, 256> cell_byte_problems(const RuleSet& rules) {
                     std::to_string(rules.motion.max_level());
   }
   return problems;
+}
+
+void check_side_bytes(std::span<const std::uint8_t> side, std::span<const std::uint8_t> cells, Int3 size,
+                      const RuleSet& rules, const std::string& what) {
+  if (side.empty()) return;
+  if (side.size() != cells.size())
+    throw InvalidArgument(what + ": WorldSnapshot::side holds " + std::to_string(side.size()) + " bytes; the " +
+                          to_string(size) + " grid has " + std::to_string(cells.size()) + " cells (or 0 bytes: no velocity)");
+  const StepMaterials mats = step_materials(rules.materials);
+  for (std::size_t i = 0; i < side.size(); ++i) {
+    const std::uint8_t v = side[i];
+    if (v == 0) continue;
+    const std::string at = what + ": WorldSnapshot::side of " + cell_text(i, size) + " is " + std::to_string(unsigned(v));
+    if (!rules.motion.momentum)
+      throw InvalidArgument(at + ", a velocity, but rule set '" + rules.name +
+                            "' has no side plane (RuleSet::motion.momentum = false)");
+    if (!mats.is_liquid(cells[i] & kMaterialMask))
+      throw InvalidArgument(at + " but the cell holds " + std::to_string(unsigned(cells[i])) +
+                            ", not a liquid: only a liquid carries a velocity");
+    if ((v & 15u) == 8u || (v >> 4) == 8u)
+      throw InvalidArgument(at + ": a component of -8; each lies in -7..7 (granular/step/momentum.hpp)");
+  }
 }
 
 }  // namespace granular

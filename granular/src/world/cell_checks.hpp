@@ -44,4 +44,11 @@ void check_cell_bytes(std::span<const std::uint8_t> cells, const RuleSet& rules,
                         problems[*first]);
 }
 
+/// Throws InvalidArgument starting with `what` when `side` (WorldSnapshot::side of `cells`, a grid
+/// of `size`) cannot be a side plane under `rules`: it is neither empty nor one byte per cell, it
+/// holds a velocity under rules without MotionParams::momentum, on a cell that is not a liquid, or
+/// with a component of -8 (momentum.hpp: each lies in -7..7); names the cell and the byte.
+void check_side_bytes(std::span<const std::uint8_t> side, std::span<const std::uint8_t> cells, Int3 size,
+                      const RuleSet& rules, const std::string& what);
+
 }  // namespace granular

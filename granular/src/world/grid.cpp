@@ -144,6 +144,11 @@ std::uint64_t finish_hash(Int3 size, std::uint64_t partial_sum) {
   return mix64(mix64(dims ^ 0x6772616E756C6172ull) + partial_sum);
 }
 
+std::uint64_t side_hash_term(std::span<const std::uint8_t> side) {
+  if (std::all_of(side.begin(), side.end(), [](std::uint8_t b) { return b == 0; })) return 0;
+  return mix64(hash_words(side, 0, (side.size() + 7) / 8) ^ 0x73696465706C616Eull);  // "sideplan"
+}
+
 std::uint64_t hash_cells(Int3 size, std::span<const std::uint8_t> cells) {
   const std::size_t words = (cells.size() + 7) / 8;
   return finish_hash(size, hash_words(cells, 0, words));

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "granular/bricks.hpp"
 #include "granular/errors.hpp"
@@ -39,8 +40,19 @@ class Backend {
   virtual void write(const Box& box, std::span<const std::uint8_t> in, std::span<const std::uint32_t> wake_bricks) = 0;
   /// Cells per material.
   virtual MaterialCounts count() const = 0;
-  /// The grid hash (hash_cells).
+  /// The grid hash (hash_cells), plus side_hash_term of the side plane when it keeps one.
   virtual std::uint64_t hash() const = 0;
+  /// The side plane (MotionParams::momentum: one byte per cell, x fastest), or empty when the backend
+  /// keeps none or it holds only zeros. The default keeps none.
+  virtual std::vector<std::uint8_t> read_side() const { return {}; }
+  /// Replaces the side plane with `side` (every cell, x fastest; empty: all zero), after the cells
+  /// it belongs to were written. Throws InvalidArgument when `side` is not empty and the backend
+  /// keeps no side plane (the default keeps none).
+  virtual void write_side(std::span<const std::uint8_t> side) {
+    if (!side.empty())
+      throw InvalidArgument("the " + description() + " backend keeps no side plane (MotionParams::momentum) to write "
+                            "WorldSnapshot::side into");
+  }
   /// Sets flags[i] = 1 (one entry per brick) for every brick whose cells step() changed since the
   /// last call, and forgets them. A dense backend sets every flag.
   virtual void take_changed_bricks(std::span<std::uint8_t> flags) = 0;
