@@ -16,20 +16,35 @@
 
 namespace granular::test {
 
-/// The plain loop's run from an initial grid: its cells (motion bits included) after each tick.
+/// The plain loop's run from an initial grid: its cells (motion bits included) after each tick, and
+/// under MotionParams::momentum its side plane.
 struct PlainTrajectory {
   Int3 size{};                                      ///< grid extent
   std::vector<std::vector<std::uint8_t>> after_tick;  ///< after_tick[t]: the cells after tick t (0-based)
+  std::vector<std::vector<std::uint8_t>> side_after_tick;  ///< the side plane after tick t (momentum; else empty)
 };
+
+/// The World::hash() of a grid of `size` holding `cells` and the side plane `side` (empty: none).
+inline std::uint64_t plain_hash(Int3 size, const std::vector<std::uint8_t>& cells, const std::vector<std::uint8_t>& side) {
+  return finish_hash(size, hash_words(cells, 0, (cells.size() + 7) / 8) + side_hash_term(side));
+}
+
+/// The hash of the plain loop's state after tick t.
+inline std::uint64_t plain_hash_after(const PlainTrajectory& plain, std::size_t t) {
+  return plain_hash(plain.size, plain.after_tick[t],
+                    plain.side_after_tick.empty() ? std::vector<std::uint8_t>() : plain.side_after_tick[t]);
+}
 
 /// Runs the plain loop `ticks` ticks from `initial` with the rule set, table and seed of `world`.
 inline PlainTrajectory plain_trajectory(const World& world, const Grid& initial, int ticks) {
   const reference::PlainRules rules = reference::plain_rules(world.rules(), world.lut(), world.def().seed);
-  PlainTrajectory run{initial.size(), {}};
+  PlainTrajectory run{initial.size(), {}, {}};
   std::vector<std::uint8_t> cells(initial.cells().begin(), initial.cells().end());
+  std::vector<std::uint8_t> side(rules.momentum ? cells.size() : 0, 0);
   for (int t = 0; t < ticks; ++t) {
-    reference::plain_step(cells, initial.size(), rules, std::uint64_t(t));
+    reference::plain_step(cells, initial.size(), rules, std::uint64_t(t), 1, side);
     run.after_tick.push_back(cells);
+    if (rules.momentum) run.side_after_tick.push_back(side);
   }
   return run;
 }
@@ -50,7 +65,7 @@ inline std::string departure_from_plain_loop(World& world, const PlainTrajectory
   for (std::size_t t = 0; t < plain.after_tick.size(); ++t) {
     world.step(1);
     const std::vector<std::uint8_t>& expected = plain.after_tick[t];
-    const std::uint64_t got = world.hash(), want = hash_cells(plain.size, expected);
+    const std::uint64_t got = world.hash(), want = plain_hash_after(plain, t);
     if (got == want) continue;
     std::string where = "after tick " + std::to_string(t) + " the world's hash is " + hex64(got) +
                         ", the plain loop's " + hex64(want) + "; ";
@@ -58,7 +73,7 @@ inline std::string departure_from_plain_loop(World& world, const PlainTrajectory
     for (std::size_t i = 0; i < expected.size(); ++i) materials[i] = cell_material(expected[i]);
     const Grid snapshot = world.read_grid();
     const std::string cell = first_differing_cell(plain.size, materials, snapshot.cells(), "plain loop", "world");
-    return where + (cell.empty() ? "every material agrees, so they differ in grains' motion bits only"
+    return where + (cell.empty() ? "every material agrees, so they differ in grains' motion bits or liquids' velocities only"
                                  : "materials only (World reads no motion bits): " + cell);
   }
   return {};

@@ -4,8 +4,8 @@
 /// alone, connected vessels still level, sparse = dense on any thread count with the side plane in the
 /// hash, every material is conserved, the velocities die out so a levelled U-tube sleeps, and the rule
 /// set checks that the lever has pressure under it; snapshots hold the side plane and a world made
-/// from one continues bit-identically. (The plain loop does not implement the lever; the
-/// golden pins hold its behaviour: test_golden.cpp.)
+/// from one continues bit-identically. (The plain loop implements the lever independently and the
+/// golden pins hold its behaviour: test_plain_step.cpp, test_golden.cpp.)
 
 #include <doctest/doctest.h>
 

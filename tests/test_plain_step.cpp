@@ -117,11 +117,6 @@ TEST_CASE("plain step: World on the CPU, sparse and dense, 1 and 2 threads, equa
   const Int3 sizes[] = {{17, 12, 9}, {33, 20, 16}, {40, 40, 24}};
   const std::uint64_t seeds[] = {1, 0x5EED0002, 77};
   for (const std::string& preset : rule_preset_names()) {
-    if (granular::preset(preset).motion.momentum) {
-      // The plain loop has no side plane: test_momentum.cpp checks that lever's paths against each other.
-      MESSAGE("preset " << preset << " skipped: the plain loop does not implement MotionParams::momentum");
-      continue;
-    }
     // Worlds of one process share the 64 MiB tables while one of them lives.
     const World keep_tables_alive(test_def({8, 8, 8}, preset.c_str(), 1), Grid({8, 8, 8}));
     for (std::size_t k = 0; k < std::size(sizes); ++k) {
@@ -140,10 +135,12 @@ TEST_CASE("plain step: World on the CPU, sparse and dense, 1 and 2 threads, equa
       CHECK_MESSAGE(last.count() == counts, "preset " << preset << ", " << to_string(size) << ": the plain loop changed the counts");
       // The plain loop's own thread split (the benchmark's) changes nothing.
       std::vector<std::uint8_t> threaded(initial.cells().begin(), initial.cells().end());
-      reference::plain_run(threaded, size, plain_rules_of(first), 0, kTicks, 3);
+      std::vector<std::uint8_t> threaded_side(plain.side_after_tick.empty() ? 0 : threaded.size(), 0);
+      reference::plain_run(threaded, size, plain_rules_of(first), 0, kTicks, 3, threaded_side);
       const std::string split = granular::test::first_differing_cell(size, plain.after_tick.back(), threaded,
                                                                      "plain loop on 1 thread", "on 3 threads");
       CHECK_MESSAGE(split.empty(), "preset " << preset << ", " << to_string(size) << ": " << split);
+      if (!plain.side_after_tick.empty()) CHECK(threaded_side == plain.side_after_tick.back());
       for (const bool sparse : {true, false})
         for (const int threads : {1, 2}) {
           WorldDef def = test_def(size, preset.c_str(), threads, seed);

@@ -38,6 +38,8 @@ namespace granular::cuda {
 
 /// The device Platform of the block step: read-only cache loads, symmetries by a per-cell loop.
 struct DevicePlatform {
+  /// The CUDA paths step no side plane yet (MotionParams::momentum): its Rule types are not built.
+  static constexpr bool kSidePlane = false;
   /// Reads a table entry through the read-only data cache.
   template <class T>
   __device__ static T load(const T* p) {

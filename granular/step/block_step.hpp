@@ -8,8 +8,9 @@
 ///    random symmetry when the rule set draws one.
 ///  * MotionRule: one sub-step of the motion model (motion_block.hpp, motion::step_block).
 /// Both take a Platform policy for what differs between host and device: how a table entry is read
-/// (a plain load, or a read-only cache load) and how a key is viewed under a symmetry (byte tables on
-/// the CPU, a per-cell loop on a GPU). Everything else is plain constexpr integer arithmetic compiled
+/// (a plain load, or a read-only cache load), how a key is viewed under a symmetry (byte tables on
+/// the CPU, a per-cell loop on a GPU) and whether its paths step a side plane (kSidePlane: a
+/// MotionRule with kSide then takes the block's side bytes beside its cell bytes). Everything else is plain constexpr integer arithmetic compiled
 /// by the host compiler and by nvcc (--expt-relaxed-constexpr), which is what makes every path
 /// bit-identical.
 ///
@@ -84,6 +85,8 @@ struct OneStepRule {
 
   /// No motion model.
   static constexpr bool kMotion = false;
+  /// No side plane: a path calls step(bytes, ...).
+  static constexpr bool kStepsSide = false;
   /// Cell bytes hold materials only.
   static constexpr std::uint64_t kCellMask = 7 * kEveryByte;
 
@@ -254,22 +257,12 @@ constexpr Rule make_rule(const StepRules& r, std::uint64_t n) {
   }
 }
 
-/// True when a Platform's paths step a side plane (Platform::kSidePlane; StepRules::side is only
-/// ever set on such a platform's rules).
-template <class Platform>
-constexpr bool platform_steps_side() {
-  if constexpr (requires { Platform::kSidePlane; })
-    return Platform::kSidePlane;
-  else
-    return false;
-}
-
 /// Calls fn(type_tag) with a value of the Rule type of `r`'s steps: one instantiation of the
 /// caller's path per Rule type.
 template <class Platform, class Fn>
 constexpr void with_rule_type(const StepRules& r, Fn&& fn) {
   const bool pressure = r.motion.enabled() && r.motion.pressure && r.heads != nullptr;
-  if constexpr (platform_steps_side<Platform>()) {
+  if constexpr (Platform::kSidePlane) {  // StepRules::side is only ever set on such a platform's rules
     if (pressure && r.side) {
       if (r.motion.columns)
         fn(static_cast<MotionRule<Platform, true, true, true>*>(nullptr));

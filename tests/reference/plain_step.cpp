@@ -35,17 +35,19 @@ struct BlockAt {
 /// The 8 cells of a block gathered from the grid, with where each lives; outside cells read as solid.
 struct Gathered {
   BlockCells cells{};
+  BlockCells side{};  ///< the cells' side bytes (momentum; 0 outside the grid or without a side plane)
   std::size_t at[8] = {};
   bool inside[8] = {};
 };
 
-Gathered gather(std::span<const std::uint8_t> grid, Int3 n, const BlockAt& b) {
+Gathered gather(std::span<const std::uint8_t> grid, Int3 n, const BlockAt& b, std::span<const std::uint8_t> side = {}) {
   Gathered g;
   for (int i = 0; i < 8; ++i) {
     const int x = b.x0 + (i & 1), y = b.y0 + ((i >> 1) & 1), z = b.z0 + ((i >> 2) & 1);
     g.inside[i] = x >= 0 && y >= 0 && z >= 0 && x < n.x && y < n.y && z < n.z;
     g.at[i] = g.inside[i] ? std::size_t(x) + std::size_t(n.x) * (std::size_t(y) + std::size_t(n.y) * std::size_t(z)) : 0;
     g.cells[i] = g.inside[i] ? grid[g.at[i]] : kOutsideCell;
+    g.side[i] = g.inside[i] && !side.empty() ? side[g.at[i]] : 0;
   }
   return g;
 }
@@ -84,6 +86,31 @@ int pushed_out_level(std::int32_t excess, int max_level) {
   int root = 0;
   while (root < 64 && std::int64_t(root + 1) * (root + 1) * kPlainHeadUnit <= std::int64_t(excess)) ++root;
   return std::min(root + 1, max_level);
+}
+
+/// A velocity component of a side byte: axis 0 (x) from bits 0..3, axis 1 (y) from bits 4..7, each
+/// a signed nibble.
+int side_component(std::uint8_t side, int axis) {
+  const int v = (side >> (4 * axis)) & 15;
+  return v >= 8 ? v - 16 : v;
+}
+
+/// The side byte of velocity (x, y), each clamped to -kPlainTopSpeed .. kPlainTopSpeed.
+std::uint8_t side_byte(int x, int y) {
+  x = std::clamp(x, -kPlainTopSpeed, kPlainTopSpeed);
+  y = std::clamp(y, -kPlainTopSpeed, kPlainTopSpeed);
+  return std::uint8_t((x & 15) | ((y & 15) << 4));
+}
+
+/// `side` with its component along `axis` set to `v` (clamped).
+std::uint8_t with_side_component(std::uint8_t side, int axis, int v) {
+  return axis == 0 ? side_byte(v, side_component(side, 1)) : side_byte(side_component(side, 0), v);
+}
+
+/// The speed of `cells_per_tick` cells a tick: 7 is substeps / 2 cells a tick; rounded, at most 7.
+int speed_of_cells(int cells_per_tick, int substeps) {
+  const double speed = double(kPlainTopSpeed) * cells_per_tick / (substeps / 2);
+  return std::min(kPlainTopSpeed, int(speed + 0.5));
 }
 
 /// The coarse grid of a grid of `n` cells: one coarse cell per 2 x 2 x 2 cells, cut at the far faces.
@@ -182,9 +209,10 @@ bool alone_in_top_layer(const PlainRules& r, const BlockCells& cells, int i) {
 
 /// The block after one sub-step of the motion model (motion.hpp, motion_block.hpp), then the fluid
 /// pass (fluid_block.hpp); under pressure `heads` holds the head of each cell by block position
-/// (heads_of_block), else it is null.
+/// (heads_of_block), else it is null; under momentum `side` holds the cells' side bytes, which the
+/// sub-step moves and updates with them, else it is null.
 BlockCells motion_block(const PlainRules& r, BlockCells cells, const BlockAt& b,
-                        const std::array<std::int32_t, 8>* heads) {
+                        const std::array<std::int32_t, 8>* heads, BlockCells* side = nullptr) {
   const int s = b.substep;
   // Columns: a wake (a void with the wake bit) under a faller makes it a follower at the wake's level
   // if that is higher; every wake is cleared.
@@ -239,7 +267,12 @@ BlockCells motion_block(const PlainRules& r, BlockCells cells, const BlockAt& b,
   if (heads != nullptr)
     for (int i = 0; i < 8; ++i)
       if (resting_liquid(r, cells[i])) at_rest_liquid[i] = any_at_rest_liquid = true;
-  if (!any_moving && !any_gas_turn && !any_at_rest_liquid) return cells;  // its wakes cleared
+  // Under momentum a liquid with a velocity takes part too: it glides.
+  bool any_glider = false;
+  if (side != nullptr)
+    for (int i = 0; i < 8; ++i)
+      any_glider = any_glider || (behaviour_of(r, cells[i]) == Behaviour::Liquid && (*side)[i] != 0);
+  if (!any_moving && !any_gas_turn && !any_at_rest_liquid && !any_glider) return cells;  // its wakes cleared
 
   const int symmetry = r.random_symmetry ? int(random & 7u) : 0;
   const auto map = horizontal_symmetry(symmetry);
@@ -271,15 +304,24 @@ BlockCells motion_block(const PlainRules& r, BlockCells cells, const BlockAt& b,
     const bool rolled = to >= 4 && to != i, toppled = to < 4 && (to & 3) != (i & 3);
     if (moving[i] && cell_motion(cells[i]) > 0 && (rolled || toppled)) flowed = true;
   }
-  BlockCells out{};
+  BlockCells out{}, side_out{};
   std::array<std::uint8_t, 8> wake_left{};  // per top cell: the wake it leaves (0: none)
   std::array<bool, 8> mover{};  // who may start a move in the fluid pass: took part and stayed
   for (int i = 0; i < 8; ++i) {
     std::uint8_t cell = cells[i];
     const int to = destination_of[i];
+    if (side != nullptr) side_out[to] = (*side)[i];
     if (moving[i]) {
       const PlainMaterial& mat = r.materials[cell & kMaterialMask];
       int level = cell_motion(cell);
+      // Under momentum a liquid that rolls or topples runs on along its move at its level's speed.
+      if (side != nullptr && mat.behaviour == Behaviour::Liquid && to != i && !fell_straight(i)) {
+        const int speed = speed_of_cells(level > 0 ? motion_window(level) : 1, r.substeps);
+        std::uint8_t v = side_out[to];
+        for (int axis = 0; axis < 2; ++axis)
+          if (((to ^ i) >> axis) & 1) v = with_side_component(v, axis, ((to >> axis) & 1) != 0 ? speed : -speed);
+        side_out[to] = v;
+      }
       const std::uint8_t phase = cell & kMotionPhaseBit;
       if (to < 4) {
         const bool straight_down = (to & 3) == (i & 3);
@@ -331,7 +373,18 @@ BlockCells motion_block(const PlainRules& r, BlockCells cells, const BlockAt& b,
     pressure.substep = s;
     pressure.max_level = max_level;
   }
-  BlockCells after = plain_fluid_pass(r, out, mover, symmetry, draws, true, heads != nullptr ? &pressure : nullptr);
+  PlainMomentum momentum;
+  if (side != nullptr) {
+    momentum.side = side_out;
+    for (int i = 0; i < 8; ++i)
+      momentum.gliders[std::size_t(i)] =
+          destination_of[i] == i && behaviour_of(r, out[i]) == Behaviour::Liquid && side_out[i] != 0;
+    momentum.substep = s;
+    momentum.substeps = r.substeps;
+  }
+  BlockCells after = plain_fluid_pass(r, out, mover, symmetry, draws, true, heads != nullptr ? &pressure : nullptr,
+                                      side != nullptr ? &momentum : nullptr);
+  if (side != nullptr) *side = momentum.side;
   for (int i = 4; i < 8; ++i)
     if (wake_left[i] != 0 && after[i] == 0) after[i] = wake_left[i];
   return after;
@@ -365,9 +418,9 @@ void paper_interior_block(std::uint8_t* base, std::size_t sy, std::size_t sz, co
 }
 
 /// Every block of one layer of one pass; `heads` is the tick's head field (plain_heads) under
-/// pressure, else null.
+/// pressure, else null; `side` the side plane under momentum, else empty.
 void plain_layer(std::span<std::uint8_t> grid, Int3 n, const PlainRules& r, BlockOffset o, std::uint64_t tick,
-                 int substep, int layer, const std::vector<std::int32_t>* heads) {
+                 int substep, int layer, const std::vector<std::int32_t>* heads, std::span<std::uint8_t> side) {
   const int z0 = 2 * layer - o.z;
   const std::size_t sy = std::size_t(n.x), sz = sy * std::size_t(n.y);
   const bool plain_rule = !r.motion() && !r.random_symmetry;
@@ -381,32 +434,34 @@ void plain_layer(std::span<std::uint8_t> grid, Int3 n, const PlainRules& r, Bloc
         continue;
       }
       const BlockAt at{x0, y0, z0, tick, substep};
-      const Gathered g = gather(grid, n, at);
+      Gathered g = gather(grid, n, at, side);
       if (!r.motion()) {
         scatter(grid, g, one_step_block(r, g.cells, at));
         continue;
       }
       std::array<std::int32_t, 8> block_heads{};
       if (heads != nullptr) block_heads = heads_of_block(*heads, n, g, at);
-      scatter(grid, g, motion_block(r, g.cells, at, heads != nullptr ? &block_heads : nullptr));
+      scatter(grid, g, motion_block(r, g.cells, at, heads != nullptr ? &block_heads : nullptr, side.empty() ? nullptr : &g.side));
+      if (!side.empty()) scatter(side, g, g.side);
     }
   }
 }
 
-/// One pass (a tick, or a sub-step of one) over every layer, split over `threads` threads; `heads` as
-/// plain_layer reads it.
+/// One pass (a tick, or a sub-step of one) over every layer, split over `threads` threads; `heads` and
+/// `side` as plain_layer reads them.
 void plain_pass(std::span<std::uint8_t> grid, Int3 n, const PlainRules& r, BlockOffset o, std::uint64_t tick,
-                int substep, int threads, const std::vector<std::int32_t>* heads = nullptr) {
+                int substep, int threads, const std::vector<std::int32_t>* heads = nullptr,
+                std::span<std::uint8_t> side = {}) {
   const int layers = block_count(n.z, o.z);
   if (threads <= 1) {
-    for (int layer = 0; layer < layers; ++layer) plain_layer(grid, n, r, o, tick, substep, layer, heads);
+    for (int layer = 0; layer < layers; ++layer) plain_layer(grid, n, r, o, tick, substep, layer, heads, side);
     return;
   }
   std::vector<std::thread> pool;
   for (int t = 0; t < threads; ++t)
     pool.emplace_back([=, &r] {
       for (int layer = layers * t / threads; layer < layers * (t + 1) / threads; ++layer)
-        plain_layer(grid, n, r, o, tick, substep, layer, heads);
+        plain_layer(grid, n, r, o, tick, substep, layer, heads, side);
     });
   for (auto& th : pool) th.join();
 }
@@ -414,18 +469,28 @@ void plain_pass(std::span<std::uint8_t> grid, Int3 n, const PlainRules& r, Block
 }  // namespace
 
 BlockCells plain_fluid_pass(const PlainRules& r, const BlockCells& cells, const std::array<bool, 8>& mover,
-                            int symmetry, std::uint64_t draws, bool levels, const PlainPressure* pressure) {
+                            int symmetry, std::uint64_t draws, bool levels, const PlainPressure* pressure,
+                            PlainMomentum* momentum) {
   // The block in its viewed frame: position map[i] holds block cell i, with whether it may start a
   // move and the draw of block position i. moved[p]: the cell now at p has moved in this pass.
   const auto map = horizontal_symmetry(symmetry);
-  std::uint8_t cell[8] = {};
-  bool may_start[8] = {}, moved[8] = {};
-  int draw[8] = {};
+  std::uint8_t cell[8] = {}, side[8] = {};
+  bool may_start[8] = {}, moved[8] = {}, glides[8] = {};
+  int draw[8] = {}, block_position[8] = {};
   for (int i = 0; i < 8; ++i) {
     cell[map[i]] = cells[i];
     may_start[map[i]] = mover[i];
     draw[map[i]] = int((draws >> (8 * i)) & 0xFFu);
+    block_position[map[i]] = i;
+    if (momentum != nullptr) {
+      side[map[i]] = momentum->side[std::size_t(i)];
+      glides[map[i]] = momentum->gliders[std::size_t(i)];
+    }
   }
+  // The viewed position of block position i, and the block axis (0: x, 1: y) between two viewed
+  // positions of one layer that differ along one axis.
+  auto viewed = [&](int i) { return map[i]; };
+  auto axis_between = [&](int p, int q) { return (block_position[p] ^ block_position[q]) == 1 ? 0 : 1; };
   auto material = [&](int p) -> const PlainMaterial& { return r.materials[cell[p] & kMaterialMask]; };
   auto is = [&](int p, Behaviour b) { return material(p).behaviour == b; };
   auto density = [&](int p) { return material(p).density; };
@@ -435,6 +500,7 @@ BlockCells plain_fluid_pass(const PlainRules& r, const BlockCells& cells, const 
   auto starts = [&](int p) { return may_start[p] && !moved[p]; };
   auto exchange = [&](int p, int q) {
     std::swap(cell[p], cell[q]);
+    std::swap(side[p], side[q]);
     moved[p] = moved[q] = true;
   };
   // The other columns of column c in order of preference: the x neighbour, the y neighbour, the diagonal.
@@ -481,6 +547,14 @@ BlockCells plain_fluid_pass(const PlainRules& r, const BlockCells& cells, const 
       if (moved[q]) continue;
       if (is(q, Behaviour::Void) || (moves && fluid(q) && density(q) < density(p))) {
         exchange(p, q);
+        // Under momentum it gains a unit along each block axis of its move.
+        if (momentum != nullptr)
+          for (int axis = 0; axis < 2; ++axis) {
+            const int from = block_position[p], to = block_position[q];
+            if ((((from ^ to) >> axis) & 1) == 0) continue;
+            const int sign = ((to >> axis) & 1) != 0 ? 1 : -1, now = side_component(side[q], axis);
+            side[q] = with_side_component(side[q], axis, now * sign > 0 ? now + sign : sign);
+          }
         break;
       }
     }
@@ -549,6 +623,15 @@ BlockCells plain_fluid_pass(const PlainRules& r, const BlockCells& cells, const 
       }
       if (from < 0) continue;
       exchange(from, p);
+      // Under momentum a liquid pushed sideways leaves at 2 floor(sqrt(e)) + 1 cells a tick along
+      // the push, nothing across it.
+      if (momentum != nullptr && from != (p ^ 4)) {
+        int root = 0;
+        while (root < 64 && std::int64_t(root + 1) * (root + 1) * kPlainHeadUnit <= std::int64_t(highest - top)) ++root;
+        const int axis = axis_between(from, p), sign = ((block_position[p] >> axis) & 1) != 0 ? 1 : -1;
+        const int speed = speed_of_cells(2 * root + 1, momentum->substeps);
+        side[p] = axis == 0 ? side_byte(sign * speed, 0) : side_byte(0, sign * speed);
+      }
       // Pushed down out of its body (into a cell outside any body), a liquid leaves at the speed its
       // head gives.
       if (levels && from == p + 4 && plain_outside_body(head[p]))
@@ -556,8 +639,36 @@ BlockCells plain_fluid_pass(const PlainRules& r, const BlockCells& cells, const 
                                (pushed_out_level(highest - top, pressure->max_level) << kMotionShift));
     }
   }
+  // 6. Momentum: each glider that has not moved steps along its velocity, x then y.
+  if (momentum != nullptr)
+    for (int p = 0; p < 8; ++p) {
+      if (moved[p] || !glides[p] || !is(p, Behaviour::Liquid)) continue;
+      for (int axis = 0; axis < 2; ++axis) {
+        const int v = side_component(side[p], axis);
+        const bool high = ((block_position[p] >> axis) & 1) != 0;
+        if (v == 0 || high == (v > 0)) continue;  // its neighbour along v lies in another block
+        if (kPlainTopSpeed * momentum->substep >= std::abs(v) * momentum->substeps) continue;  // outside its window
+        const int q = viewed(block_position[p] ^ (1 << axis));
+        if (moved[q]) continue;
+        if (fluid(q) && density(q) < density(p)) {
+          exchange(p, q);
+          break;
+        }
+        if (is(q, Behaviour::Liquid)) {
+          const std::uint8_t handed = draw[q] < kPlainHandOnLoss ? with_side_component(side[p], axis, v - (v > 0 ? 1 : -1))
+                                                                 : side[p];
+          side[p] = side[q];
+          side[q] = handed;
+          moved[p] = moved[q] = true;
+          break;
+        }
+        side[p] = with_side_component(side[p], axis, 0);
+      }
+    }
   BlockCells out{};
   for (int i = 0; i < 8; ++i) out[i] = cell[map[i]];
+  if (momentum != nullptr)
+    for (int i = 0; i < 8; ++i) momentum->side[std::size_t(i)] = side[map[i]];
   return out;
 }
 
@@ -629,6 +740,7 @@ PlainRules plain_rules(const RuleSet& rules, const Lut& lut, std::uint64_t seed)
   plain.substeps = rules.motion.substeps;
   plain.columns = rules.motion.columns;
   plain.pressure = rules.motion.pressure;
+  plain.momentum = rules.motion.momentum;
   bool have_static = false, have_granular = false, have_liquid = false;
   for (int s = 0; s < kMaterialCount; ++s) {
     const MaterialDef& d = rules.materials[std::size_t(s)];
@@ -662,7 +774,8 @@ PlainRules plain_rules(const RuleSet& rules, const Lut& lut, std::uint64_t seed)
   return plain;
 }
 
-void plain_step(std::span<std::uint8_t> cells, Int3 size, const PlainRules& rules, std::uint64_t tick, int threads) {
+void plain_step(std::span<std::uint8_t> cells, Int3 size, const PlainRules& rules, std::uint64_t tick, int threads,
+                std::span<std::uint8_t> side) {
   if (!rules.motion()) {
     plain_pass(cells, size, rules, block_offset(tick, rules.seed, rules.random_axis_order), tick, 0, threads);
     return;
@@ -672,12 +785,12 @@ void plain_step(std::span<std::uint8_t> cells, Int3 size, const PlainRules& rule
   if (rules.pressure) heads = plain_heads(cells, size, rules);
   for (int s = 0; s < rules.substeps; ++s)
     plain_pass(cells, size, rules, motion_pass_offset(rules, tick, s), tick, s, threads,
-               rules.pressure ? &heads : nullptr);
+               rules.pressure ? &heads : nullptr, rules.momentum ? side : std::span<std::uint8_t>());
 }
 
 void plain_run(std::span<std::uint8_t> cells, Int3 size, const PlainRules& rules, std::uint64_t first_tick, int ticks,
-               int threads) {
-  for (int t = 0; t < ticks; ++t) plain_step(cells, size, rules, first_tick + std::uint64_t(t), threads);
+               int threads, std::span<std::uint8_t> side) {
+  for (int t = 0; t < ticks; ++t) plain_step(cells, size, rules, first_tick + std::uint64_t(t), threads, side);
 }
 
 }  // namespace granular::reference

@@ -22,6 +22,13 @@
 /// at rest), and one that falls straight down from a coarse cell inside a body into one outside any
 /// takes at least the level of its exit speed: floor(sqrt(e)) + 1 (at most the top level), e the
 /// head of its own coarse cell above the top of the cell it falls into, in cells.
+///
+/// Under MotionParams::momentum every cell carries a side byte (a liquid's sideways velocity, from
+/// granular/step/momentum.hpp's and fluid_block.hpp's comments): the first pass moves it with its
+/// cell; a liquid that rolls or topples takes, along each axis its move crosses, the velocity of its
+/// level before the move (motion_window(level) cells a tick, 1 at level 0) in the move's direction;
+/// every liquid with a velocity that kept its place in the first pass is a glider of the fluid pass
+/// (PlainMomentum), and a block with one is stepped even when nothing else in it takes part.
 
 #include <array>
 #include <climits>
@@ -59,6 +66,7 @@ struct PlainRules {
   int substeps = 1;                ///< Margolus sub-steps per tick; above 1 the motion model is on
   bool columns = false;            ///< MotionParams::columns: wakes, followers, falling layers accelerate
   bool pressure = false;           ///< MotionParams::pressure: a head per coarse cell moves liquids at rest
+  bool momentum = false;           ///< MotionParams::momentum: liquids carry a sideways velocity in a side plane
   std::array<PlainMaterial, kMaterialCount> materials{};  ///< per state
   /// Without a motion model the Lut is indexed by materials: the state it is asked for in place of
   /// each gravity-and-flow code 0, 1, 2 (void, the first static and the first granular material),
@@ -126,6 +134,21 @@ struct PlainPressure {
   int max_level = 0;                    ///< the motion model's top level (a pushed-out liquid's cap)
 };
 
+/// What the momentum stages of the fluid pass (fluid_block.hpp's comment, stage 6 and the velocities
+/// of stages 2 and 5) read and write of a block under MotionParams::momentum.
+struct PlainMomentum {
+  std::array<std::uint8_t, 8> side{};  ///< by block position: the cell's velocity (x in bits 0..3, y in
+                                       ///< bits 4..7, signed nibbles -7..7); moves with the cell
+  std::array<bool, 8> gliders{};       ///< by block position: a liquid with a velocity that kept its place
+  int substep = 0;                     ///< the sub-step (a speed's window)
+  int substeps = 0;                    ///< sub-steps per tick
+};
+
+/// The largest speed of a velocity component (momentum::kTopSpeed, written out).
+inline constexpr int kPlainTopSpeed = 7;
+/// Chance out of 256 that a velocity handed on to a liquid ahead loses a unit (momentum::kHandOnLoss).
+inline constexpr int kPlainHandOnLoss = 32;
+
 /// The fluid pass on one block (cells in block order, cell i at block position i), as
 /// fluid_block.hpp's comment specifies it: `mover[i]` says whether the cell at i takes part (may
 /// start a move), `symmetry` is the block's horizontal symmetry (the pass runs in the frame where
@@ -158,16 +181,31 @@ struct PlainPressure {
 /// coarse cell is inside a body (not plain_outside_body) pushes down into it only when its head is
 /// higher than that cell's. A liquid pushed down into a cell outside any body takes the level
 /// floor(sqrt(e)) + 1 (at most max_level); any other keeps its level.
+/// With `momentum` (MotionParams::momentum), every exchange carries the two cells' velocities with
+/// them; a liquid the liquid spread moves gains a unit along each axis of its move (a component of
+/// the other sign, or 0, becomes one unit along the move); one the pressure stage pushes sideways
+/// gets the velocity 2 floor(sqrt(e)) + 1 cells a tick along the push (speed: that times 7 /
+/// (substeps / 2), rounded, at most 7) and 0 across it; then stage 6: each glider that has not
+/// moved, in the viewed frame's order, tries its x component, then its y component (axes of the
+/// block, not of the viewed frame): a component whose sign points out of the block, or outside its
+/// window (sub-step s with 7 s >= |v| substeps), is passed over; the neighbour along it, if it has
+/// not moved, is taken when it is a fluid lighter than the glider (an exchange), handed the velocity
+/// when it is a liquid (the two cells swap velocities and both count as moved; the handed one
+/// loses a unit towards 0 when the neighbour's draw is below kPlainHandOnLoss), and otherwise (a
+/// static cell or a grain) the component becomes 0.
 BlockCells plain_fluid_pass(const PlainRules& rules, const BlockCells& cells, const std::array<bool, 8>& mover,
-                            int symmetry, std::uint64_t draws, bool levels, const PlainPressure* pressure = nullptr);
+                            int symmetry, std::uint64_t draws, bool levels, const PlainPressure* pressure = nullptr,
+                            PlainMomentum* momentum = nullptr);
 
 /// One tick `tick` of the plain loop over the whole grid `cells` (x fastest, `size` extent), split
-/// over `threads` std::threads by block layers (the result does not depend on `threads`).
+/// over `threads` std::threads by block layers (the result does not depend on `threads`). Under
+/// MotionParams::momentum `side` is the side plane (one byte per cell, laid out as `cells`; empty:
+/// every velocity 0 and none kept); without, it is ignored.
 void plain_step(std::span<std::uint8_t> cells, Int3 size, const PlainRules& rules, std::uint64_t tick,
-                int threads = 1);
+                int threads = 1, std::span<std::uint8_t> side = {});
 
-/// Ticks first_tick .. first_tick + ticks - 1 of the plain loop, in order.
+/// Ticks first_tick .. first_tick + ticks - 1 of the plain loop, in order (`side` as plain_step's).
 void plain_run(std::span<std::uint8_t> cells, Int3 size, const PlainRules& rules, std::uint64_t first_tick, int ticks,
-               int threads = 1);
+               int threads = 1, std::span<std::uint8_t> side = {});
 
 }  // namespace granular::reference

@@ -5,7 +5,9 @@
 /// the tick, the tool calls), a redo the exact world at its end. History is kept as the cell bytes
 /// of the 16^3 bricks that changed (World::bricks_changed_since), zstd-compressed, within a memory
 /// bound that drops the oldest strokes first; the world keeps one checkpoint of its cells
-/// (World::take_checkpoint) beside it. docs/design/snapshots-and-undo.md has the design.
+/// (World::take_checkpoint) beside it. docs/design/snapshots-and-undo.md has the design. Under
+/// MotionParams::momentum the history keeps the cell bytes only: a cell an undo or redo changes
+/// starts with no velocity (docs/design/momentum.md).
 
 #include <cstddef>
 #include <cstdint>

@@ -27,14 +27,6 @@ struct BlockRow {
   std::uint8_t* side[4];   ///< the side plane's row r at x = 0 (StepContext::side; null without)
 };
 
-/// True when `Rule` steps a side plane with the cells (MotionRule's kStepsSide).
-template <class Rule>
-constexpr bool steps_side() {
-  if constexpr (requires { Rule::kStepsSide; })
-    return Rule::kStepsSide;
-  else
-    return false;
-}
 
 /// Every byte of a block lies in a cell row inside the grid.
 inline constexpr std::uint64_t kWholeBlock = ~std::uint64_t(0);
@@ -87,7 +79,7 @@ inline std::uint64_t load_block(const BlockRow& row, int x0) { return load_block
 template <bool kWhole, class Rule, class Notes>
 inline void step_block_at(const Rule& rule, const BlockRow& row, int x0, int y0, int z0, Notes& notes) {
   const std::uint64_t v = load_block(row, x0);
-  if constexpr (steps_side<Rule>()) {
+  if constexpr (Rule::kStepsSide) {
     const std::uint64_t side_before = load_block(row.side, x0);
     std::uint64_t side = side_before;
     const std::uint64_t out = rule.step(v, side, x0, y0, z0);
@@ -126,7 +118,7 @@ template <class Rule>
   std::uint64_t v = 0;
   for (int r = 0; r < 4; ++r) v |= ((std::uint64_t(row.cells[r][x]) << inside_shift) | outside) << (16 * r);
   const std::uint64_t inside = row.inside & (low ? kHighColumn : kLowColumn);
-  if constexpr (steps_side<Rule>()) {
+  if constexpr (Rule::kStepsSide) {
     std::uint64_t side_before = 0;
     for (int r = 0; r < 4; ++r) side_before |= (std::uint64_t(row.side[r][x]) << inside_shift) << (16 * r);
     std::uint64_t side = side_before;
@@ -151,7 +143,7 @@ template <class Rule>
 template <class Rule, class Notes>
 inline void step_edge_block(const Rule& rule, const BlockRow& row, int x0, int y0, int z0, Notes& notes) {
   const EdgeBlock e = step_edge(rule, row, x0, y0, z0);
-  if constexpr (steps_side<Rule>())
+  if constexpr (Rule::kStepsSide)
     notes.blocks(x0, &e.before, &e.after, 1, e.inside, &e.side_before, &e.side_after);
   else
     notes.blocks(x0, &e.before, &e.after, 1, e.inside);
@@ -163,7 +155,7 @@ inline void step_edge_block(const Rule& rule, const BlockRow& row, int x0, int y
 /// transposed into the blocks' bytes, and back.
 template <bool kWhole, class Rule, class Notes>
 inline void step_group(const Rule& rule, const BlockRow& row, int x, int y0, int z0, Notes& notes) {
-  if constexpr (steps_side<Rule>()) {  // a side plane is stepped block by block
+  if constexpr (Rule::kStepsSide) {  // a side plane is stepped block by block
     for (int k = 0; k < 8; ++k) step_block_at<kWhole>(rule, row, x + 2 * k, y0, z0, notes);
     return;
   }
