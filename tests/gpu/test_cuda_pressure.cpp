@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "granular/cuda_options.hpp"
+#include "granular/errors.hpp"
 #include "granular/rule_set.hpp"
 #include "granular/scene.hpp"
 #include "granular/world.hpp"
@@ -172,4 +173,13 @@ TEST_CASE("cuda pressure: a leg raised by a tool wakes the far leg's bricks thro
     CHECK(w.sparse_cpu().activity().active_bricks > 6);
     for (const int ticks : {2, 5, 8, 24}) w.step(ticks);
   }
+}
+
+TEST_CASE("cuda pressure: the momentum preset, which the CUDA backend does not step yet, runs on the CPU under auto and is refused under cuda") {
+  const Grid g = instantiate(load_scene(find_scene("dam_break")), 32).grid;
+  WorldDef def = gpu_test_def(BackendKind::Auto, true, "inertial-24-momentum", 1, 0.0);
+  const World automatic(def, g);
+  CHECK(automatic.backend() == BackendKind::Cpu);
+  def.backend = BackendKind::Cuda;
+  CHECK_THROWS_WITH_AS(World(def, g), doctest::Contains("RuleSet::motion.momentum = true"), InvalidArgument);
 }
