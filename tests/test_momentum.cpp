@@ -198,3 +198,34 @@ TEST_CASE("momentum: a snapshot's side plane is checked, and each error names th
   CHECK_THROWS_WITH_AS(World(test_def(Dam::size(), "inertial-24-pressure", 2, 3), other_rules),
                        doctest::Contains("has no side plane (RuleSet::motion.momentum = false)"), InvalidArgument);
 }
+
+TEST_CASE("momentum: a cell a tool changes starts at rest, and the velocities of the cells it leaves stay") {
+  const Grid initial = Dam::build();
+  World w(test_def(Dam::size(), "inertial-24-momentum", 2, 3), initial);
+  w.step(6);
+  const WorldSnapshot before = w.capture();
+  REQUIRE(!before.side.empty());
+  // Paint gas over the channel beyond the column: the liquid there becomes gas, at rest.
+  const Box box{{Dam::kColumn, 0, 1}, {Dam::size().x, Dam::size().y, Dam::size().z}};
+  w.paint(box, Material::Gas);
+  const WorldSnapshot after = w.capture();
+  REQUIRE(after.side.size() == before.side.size());
+  const Int3 s = Dam::size();
+  int kept = 0, cleared = 0;
+  for (int z = 0; z < s.z; ++z)
+    for (int y = 0; y < s.y; ++y)
+      for (int x = 0; x < s.x; ++x) {
+        const std::size_t i = std::size_t(x) + std::size_t(s.x) * (std::size_t(y) + std::size_t(s.y) * std::size_t(z));
+        const bool inside = x >= box.min.x && z >= box.min.z;
+        if (before.side[i] == 0) continue;
+        if (inside && before.cells[i] != after.cells[i]) {
+          CHECK(after.side[i] == 0);
+          ++cleared;
+        } else if (!inside) {
+          CHECK(after.side[i] == before.side[i]);
+          ++kept;
+        }
+      }
+  CHECK(cleared > 0);
+  CHECK(kept > 0);
+}

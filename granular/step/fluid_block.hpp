@@ -254,7 +254,8 @@ constexpr std::uint64_t fluid_pass(std::uint64_t bytes, std::uint32_t movers, in
       }
       if (from < 0) continue;
       move(from, b);
-      // Pushed sideways, a liquid leaves at the speed its head gives (Bernoulli: 2 sqrt(e) cells a tick).
+      // Pushed sideways, a liquid leaves at the speed its head gives (Torricelli: sqrt(2 g e) = 2 sqrt(e)
+      // cells a tick), plus one.
       if (side != nullptr && (from ^ b) < 4) {
         const int axis = (from ^ b) == 1 ? 0 : 1, sign = ((b >> axis) & 1) != 0 ? 1 : -1;
         const int speed = momentum::speed_of(2 * head::root_cells(highest - top) + 1, substeps);
