@@ -25,6 +25,14 @@ constexpr std::uint64_t unpack_key(BlockKey k) {
   return (t & 0x0007000700070007ull) | ((t & 0x0038003800380038ull) << 5);
 }
 
+/// Byte p of a block's word.
+constexpr std::uint32_t byte_at(std::uint64_t bytes, int p) { return std::uint32_t(bytes >> (8 * p)) & 0xFFu; }
+
+/// `bytes` with byte p set to `v` (below 256).
+constexpr std::uint64_t with_byte(std::uint64_t bytes, int p, std::uint32_t v) {
+  return (bytes & ~(0xFFull << (8 * p))) | (std::uint64_t(v) << (8 * p));
+}
+
 /// A per-cell lookup in a table of 8 bytes: byte i of the result is byte (b & 7) of `table`, where b
 /// is byte i of `bytes` (its low 3 bits: the cell's material).
 constexpr std::uint64_t lookup_bytes(std::uint64_t table, std::uint64_t bytes) {

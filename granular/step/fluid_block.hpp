@@ -134,9 +134,9 @@ constexpr std::uint64_t fluid_pass(std::uint64_t bytes, std::uint32_t movers, in
     if (side != nullptr) *side = exchange(*side, p, q);
     moved |= (1u << p) | (1u << q);
   };
-  auto side_of = [&](int p) { return side != nullptr ? std::uint32_t(*side >> (8 * p)) & 0xFFu : 0u; };
+  auto side_of = [&](int p) { return side != nullptr ? byte_at(*side, p) : 0u; };
   auto set_side = [&](int p, std::uint32_t v) {
-    if (side != nullptr) *side = (*side & ~(0xFFull << (8 * p))) | (std::uint64_t(v) << (8 * p));
+    if (side != nullptr) *side = with_byte(*side, p, v);
   };
   // A liquid that moved from `p` to `q` in its layer speeds up along that move by one (gravity down the
   // surface it left), each axis of the move.

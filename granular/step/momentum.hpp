@@ -21,32 +21,19 @@ inline constexpr int kTopSpeed = 7;
 /// Chance out of 256 that a push handed on to the liquid ahead loses one speed unit.
 inline constexpr int kHandOnLoss = 32;
 
-/// The x component of side byte `side`.
-constexpr int vx(std::uint32_t side) {
-  const int v = int(side & 15u);
+/// The component along axis `axis` (0: x, bits 0..3; 1: y, bits 4..7) of side byte `side`.
+constexpr int component(std::uint32_t side, int axis) {
+  const int v = int((side >> (4 * axis)) & 15u);
   return v >= 8 ? v - 16 : v;
 }
-
-/// The y component of side byte `side`.
-constexpr int vy(std::uint32_t side) {
-  const int v = int((side >> 4) & 15u);
-  return v >= 8 ? v - 16 : v;
-}
-
-/// The component along axis `axis` (0: x, 1: y) of side byte `side`.
-constexpr int component(std::uint32_t side, int axis) { return axis == 0 ? vx(side) : vy(side); }
 
 /// `v` clamped to -kTopSpeed .. kTopSpeed.
 constexpr int clamp_speed(int v) { return v > kTopSpeed ? kTopSpeed : (v < -kTopSpeed ? -kTopSpeed : v); }
 
-/// The side byte of components (x, y), each clamped to the top speed.
-constexpr std::uint32_t pack(int x, int y) {
-  return std::uint32_t(clamp_speed(x) & 15) | (std::uint32_t(clamp_speed(y) & 15) << 4);
-}
-
 /// `side` with its component along `axis` set to `v` (clamped).
 constexpr std::uint32_t with_component(std::uint32_t side, int axis, int v) {
-  return axis == 0 ? pack(v, vy(side)) : pack(vx(side), v);
+  const int shift = 4 * axis;
+  return (side & (0xF0u >> shift)) | (std::uint32_t(clamp_speed(v) & 15) << shift);
 }
 
 /// True when a component of speed `speed` (its magnitude) may take a step in sub-step `substep` of

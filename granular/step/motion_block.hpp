@@ -378,7 +378,7 @@ constexpr std::uint64_t step_block_as(std::uint64_t bytes, const SubStep& m, int
     std::uint32_t g = 0;
     if (side != nullptr)
       for (int p = 0; p < 8; ++p)
-        g |= (((*side >> (8 * p)) & 0xFFu) != 0 && mats.is_liquid(std::uint32_t(cells >> (8 * p)) & kMaterialMask) ? 1u : 0u) << p;
+        g |= (byte_at(*side, p) != 0 && mats.is_liquid(byte_at(cells, p) & kMaterialMask) ? 1u : 0u) << p;
     return g;
   };
   if ((part | gases | pressed | gliders(bytes)) == 0) return bytes;
@@ -455,10 +455,11 @@ constexpr std::uint64_t step_block_as(std::uint64_t bytes, const SubStep& m, int
     for (int p = 0; p < 8; ++p) {
       const int from = int((entry >> (4 * p)) & 7u);
       if (from < 4 || slid[from - 4] == 0) continue;
-      int v[2] = {momentum::vx(std::uint32_t(*side >> (8 * p))), momentum::vy(std::uint32_t(*side >> (8 * p)))};
+      std::uint32_t v = byte_at(*side, p);
       for (int axis = 0; axis < 2; ++axis)
-        if (((p ^ from) >> axis) & 1) v[axis] = (((p >> axis) & 1) != 0 ? 1 : -1) * slid[from - 4];
-      *side = (*side & ~(0xFFull << (8 * p))) | (std::uint64_t(momentum::pack(v[0], v[1])) << (8 * p));
+        if (((p ^ from) >> axis) & 1)
+          v = momentum::with_component(v, axis, (((p >> axis) & 1) != 0 ? 1 : -1) * slid[from - 4]);
+      *side = with_byte(*side, p, v);
     }
   }
   if (flowed && mats.entrained != 0) out = entrain_step_edges<ByteOps>(out, codes, entry, random, mats);

@@ -306,12 +306,6 @@ void CpuBackend::write_side(std::span<const std::uint8_t> side) {
     throw InvalidArgument("cpu backend: write_side: " + std::to_string(side.size()) + " side bytes for the " +
                           std::to_string(side_.size()) + " cells of the " + to_string(grid_.size()) + " grid");
   std::copy(side.begin(), side.end(), side_.begin());
-  // Every brick steps again: a velocity may start a move anywhere.
-  if (sparse_) {
-    std::vector<std::uint32_t> all(last_.total_bricks);
-    for (std::size_t b = 0; b < all.size(); ++b) all[b] = std::uint32_t(b);
-    activity_.wake(all);
-  }
 }
 
 std::unique_ptr<Backend> make_cpu_backend(const BackendCreateInfo& info) {

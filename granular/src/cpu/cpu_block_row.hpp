@@ -27,7 +27,6 @@ struct BlockRow {
   std::uint8_t* side[4];   ///< the side plane's row r at x = 0 (StepContext::side; null without)
 };
 
-
 /// Every byte of a block lies in a cell row inside the grid.
 inline constexpr std::uint64_t kWholeBlock = ~std::uint64_t(0);
 /// The bytes of a block's cells with x = x0 (cells 0, 2, 4, 6).

@@ -46,8 +46,9 @@ class Backend {
   /// keeps none or it holds only zeros. The default keeps none.
   virtual std::vector<std::uint8_t> read_side() const { return {}; }
   /// Replaces the side plane with `side` (every cell, x fastest; empty: all zero), after the cells
-  /// it belongs to were written. Throws InvalidArgument when `side` is not empty and the backend
-  /// keeps no side plane (the default keeps none).
+  /// it belongs to were written and their bricks woken (write's wake_bricks, or a new backend, whose
+  /// bricks are all awake): it wakes nothing itself. Throws InvalidArgument when `side` is not empty
+  /// and the backend keeps no side plane (the default keeps none).
   virtual void write_side(std::span<const std::uint8_t> side) {
     if (!side.empty())
       throw InvalidArgument("the " + description() + " backend keeps no side plane (MotionParams::momentum) to write "
