@@ -49,6 +49,9 @@ struct OwnerNotes {
     if (!non_inert && !rule.quiet(before, after)) non_inert = true;
   }
 
+  /// A stepped block holds a velocity (side plane): it is not quiet.
+  __device__ void moving() { non_inert = true; }
+
   /// Starts the owner's flags from its dirty byte.
   __device__ void read_dirty() {
     was_dirty = r.dirty[brick_index(r.bricks, owner.x, owner.y, owner.z)] != 0;

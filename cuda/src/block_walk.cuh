@@ -19,8 +19,9 @@
 /// Notes policies say what a walk records: NoNotes (nothing: compiles to the plain stepping code),
 /// OwnerNotes (activity_record.cuh: the sparse flags, for dense-recording steps) and BrickNotes
 /// (sparse_kernel.cuh). A Notes object has block(rule, before, after) for every stepped block (not
-/// for a uniform block the Rule skips: such a block is quiet), changed(x, y, z) for every changed
-/// cell inside the grid, and flush() once the thread is done.
+/// for a uniform block the Rule skips: such a block is quiet), moving() for a block left holding a
+/// velocity (a side plane's: not quiet), changed(x, y, z) for every cell inside the grid whose byte
+/// or side byte changed, and flush() once the thread is done.
 /// Kernels and launchers here are static: every translation unit including this gets its own copy.
 
 #include <cuda_runtime.h>
@@ -38,8 +39,6 @@ namespace granular::cuda {
 
 /// The device Platform of the block step: read-only cache loads, symmetries by a per-cell loop.
 struct DevicePlatform {
-  /// The CUDA paths step no side plane yet (MotionParams::momentum): its Rule types are not built.
-  static constexpr bool kSidePlane = false;
   /// Reads a table entry through the read-only data cache.
   template <class T>
   __device__ static T load(const T* p) {
@@ -90,6 +89,7 @@ static_assert(kBrickBlocks % kGroupBlocks == 0, "a thread's group of blocks has 
 struct DeviceCells {
   std::uint8_t* cells = nullptr;  ///< the bytes
   Int3 size{};                    ///< grid extent
+  std::uint8_t* side = nullptr;   ///< the side plane (momentum.hpp), laid out as the cells; null without one
 };
 
 /// Linear index offset of block cell i from the block's lowest corner.
@@ -114,6 +114,8 @@ struct NoNotes {
   /// A stepped block.
   template <class Rule>
   __device__ void block(const Rule&, std::uint64_t, std::uint64_t) {}
+  /// A stepped block holds a velocity (side plane): it is not quiet.
+  __device__ void moving() {}
   /// Cell (x, y, z), inside the grid, changed.
   __device__ void changed(int, int, int) {}
   /// The thread is done.
@@ -142,11 +144,53 @@ __device__ inline bool skips_uniform(const Rule& rule, std::uint64_t bytes) {
   return bytes == (bytes & 0xFFu) * kEveryByte && !rule.steps_uniform(std::uint32_t(bytes & 0xFFu));
 }
 
-/// One block, any position: cells outside the grid read as rule.outside and are never written.
-/// Its cells are gathered one by one; a Rule without a motion model is stepped on the key itself
-/// (Rule::next_key), which spares an edge block the byte packing the grouped path needs.
+/// One block of a Rule that steps a side plane (Rule::kStepsSide), any position, as the CPU's row walk
+/// steps it (cpu_block_row.hpp): its cells and side bytes gathered one by one (outside the grid they
+/// read as rule.outside and 0 and are never written); a cell whose byte or side byte changed is
+/// stored and noted, and a block left holding a velocity is not quiet. A uniform block the Rule
+/// skips holds no liquid, so no velocity.
+template <class Rule, class Notes>
+__device__ inline void walk_side_block(const DeviceCells& g, const Rule& rule, int x0, int y0, int z0, Notes& notes) {
+  const std::int64_t sy = g.size.x, sz = sy * g.size.y;
+  const std::int64_t origin = std::int64_t(x0) + sy * y0 + sz * z0;
+  std::uint64_t bytes = 0, side = 0;
+  unsigned inside = 0;
+#pragma unroll
+  for (int i = 0; i < 8; ++i) {
+    const int x = x0 + (i & 1), y = y0 + ((i >> 1) & 1), z = z0 + (i >> 2);
+    const bool in = x >= 0 && y >= 0 && z >= 0 && x < g.size.x && y < g.size.y && z < g.size.z;
+    const std::int64_t at = origin + block_cell_offset(i, sy, sz);
+    bytes |= std::uint64_t(in ? std::uint32_t(g.cells[at]) : rule.outside) << (8 * i);
+    side |= std::uint64_t(in ? g.side[at] : 0u) << (8 * i);
+    inside |= unsigned(in) << i;
+  }
+  if (skips_uniform(rule, bytes)) return;
+  std::uint64_t side_after = side;
+  const std::uint64_t after = rule.step(bytes, side_after, x0, y0, z0);
+  notes.block(rule, bytes, after);
+  if (side_after != 0) notes.moving();
+  const std::uint64_t diff = bytes ^ after, side_diff = side ^ side_after;
+  if ((diff | side_diff) == 0) return;
+#pragma unroll
+  for (int i = 0; i < 8; ++i) {
+    if (((inside >> i) & 1u) == 0 || (((diff | side_diff) >> (8 * i)) & 0xFFu) == 0) continue;
+    const std::int64_t at = origin + block_cell_offset(i, sy, sz);
+    if (((diff >> (8 * i)) & 0xFFu) != 0) g.cells[at] = std::uint8_t(after >> (8 * i));
+    if (((side_diff >> (8 * i)) & 0xFFu) != 0) g.side[at] = std::uint8_t(side_after >> (8 * i));
+    notes.changed(x0 + (i & 1), y0 + ((i >> 1) & 1), z0 + (i >> 2));
+  }
+}
+
+/// One block, any position: cells outside the grid read as rule.outside and are never written (a
+/// Rule that steps a side plane: walk_side_block). Its cells are gathered one by one; a Rule
+/// without a motion model is stepped on the key itself (Rule::next_key), which spares an edge block
+/// the byte packing the grouped path needs.
 template <class Rule, class Notes>
 __device__ inline void walk_edge_block(const DeviceCells& g, const Rule& rule, int x0, int y0, int z0, Notes& notes) {
+  if constexpr (Rule::kStepsSide) {
+    walk_side_block(g, rule, x0, y0, z0, notes);
+    return;
+  }
   const std::int64_t sy = g.size.x, sz = sy * g.size.y;
   const std::int64_t origin = std::int64_t(x0) + sy * y0 + sz * z0;
   std::uint64_t bytes = 0;
@@ -208,9 +252,14 @@ __device__ inline void step_group(const Rule& rule, const std::uint64_t (&row)[4
   }
 }
 
-/// kGroupBlocks blocks starting at (x0, y0, z0), all of whose cells lie inside the grid.
+/// kGroupBlocks blocks starting at (x0, y0, z0), all of whose cells lie inside the grid (a Rule that
+/// steps a side plane: block by block, walk_side_block).
 template <class Rule, class Notes>
 __device__ inline void walk_inside_group(const DeviceCells& g, const Rule& rule, int x0, int y0, int z0, Notes& notes) {
+  if constexpr (Rule::kStepsSide) {
+    for (int k = 0; k < kGroupBlocks; ++k) walk_side_block(g, rule, x0 + 2 * k, y0, z0, notes);
+    return;
+  }
   const std::int64_t sy = g.size.x, sz = sy * g.size.y;
   const std::int64_t origin = std::int64_t(x0) + sy * y0 + sz * z0;
   std::uint64_t row[4];

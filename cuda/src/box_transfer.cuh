@@ -61,6 +61,8 @@ struct ChunkCopy {
   unsigned width = 0, height = 0;   ///< the chunk's extent along x and y
   unsigned count = 0;               ///< cells in the chunk
   std::uint8_t* packed = nullptr;   ///< the chunk's cells, x fastest: the staging's device address
+  std::uint8_t* side = nullptr;     ///< the grid's side plane, or null: a scattered cell that changes
+                                    ///< gets side byte 0 (a new cell, at rest)
 };
 
 /// Grid index of the i-th cell (x fastest) of chunk `c`.
@@ -75,10 +77,14 @@ __global__ void gather_chunk_kernel(ChunkCopy c) {
     c.packed[i] = c.cells[chunk_cell(c, i)];
 }
 
-/// The chunk's i-th cell = packed[i].
+/// The chunk's i-th cell = packed[i]; with a side plane, a cell that changes loses its velocity.
 __global__ void scatter_chunk_kernel(ChunkCopy c) {
-  for (unsigned i = blockIdx.x * blockDim.x + threadIdx.x; i < c.count; i += gridDim.x * blockDim.x)
-    c.cells[chunk_cell(c, i)] = c.packed[i];
+  for (unsigned i = blockIdx.x * blockDim.x + threadIdx.x; i < c.count; i += gridDim.x * blockDim.x) {
+    const std::uint64_t at = chunk_cell(c, i);
+    const std::uint8_t value = c.packed[i];
+    if (c.side != nullptr && c.cells[at] != value) c.side[at] = 0;
+    c.cells[at] = value;
+  }
 }
 
 /// Threads per block of the chunk kernels.

@@ -65,7 +65,9 @@ cuda::DeviceInfo prepare_device(Int3 size) {
 /// MotionParams::substeps sub-steps, fused in pairs by the pair kernel wherever two consecutive
 /// steps share their x and y offsets, as the one-step rules fuse pairs of ticks. A rule set with
 /// the pressure lever and a liquid keeps the head field on the device too (device_head_field.cuh)
-/// and solves it at the start of every tick, as the CPU backend does.
+/// and solves it at the start of every tick, as the CPU backend does; with the momentum lever too it
+/// keeps the side plane (one byte per cell), which every path steps with the cells, block by block
+/// (walk_side_block in block_walk.cuh), never fused in pairs.
 class CudaBackend final : public Backend {
  public:
   /// Uploads info.initial, derives the result table from info.lut on the device, and uploads the
@@ -104,6 +106,12 @@ class CudaBackend final : public Backend {
     if (step_rules_.motion.enabled() && step_rules_.motion.pressure && step_rules_.materials.liquids != 0) {
       head_field_.emplace(size_, sparse_ ? total_bricks_ : 0u, s);
       step_rules_.heads = head_field_->heads();
+    }
+    // The side plane (momentum.hpp), as the CPU backend keeps it: the momentum lever with a head field.
+    if (head_field_ && info.rules->motion.momentum) {
+      side_ = cuda::DeviceBuffer<std::uint8_t>(cuda::cell_buffer_bytes(cell_count_), "the side plane");
+      cuda::check(cudaMemsetAsync(side_.data(), 0, side_.bytes(), s), "cudaMemsetAsync (side plane)");
+      step_rules_.side = true;
     }
     if (sparse_) init_sparse(s);
     step_rules_.inert = inert_.data();
@@ -249,18 +257,60 @@ class CudaBackend final : public Backend {
     return out;
   }
 
+  /// The cells' word sum, plus side_hash_term of the side plane when the backend keeps one.
   std::uint64_t hash() const override {
     activate();
     cudaStream_t s = stream_.get();
-    cuda::check(cudaMemsetAsync(scratch_.data(), 0, sizeof(unsigned long long), s), "cudaMemsetAsync (hash)");
-    cuda::hash_kernel<<<cuda::reduce_blocks(cell_count_, device_.sm_count), cuda::kReduceThreads, 0, s>>>(
-        cells_, cell_count_, scratch_.data());
+    const unsigned blocks = cuda::reduce_blocks(cell_count_, device_.sm_count);
+    // Slot 0: the cells' sum; with a side plane, slot 1 its sum and slot 2 whether it holds a velocity.
+    cuda::check(cudaMemsetAsync(scratch_.data(), 0, 3 * sizeof(unsigned long long), s), "cudaMemsetAsync (hash)");
+    cuda::hash_kernel<<<blocks, cuda::kReduceThreads, 0, s>>>(cells_, cell_count_, scratch_.data());
     cuda::check_launch("hash kernel launch");
-    unsigned long long sum = 0;
-    cuda::check(cudaMemcpyAsync(&sum, scratch_.data(), sizeof sum, cudaMemcpyDeviceToHost, s),
-                "cudaMemcpyAsync (hash)");
+    if (side_.size() != 0) {
+      cuda::hash_kernel<<<blocks, cuda::kReduceThreads, 0, s>>>(side_.data(), cell_count_, scratch_.data() + 1);
+      cuda::check_launch("side plane hash kernel launch");
+      cuda::nonzero_kernel<<<blocks, cuda::kReduceThreads, 0, s>>>(side_.data(), cell_count_,
+                                                                   reinterpret_cast<unsigned*>(scratch_.data() + 2));
+      cuda::check_launch("side plane nonzero kernel launch");
+    }
+    unsigned long long sums[3] = {};
+    cuda::check(cudaMemcpyAsync(sums, scratch_.data(), sizeof sums, cudaMemcpyDeviceToHost, s), "cudaMemcpyAsync (hash)");
     stream_.synchronize("hash");
-    return finish_hash(size_, sum);
+    const std::uint64_t side = sums[2] != 0 ? side_hash_of_sum(sums[1]) : 0;
+    return finish_hash(size_, sums[0] + side);
+  }
+
+  /// The side plane copied to the host; empty when the backend keeps none or it holds only zeros.
+  std::vector<std::uint8_t> read_side() const override {
+    if (side_.size() == 0) return {};
+    activate();
+    std::vector<std::uint8_t> side(cell_count_);
+    cuda::check(cudaMemcpyAsync(side.data(), side_.data(), cell_count_, cudaMemcpyDeviceToHost, stream_.get()),
+                "cudaMemcpyAsync (side plane to the host)");
+    stream_.synchronize("read_side");
+    if (std::all_of(side.begin(), side.end(), [](std::uint8_t b) { return b == 0; })) return {};
+    return side;
+  }
+
+  /// Replaces the side plane (empty: all zero); returns once the device holds it.
+  void write_side(std::span<const std::uint8_t> side) override {
+    if (side.empty() && side_.size() == 0) return;
+    if (side_.size() == 0)
+      throw InvalidArgument("cuda backend: write_side: the rule set has no side plane (MotionParams::momentum with "
+                            "a liquid material) to write WorldSnapshot::side into");
+    if (!side.empty() && side.size() != cell_count_)
+      throw InvalidArgument("cuda backend: write_side: " + std::to_string(side.size()) + " side bytes for the " +
+                            std::to_string(cell_count_) + " cells of the " + to_string(size_) + " grid");
+    activate();
+    before_write();
+    cudaStream_t s = stream_.get();
+    if (side.empty())
+      cuda::check(cudaMemsetAsync(side_.data(), 0, side_.bytes(), s), "cudaMemsetAsync (side plane)");
+    else
+      cuda::check(cudaMemcpyAsync(side_.data(), side.data(), cell_count_, cudaMemcpyHostToDevice, s),
+                  "cudaMemcpyAsync (side plane to the device)");
+    after_write();
+    stream_.synchronize("write_side");
   }
 
   std::uint64_t shared_cell_bytes() const override { return cuda::cell_buffer_bytes(cell_count_); }
@@ -366,7 +416,7 @@ class CudaBackend final : public Backend {
   /// recording, the wake of the bricks where a pressure move may start (so no pair spans two ticks).
   void enqueue_steps(std::uint64_t first_tick, int ticks, Mode mode) {
     cudaStream_t s = stream_.get();
-    const cuda::DeviceCells g{cells_, size_};
+    const cuda::DeviceCells g{cells_, size_, side_.data()};
     const std::uint64_t substeps = std::uint64_t(substeps_of(step_rules_));
     const std::uint64_t first = first_tick * substeps, end = (first_tick + std::uint64_t(ticks)) * substeps;
     const std::uint64_t last_tick = first_tick + std::uint64_t(ticks) - 1;
@@ -415,7 +465,9 @@ class CudaBackend final : public Backend {
         ++n;
         continue;
       }
-      const bool fuse = n + 1 < end && cuda::pairable(step_offset(step_rules_, n), step_offset(step_rules_, n + 1)) &&
+      // The pair kernel steps no side plane: a rule set with one runs its steps one by one.
+      const bool fuse = n + 1 < end && !step_rules_.side &&
+                        cuda::pairable(step_offset(step_rules_, n), step_offset(step_rules_, n + 1)) &&
                         !(mode == Mode::Recording && (n & 7u) == 7u) && !(head_field_ && (n + 1) % substeps == 0) &&
                         halo_ready();
       if (fuse) {
@@ -534,14 +586,16 @@ class CudaBackend final : public Backend {
   }
 
   /// Enqueues copying `host` (x fastest, no padding) into the cells of `box`: a large run in one
-  /// copy (which returns once the driver holds the bytes), else chunk by chunk, the host filling the
+  /// copy (which returns once the driver holds the bytes) unless a side plane is kept, else chunk by chunk, the host filling the
   /// staging (once the device has finished the last kernel that reads it) and a kernel scattering
   /// it into the grid. A tool's write is that one kernel.
   void copy_in(const Box& box, const std::uint8_t* host) {
     activate();
     before_write();
     cudaStream_t s = stream_.get();
-    if (const std::int64_t first = large_run(box); first >= 0) {
+    // With a side plane every chunk goes through the scatter kernel, which clears the velocity of
+    // each cell it changes.
+    if (const std::int64_t first = large_run(box); first >= 0 && side_.size() == 0) {
       cuda::check(cudaMemcpyAsync(cells_ + first, host, std::size_t(box.volume()), cudaMemcpyHostToDevice, s),
                   "cudaMemcpyAsync (cells to the device)");
       after_write();
@@ -553,7 +607,8 @@ class CudaBackend final : public Backend {
       staging_.reserve(bytes, s);
       staging_.wait_free();
       std::memcpy(staging_.host(), host + chunk.offset, bytes);
-      const cuda::ChunkCopy copy = cuda::chunk_copy(cells_, size_, chunk, staging_.device());
+      cuda::ChunkCopy copy = cuda::chunk_copy(cells_, size_, chunk, staging_.device());
+      copy.side = side_.data();
       cuda::scatter_chunk_kernel<<<cuda::chunk_blocks(copy.count), cuda::kChunkThreads, 0, s>>>(copy);
       cuda::check_launch("scatter kernel launch (writing cells)");
       staging_.read_until(s);
@@ -610,6 +665,7 @@ class CudaBackend final : public Backend {
   cuda::DeviceBuffer<unsigned long long> counters_;
   cuda::DeviceBuffer<std::uint64_t> inert_;
   std::optional<cuda::DeviceHeadField> head_field_;  ///< MotionParams::pressure with a liquid in the table: the heads
+  cuda::DeviceBuffer<std::uint8_t> side_;  ///< the side plane (MotionParams::momentum with a head field), else empty
   cuda::PinnedCounters counters_host_;        ///< the activity counters, copied back by each step
   mutable bool counters_pending_ = false;     ///< a step's counters are on their way to counters_host_
   mutable ActivityStats last_{};
@@ -625,10 +681,6 @@ std::unique_ptr<Backend> make_cuda_backend(const BackendCreateInfo& info) {
   if (!info.lut || info.lut->entries().size() != kBlockKeyCount)
     throw InvalidArgument("cuda backend: BackendCreateInfo::lut must be a full transition table (16,777,216 entries)");
   if (!info.rules) throw InvalidArgument("cuda backend: BackendCreateInfo::rules is null");
-  if (info.rules->motion.momentum)
-    throw InvalidArgument("cuda backend: rule set '" + info.rules->name +
-                          "' has RuleSet::motion.momentum = true; the CUDA backend does not step the side plane yet "
-                          "(docs/design/momentum.md): use the CPU backend, or a rule set without momentum");
   for (const auto& [field, value] : {std::pair{"dense_fraction", info.cuda.dense_fraction},
                                      std::pair{"motion_dense_fraction", info.cuda.motion_dense_fraction}})
     if (!(value >= 0.0 && value <= 1.0))

@@ -1,7 +1,7 @@
 #pragma once
 /// @file reduce_kernels.cuh
 /// Whole-grid reductions on the device: the grid hash's word sum (hash_cells in grid.hpp, over
-/// whole bytes) and the per-material histogram (over each byte's material bits: a motion rule
+/// whole bytes; a side plane's too), whether a side plane holds a velocity, and the per-material histogram (over each byte's material bits: a motion rule
 /// set's motion level is not a material, granular/motion.hpp). Both read the cells as 8-byte
 /// little-endian words; the buffer is allocated in whole words, and bytes past the last cell are
 /// masked, whatever they hold.
@@ -71,6 +71,17 @@ static __global__ void __launch_bounds__(kReduceThreads) hash_kernel(const std::
     local += mix64(cell_word(cells, n, i, 0) + (i + 1) * kHashGolden);
   const unsigned long long total = block_sum(local);
   if (threadIdx.x == 0) atomicAdd(sum, total);
+}
+
+/// Sets *flag to 1 when a byte of the n bytes is not 0 (a side plane that holds a velocity).
+static __global__ void __launch_bounds__(kReduceThreads) nonzero_kernel(const std::uint8_t* bytes, std::uint64_t n,
+                                                                  unsigned* flag) {
+  const std::uint64_t words = (n + 7) / 8;
+  bool any = false;
+  for (std::uint64_t i = std::uint64_t(blockIdx.x) * blockDim.x + threadIdx.x; i < words && !any;
+       i += std::uint64_t(gridDim.x) * blockDim.x)
+    any = cell_word(bytes, n, i, 0) != 0;
+  if (any) *flag = 1u;
 }
 
 /// Adds the number of cells holding each material 0..7 (a byte's low bits) into counts[0..7].

@@ -3,6 +3,7 @@
 /// The definitions of RuleLaunch (rule_launch.cuh). Only the rule_kernels_*.cu files include this,
 /// each instantiating RuleLaunch for one Rule type.
 
+#include "granular/errors.hpp"
 #include "rule_launch.cuh"
 
 namespace granular::cuda {
@@ -19,7 +20,11 @@ void RuleLaunch<Rule>::dense(const DeviceCells& g, const Rule& rule, const StepS
 template <class Rule>
 void RuleLaunch<Rule>::pair(const DeviceCells& g, const Rule& first, const Rule& second, const PairShape& shape,
                             std::uint8_t* halo, const ActivityRecord* record, cudaStream_t stream) {
-  if (record != nullptr)
+  if constexpr (Rule::kStepsSide) {
+    // The pair kernel's shared tiles hold no side plane; the backend never fuses such steps.
+    throw BackendError("cuda backend: the pair kernel was asked to fuse two steps of a rule set with a side plane "
+                       "(MotionParams::momentum), which it does not step");
+  } else if (record != nullptr)
     launch_pair<OwnerNotes>(g, first, second, shape, halo, *record, stream);
   else
     launch_pair<NoNotes>(g, first, second, shape, halo, {}, stream);

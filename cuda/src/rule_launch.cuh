@@ -23,7 +23,8 @@ struct RuleLaunch {
   /// `*record` (OwnerNotes) when `record` is not null.
   static void dense(const DeviceCells& g, const Rule& rule, const StepShape& shape, const ActivityRecord* record,
                     cudaStream_t stream);
-  /// Two pairable (sub-)steps in one pass (launch_pair), recording as dense().
+  /// Two pairable (sub-)steps in one pass (launch_pair), recording as dense(); a Rule that steps a
+  /// side plane (Rule::kStepsSide) is never fused, and throws BackendError.
   static void pair(const DeviceCells& g, const Rule& first, const Rule& second, const PairShape& shape,
                    std::uint8_t* halo, const ActivityRecord* record, cudaStream_t stream);
   /// One sparse (sub-)step over the awake bricks (launch_sparse).

@@ -93,6 +93,9 @@ struct BrickNotes {
     }
   }
 
+  /// A stepped block holds a velocity (side plane): it is not quiet.
+  __device__ void moving() { non_inert = true; }
+
   /// Records that cell (x, y, z) changed: in the brick it is collected per CUDA block; a cell of a
   /// neighbour (a straddling block) is flagged at once.
   __device__ void changed(int x, int y, int z) {

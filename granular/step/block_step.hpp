@@ -9,8 +9,7 @@
 ///  * MotionRule: one sub-step of the motion model (motion_block.hpp, motion::step_block).
 /// Both take a Platform policy for what differs between host and device: how a table entry is read
 /// (a plain load, or a read-only cache load), how a key is viewed under a symmetry (byte tables on
-/// the CPU, a per-cell loop on a GPU) and whether its paths step a side plane (kSidePlane: a
-/// MotionRule with kSide then takes the block's side bytes beside its cell bytes). Everything else
+/// the CPU, a per-cell loop on a GPU). Everything else
 /// is plain constexpr integer arithmetic compiled by the host compiler and by nvcc
 /// (--expt-relaxed-constexpr), which is what makes every path bit-identical.
 ///
@@ -262,16 +261,11 @@ constexpr Rule make_rule(const StepRules& r, std::uint64_t n) {
 template <class Platform, class Fn>
 constexpr void with_rule_type(const StepRules& r, Fn&& fn) {
   const bool pressure = r.motion.enabled() && r.motion.pressure && r.heads != nullptr;
-  if constexpr (Platform::kSidePlane) {  // StepRules::side is only ever set on such a platform's rules
-    if (pressure && r.side) {
-      if (r.motion.columns)
-        fn(static_cast<MotionRule<Platform, true, true, true>*>(nullptr));
-      else
-        fn(static_cast<MotionRule<Platform, false, true, true>*>(nullptr));
-      return;
-    }
-  }
-  if (pressure && r.motion.columns)
+  if (pressure && r.side && r.motion.columns)
+    fn(static_cast<MotionRule<Platform, true, true, true>*>(nullptr));
+  else if (pressure && r.side)
+    fn(static_cast<MotionRule<Platform, false, true, true>*>(nullptr));
+  else if (pressure && r.motion.columns)
     fn(static_cast<MotionRule<Platform, true, true>*>(nullptr));
   else if (pressure)
     fn(static_cast<MotionRule<Platform, false, true>*>(nullptr));

@@ -5,6 +5,7 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -13,19 +14,6 @@
 #include "granular/world.hpp"
 
 namespace granular::test {
-
-/// The presets the CUDA backend steps: every preset but those with MotionParams::momentum, which
-/// the CUDA backend refuses (it has no side plane yet: docs/design/momentum.md). Says so, once per
-/// call, in the test log.
-inline std::vector<std::string> cuda_presets() {
-  std::vector<std::string> out;
-  for (const std::string& name : rule_preset_names())
-    if (preset(name).motion.momentum)
-      MESSAGE("preset " << name << " skipped on CUDA: the CUDA backend refuses MotionParams::momentum");
-    else
-      out.push_back(name);
-  return out;
-}
 
 /// A WorldDef on `backend` (the CPU with 2 threads), sparse or dense, under `rules` and `seed`, with
 /// both of CUDA's dense fractions (CudaOptions::dense_fraction and motion_dense_fraction) set to
@@ -42,19 +30,30 @@ inline WorldDef gpu_test_def(BackendKind backend, bool sparse, const char* rules
   return def;
 }
 
-/// "" when both worlds report the same region, else the first differing cell, both values and the tick.
+/// "" when `x` and `y` (the bytes of every cell of world `a`'s grid, or empty for all zero) are
+/// equal, else the first cell where they differ, both values and the tick, after `what`.
+inline std::string first_byte_difference(const World& a, const char* what, const std::vector<std::uint8_t>& x,
+                                         const std::vector<std::uint8_t>& y) {
+  if (x == y) return {};
+  const std::size_t n = std::max(x.size(), y.size());
+  for (std::size_t i = 0; i < n; ++i) {
+    const unsigned u = i < x.size() ? x[i] : 0u, v = i < y.size() ? y[i] : 0u;
+    if (u == v) continue;
+    const std::int64_t sx = a.size().x, sy = a.size().y;
+    return std::string(what) + " first difference at (" + std::to_string(std::int64_t(i) % sx) + ", " +
+           std::to_string(std::int64_t(i) / sx % sy) + ", " + std::to_string(std::int64_t(i) / (sx * sy)) + "): " +
+           std::to_string(u) + " vs " + std::to_string(v) + " at tick " + std::to_string(a.tick());
+  }
+  return {};
+}
+
+/// "" when both worlds report the same cells and the same side plane (MotionParams::momentum's
+/// velocities), else the first differing cell, both values and the tick.
 inline std::string first_difference(const World& a, const World& b) {
   const Box whole{{0, 0, 0}, a.size()};
-  const std::vector<std::uint8_t> x = a.read_region(whole), y = b.read_region(whole);
-  for (std::size_t i = 0; i < x.size(); ++i)
-    if (x[i] != y[i]) {
-      const std::int64_t sx = a.size().x, sy = a.size().y;
-      return "first difference at (" + std::to_string(std::int64_t(i) % sx) + ", " +
-             std::to_string(std::int64_t(i) / sx % sy) + ", " + std::to_string(std::int64_t(i) / (sx * sy)) + "): " +
-             std::to_string(unsigned(x[i])) + " vs " + std::to_string(unsigned(y[i])) + " at tick " +
-             std::to_string(a.tick());
-    }
-  return {};
+  std::string d = first_byte_difference(a, "cells:", a.read_region(whole), b.read_region(whole));
+  if (d.empty()) d = first_byte_difference(a, "side plane:", a.capture().side, b.capture().side);
+  return d;
 }
 
 }  // namespace granular::test

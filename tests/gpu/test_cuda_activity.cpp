@@ -128,7 +128,7 @@ TEST_CASE("cuda sparse: same hash as dense CPU stepping on random scenes, sizes,
 }
 
 TEST_CASE("cuda sparse: grids holding all 8 states match dense CPU stepping under every preset") {
-  for (const std::string& rules : granular::test::cuda_presets()) {
+  for (const std::string& rules : rule_preset_names()) {
     CAPTURE(rules);
     const Int3 size{45, 38, 50};
     Trio w(granular::test::random_grid_all_states(size, 31), rules.c_str(), 6);
@@ -150,7 +150,7 @@ TEST_CASE("cuda sparse: scenes of every material under every preset, water and g
   // dense fraction) with the same activity figures.
   std::mt19937_64 rng(0xF1D);
   int scene = 0;
-  for (const std::string& rules : granular::test::cuda_presets())
+  for (const std::string& rules : rule_preset_names())
     for (const Int3 size : {Int3{41, 33, 37}, Int3{32, 17, 48}}) {
       const std::uint64_t scene_seed = rng(), seed = rng();
       CAPTURE(rules);

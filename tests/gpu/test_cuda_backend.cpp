@@ -208,7 +208,7 @@ TEST_CASE("cuda: scenes of every material under every preset, dense, with water 
   // tools of water and gas between them; every cell byte (motion state included) equal to the CPU's
   // and every material conserved by the steps.
   std::mt19937_64 rng(0xF1D0);
-  for (const std::string& rules : granular::test::cuda_presets())
+  for (const std::string& rules : rule_preset_names())
     for (const Int3 size : {Int3{37, 29, 41}, Int3{64, 20, 33}, Int3{5, 9, 70}}) {
       const std::uint64_t seed = rng();
       CAPTURE(rules);

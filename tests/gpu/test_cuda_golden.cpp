@@ -30,10 +30,6 @@ std::string hex(std::uint64_t v) {
 
 TEST_CASE("cuda golden: the CUDA step, sparse and dense, reaches the pinned hash of every preset on every scene") {
   for (const GoldenCase& c : kGoldenCases) {
-    if (preset(std::string(c.preset)).motion.momentum) {
-      MESSAGE("golden case " << c.preset << " / " << c.scene << " skipped: the CUDA backend refuses MotionParams::momentum");
-      continue;
-    }
     const Grid initial = granular::test::golden_initial(c);
     for (const bool sparse : {true, false}) {
       World world(golden_def(c, BackendKind::Cuda, sparse), initial);

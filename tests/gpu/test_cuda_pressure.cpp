@@ -1,7 +1,9 @@
 /// @file test_cuda_pressure.cpp
-/// The pressure lever (MotionParams::pressure, preset inertial-24-pressure) on the CUDA backend: the
-/// device head field (device_head_field.cuh), solved at the start of every tick, and the wake of
-/// the bricks where a pressure move may start give the CPU backend's cells bit for bit. The liquid
+/// The pressure lever (MotionParams::pressure, preset inertial-24-pressure) and the momentum lever
+/// on top of it (inertial-24-momentum: the side plane) on the CUDA backend: the device head field
+/// (device_head_field.cuh), solved at the start of every tick, the wake of the bricks where a
+/// pressure move may start, and the side plane stepped with the cells (walk_side_block) give the
+/// CPU backend's cells and velocities bit for bit. The liquid
 /// scenes u_tube and dam_break run on the CPU (dense and sparse) and on the GPU (dense, and sparse
 /// with dense-recording ticks only and with sparse ticks only), with water painted and poured and a
 /// hole dug between ticks; every world holds the dense CPU world's cells, the GPU's sparse worlds
@@ -36,18 +38,18 @@ WorldDef pressure_def(BackendKind backend, bool sparse, const char* rules, std::
 }
 
 
-/// The worlds compared, all from one grid under inertial-24-pressure: [0] dense CPU (the reference),
+/// The worlds compared, all from one grid under one rule set: [0] dense CPU (the reference),
 /// [1] sparse CPU, [2] dense GPU, [3] sparse GPU with dense-recording ticks only (dense_fraction 0),
 /// [4] sparse GPU with sparse ticks only (dense_fraction 1).
 class PressureWorlds {
  public:
-  /// The worlds of `initial` with `seed`.
-  PressureWorlds(const Grid& initial, std::uint64_t seed) {
-    worlds_.emplace_back(pressure_def(BackendKind::Cpu, false, kRules, seed), initial);
-    worlds_.emplace_back(pressure_def(BackendKind::Cpu, true, kRules, seed), initial);
-    worlds_.emplace_back(pressure_def(BackendKind::Cuda, false, kRules, seed), initial);
-    worlds_.emplace_back(pressure_def(BackendKind::Cuda, true, kRules, seed, 0.0), initial);
-    worlds_.emplace_back(pressure_def(BackendKind::Cuda, true, kRules, seed, 1.0), initial);
+  /// The worlds of `initial` with `seed` under `rules` (a preset with the pressure lever).
+  PressureWorlds(const Grid& initial, std::uint64_t seed, const char* rules = "inertial-24-pressure") {
+    worlds_.emplace_back(pressure_def(BackendKind::Cpu, false, rules, seed), initial);
+    worlds_.emplace_back(pressure_def(BackendKind::Cpu, true, rules, seed), initial);
+    worlds_.emplace_back(pressure_def(BackendKind::Cuda, false, rules, seed), initial);
+    worlds_.emplace_back(pressure_def(BackendKind::Cuda, true, rules, seed, 0.0), initial);
+    worlds_.emplace_back(pressure_def(BackendKind::Cuda, true, rules, seed, 1.0), initial);
     for (std::size_t i = kDenseGpu; i < worlds_.size(); ++i) REQUIRE(worlds_[i].backend() == BackendKind::Cuda);
     REQUIRE(worlds_[kDenseGpu].rules().motion.pressure);
     counts_ = worlds_[0].count();
@@ -55,6 +57,8 @@ class PressureWorlds {
 
   /// The dense CPU world.
   const World& reference() const { return worlds_[0]; }
+  /// The dense GPU world.
+  const World& dense_gpu() const { return worlds_[kDenseGpu]; }
   /// The sparse CPU world.
   const World& sparse_cpu() const { return worlds_[kSparseCpu]; }
 
@@ -75,7 +79,6 @@ class PressureWorlds {
   }
 
  private:
-  static constexpr const char* kRules = "inertial-24-pressure";
   static constexpr std::size_t kSparseCpu = 1, kDenseGpu = 2, kFirstSparseGpu = 3;
 
   /// Every world against the dense CPU world (hash, the whole region, counts), and the sparse GPU
@@ -128,20 +131,24 @@ Grid level_vessels() {
 
 }  // namespace
 
-TEST_CASE("cuda pressure: inertial-24-pressure liquid scenes on the CPU and the GPU, dense and sparse, agree bit for bit") {
+TEST_CASE("cuda pressure: the liquid scenes under pressure, and under momentum, on the CPU and the GPU, dense and sparse, agree bit for bit") {
   struct Case {
     const char* scene;
     int n;
   };
   // u_tube at an odd N: odd extents (37 x 9 x 37), so coarse cells and bricks are cut at the far
   // edges; dam_break at 64 (64 x 16 x 40, 4 x 1 x 3 bricks).
+  for (const char* rules : {"inertial-24-pressure", "inertial-24-momentum"})
   for (const Case& c : {Case{"u_tube", 37}, Case{"dam_break", 64}})
     for (const std::uint64_t seed : {5u, 90001u}) {
+      CAPTURE(rules);
       CAPTURE(c.scene);
       CAPTURE(seed);
       const SceneInstance instance = instantiate(load_scene(find_scene(c.scene)), c.n);
-      PressureWorlds w(instance.grid, seed);
+      PressureWorlds w(instance.grid, seed, rules);
       for (const int ticks : {1, 2, 5, 8, 13, 11}) w.step(ticks);
+      // Under momentum the liquid moving now holds velocities on both backends (the plane is exercised).
+      if (w.reference().rules().motion.momentum) CHECK(!w.dense_gpu().capture().side.empty());
       // The same scene without the lever: the lever moved something.
       World flow(pressure_def(BackendKind::Cpu, false, "inertial-24-flow", seed), instance.grid);
       flow.step(40);
@@ -175,11 +182,36 @@ TEST_CASE("cuda pressure: a leg raised by a tool wakes the far leg's bricks thro
   }
 }
 
-TEST_CASE("cuda pressure: the momentum preset, which the CUDA backend does not step yet, runs on the CPU under auto and is refused under cuda") {
+TEST_CASE("cuda momentum: auto picks the GPU, and a snapshot taken mid-burst continues bit for bit on the other backend") {
   const Grid g = instantiate(load_scene(find_scene("dam_break")), 32).grid;
-  WorldDef def = gpu_test_def(BackendKind::Auto, true, "inertial-24-momentum", 1, 0.0);
-  const World automatic(def, g);
-  CHECK(automatic.backend() == BackendKind::Cpu);
+  WorldDef def = gpu_test_def(BackendKind::Auto, true, "inertial-24-momentum", 3, 0.0);
+  World gpu(def, g);
+  REQUIRE(gpu.backend() == BackendKind::Cuda);
+  gpu.step(6);
+  const WorldSnapshot mid = gpu.capture();
+  REQUIRE(!mid.side.empty());
+  // The GPU's snapshot on the CPU, and the CPU's snapshot of the same tick back on a new GPU world.
+  def.backend = BackendKind::Cpu;
+  World cpu(def, mid);
+  const WorldSnapshot mid_cpu = cpu.capture();
+  CHECK(mid_cpu.side == mid.side);
   def.backend = BackendKind::Cuda;
-  CHECK_THROWS_WITH_AS(World(def, g), doctest::Contains("RuleSet::motion.momentum = true"), InvalidArgument);
+  World gpu_again(def, mid_cpu);
+  CHECK(gpu_again.hash() == gpu.hash());
+  for (const int ticks : {1, 4, 9}) {
+    gpu.step(ticks);
+    cpu.step(ticks);
+    gpu_again.step(ticks);
+    CAPTURE(gpu.tick());
+    if (cpu.hash() != gpu.hash()) FAIL_CHECK(first_difference(cpu, gpu));
+    CHECK(cpu.hash() == gpu.hash());
+    CHECK(gpu_again.hash() == gpu.hash());
+  }
+  // A tool gives the cells it changes velocity 0 on both backends; restore() puts the plane back.
+  for (World* w : {&gpu, &cpu}) w->paint(Box{{0, 0, 0}, {12, 8, 12}}, Material::Void);
+  CHECK(cpu.hash() == gpu.hash());
+  CHECK(first_difference(cpu, gpu).empty());
+  gpu.restore(mid);
+  CHECK(gpu.capture().side == mid.side);
+  CHECK(gpu.hash() == World(def, mid).hash());
 }

@@ -113,4 +113,10 @@ constexpr std::uint64_t mix64(std::uint64_t z) {
   return z ^ (z >> 31);
 }
 
+/// side_hash_term of a side plane that holds a non-zero byte, from its hash_words sum `word_sum`:
+/// what a backend that reduces the plane in parallel adds.
+constexpr std::uint64_t side_hash_of_sum(std::uint64_t word_sum) {
+  return mix64(word_sum ^ 0x73696465706C616Eull);  // "sideplan"
+}
+
 }  // namespace granular

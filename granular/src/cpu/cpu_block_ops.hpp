@@ -53,8 +53,6 @@ inline BlockKey permute_key(BlockKey k, const BlockKey (&table)[3][256]) {
 
 /// The CPU's Platform: plain loads, symmetries through the byte tables.
 struct HostPlatform {
-  /// The CPU paths step a side plane (MotionParams::momentum).
-  static constexpr bool kSidePlane = true;
   /// Reads a table entry.
   template <class T>
   static T load(const T* p) {

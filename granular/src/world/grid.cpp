@@ -146,7 +146,7 @@ std::uint64_t finish_hash(Int3 size, std::uint64_t partial_sum) {
 
 std::uint64_t side_hash_term(std::span<const std::uint8_t> side) {
   if (std::all_of(side.begin(), side.end(), [](std::uint8_t b) { return b == 0; })) return 0;
-  return mix64(hash_words(side, 0, (side.size() + 7) / 8) ^ 0x73696465706C616Eull);  // "sideplan"
+  return side_hash_of_sum(hash_words(side, 0, (side.size() + 7) / 8));
 }
 
 std::uint64_t hash_cells(Int3 size, std::span<const std::uint8_t> cells) {

@@ -174,11 +174,6 @@ BackendFactory World::choose_backend(BackendKind wanted) {
     notices_.push_back("backend auto: no CUDA backend linked into this program; using the CPU");
     return make_cpu_backend;
   }
-  if (wanted == BackendKind::Auto && rules_->motion.momentum) {
-    notices_.push_back("backend auto: rule set '" + rules_->name +
-                       "' has MotionParams::momentum, which the CUDA backend does not step yet; using the CPU");
-    return make_cpu_backend;
-  }
   const std::string why = cuda->unusable_reason();
   if (why.empty()) return cuda->create;
   if (wanted == BackendKind::Cuda)
