@@ -233,7 +233,7 @@ constexpr BlockOffset step_offset(const StepRules& r, std::uint64_t n) {
   if (!r.motion.enabled()) return block_offset(n, r.seed, r.random_axis_order);
   const int substeps = r.motion.substeps;
   return motion::motion_offset(n / std::uint64_t(substeps), int(n % std::uint64_t(substeps)), r.seed,
-                               r.random_axis_order);
+                               r.random_axis_order, r.motion.momentum);
 }
 
 /// The partition offset of sub-step `substep` of tick `tick` (substep 0 without a motion model).

@@ -7,9 +7,10 @@
 /// is 0: only the fluid pass sets one, and only on a liquid.
 ///
 /// Speed n (a component's magnitude) lets the liquid take a sideways step along that axis in the
-/// first n / kTopSpeed of a tick's sub-steps (in_window). A cell finds its x (or y) neighbour in its
-/// block one sub-step in two, so speed kTopSpeed is substeps / 2 cells a tick (12 under 24
-/// sub-steps), the schedule's top sideways speed, and speed n about n / kTopSpeed of it.
+/// first n / kTopSpeed of a tick's sub-steps (in_window). Under the lever a cell finds its x (and y)
+/// neighbour in its block in 3 of every 4 sub-steps (motion::motion_offset), so speed kTopSpeed is
+/// top_cells(substeps) = 3 substeps / 4 cells a tick (18 under 24 sub-steps), the schedule's top
+/// sideways speed, and speed n about n / kTopSpeed of it.
 
 #include <cstdint>
 
@@ -40,11 +41,13 @@ constexpr std::uint32_t with_component(std::uint32_t side, int axis, int v) {
 /// a tick of `substeps`: in the first speed / kTopSpeed of the tick.
 constexpr bool in_window(int speed, int substep, int substeps) { return substep * kTopSpeed < speed * substeps; }
 
-/// The speed of `cells_per_tick` cells a tick under `substeps` sub-steps, rounded, at most kTopSpeed
-/// (kTopSpeed is substeps / 2 cells a tick).
+/// The cells a tick of speed kTopSpeed under `substeps` sub-steps: the schedule's top sideways speed.
+constexpr int top_cells(int substeps) { return 3 * substeps / 4; }
+
+/// The speed of `cells_per_tick` cells a tick under `substeps` sub-steps, rounded, at most kTopSpeed.
 constexpr int speed_of(int cells_per_tick, int substeps) {
-  const int half = substeps / 2;
-  return clamp_speed((2 * kTopSpeed * cells_per_tick + half) / (2 * half));
+  const int top = top_cells(substeps);
+  return clamp_speed((2 * kTopSpeed * cells_per_tick + top) / (2 * top));
 }
 
 }  // namespace granular::momentum

@@ -68,7 +68,7 @@ void reference_tick(std::vector<std::uint8_t>& cells, Int3 size, const RuleSet& 
   motion::SubStep sub = motion::sub_step(rules.motion, step_materials(rules.materials), seed, tick, 0, rules.random_symmetry);
   for (int s = 0; s < rules.motion.substeps; ++s) {
     sub.substep = s;
-    const BlockOffset o = motion::motion_offset(tick, s, seed, rules.random_axis_order);
+    const BlockOffset o = motion::motion_offset(tick, s, seed, rules.random_axis_order, rules.motion.momentum);
     for (int bz = 0; bz < block_count(size.z, o.z); ++bz)
       for (int by = 0; by < block_count(size.y, o.y); ++by)
         for (int bx = 0; bx < block_count(size.x, o.x); ++bx) {

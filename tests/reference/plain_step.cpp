@@ -107,9 +107,10 @@ std::uint8_t with_side_component(std::uint8_t side, int axis, int v) {
   return axis == 0 ? side_byte(v, side_component(side, 1)) : side_byte(side_component(side, 0), v);
 }
 
-/// The speed of `cells_per_tick` cells a tick: 7 is substeps / 2 cells a tick; rounded, at most 7.
+/// The speed of `cells_per_tick` cells a tick: 7 is 3 substeps / 4 cells a tick (momentum's
+/// schedule meets an x or y neighbour in 3 of 4 sub-steps); rounded, at most 7.
 int speed_of_cells(int cells_per_tick, int substeps) {
-  const double speed = double(kPlainTopSpeed) * cells_per_tick / (substeps / 2);
+  const double speed = double(kPlainTopSpeed) * cells_per_tick / (3 * substeps / 4);
   return std::min(kPlainTopSpeed, int(speed + 0.5));
 }
 
@@ -316,7 +317,7 @@ BlockCells motion_block(const PlainRules& r, BlockCells cells, const BlockAt& b,
       int level = cell_motion(cell);
       // Under momentum a liquid that rolls or topples runs on along its move at its level's speed.
       if (side != nullptr && mat.behaviour == Behaviour::Liquid && to != i && !fell_straight(i)) {
-        const int speed = speed_of_cells(level > 0 ? motion_window(level) : 1, r.substeps);
+        const int speed = std::max(1, speed_of_cells(level > 0 ? motion_window(level) : 1, r.substeps));
         std::uint8_t v = side_out[to];
         for (int axis = 0; axis < 2; ++axis)
           if (((to ^ i) >> axis) & 1) v = with_side_component(v, axis, ((to >> axis) & 1) != 0 ? speed : -speed);
@@ -391,10 +392,18 @@ BlockCells motion_block(const PlainRules& r, BlockCells cells, const BlockAt& b,
 }
 
 /// The partition offset of sub-step `substep` of `tick` with the motion model: z flips every
-/// sub-step and x, y follow tick + substep as the one-step cycle follows the tick.
+/// sub-step and x, y follow tick + substep as the one-step cycle follows the tick; under momentum
+/// x and y are z flipped where bits 1 and 2 of the tick say, and flipped again per sub-step pair
+/// (s / 2 mod 4 = 0, 1, 2, 3) by y: no, yes, yes, no and x: no, no, yes, yes.
 BlockOffset motion_pass_offset(const PlainRules& r, std::uint64_t tick, int substep) {
   const std::uint64_t phase = tick + std::uint64_t(substep);
   BlockOffset o{int((phase >> 1) & 1u), int((phase >> 2) & 1u), substep & 1};
+  if (r.momentum) {
+    static constexpr int kFlipX[4] = {0, 0, 1, 1}, kFlipY[4] = {0, 1, 1, 0};
+    const int pair = (substep / 2) % 4, z = substep % 2;
+    o.x = z ^ kFlipX[pair] ^ int((tick / 2) % 2);
+    o.y = z ^ kFlipY[pair] ^ int((tick / 4) % 2);
+  }
   if (r.random_axis_order && cycle_swaps_axes(r.seed, tick)) {
     const int x = o.x;
     o.x = o.y;
