@@ -138,14 +138,14 @@ TEST_CASE("cuda pressure: the liquid scenes under pressure, and under momentum, 
   };
   // u_tube at an odd N: odd extents (37 x 9 x 37), so coarse cells and bricks are cut at the far
   // edges; dam_break at 64 (64 x 16 x 40, 4 x 1 x 3 bricks).
-  for (const char* rules : {"inertial-24-pressure", "inertial-24-momentum"})
+  for (const std::string rules : {"inertial-24-pressure", "inertial-24-momentum"})
   for (const Case& c : {Case{"u_tube", 37}, Case{"dam_break", 64}})
     for (const std::uint64_t seed : {5u, 90001u}) {
       CAPTURE(rules);
       CAPTURE(c.scene);
       CAPTURE(seed);
       const SceneInstance instance = instantiate(load_scene(find_scene(c.scene)), c.n);
-      PressureWorlds w(instance.grid, seed, rules);
+      PressureWorlds w(instance.grid, seed, rules.c_str());
       for (const int ticks : {1, 2, 5, 8, 13, 11}) w.step(ticks);
       // Under momentum the liquid moving now holds velocities on both backends (the plane is exercised).
       if (w.reference().rules().motion.momentum) CHECK(!w.dense_gpu().capture().side.empty());
