@@ -34,7 +34,8 @@
 ///     the cell's own top (head > kUnit (z + 1)), the liquid is denser and may start a move
 ///     (`press_movers`: liquids at rest that kept their place) and the excess head allows a push in
 ///     this sub-step (head::pushes). A top cell over a void moves only down into it; a void inside
-///     a body is filled from above only where the head above is higher than at the void. So a
+///     a body is filled from above only where the head above is higher than at the void, or (under
+///     momentum) where the liquid above carries a velocity, which it then takes first. So a
 ///     liquid under the head of a higher surface of its body rises into void, leaves a void that
 ///     travels up the head to the highest surface, pours out sideways from under its surface, and
 ///     levels; one pushed down out of its body takes the motion level of its exit speed
@@ -234,7 +235,12 @@ constexpr std::uint64_t fluid_pass(std::uint64_t bytes, std::uint32_t movers, in
       const std::int32_t top = (z0 + (b >> 2) + 1) * head::kUnit;  // the head that just fills the cell
       int from = -1;
       std::int32_t highest = top;
-      for (int flip = 1; flip <= 4; flip <<= 1) {
+      // Under momentum a void under a liquid that carries a velocity takes that liquid first, whatever
+      // the heads: a liquid on the move falls into the void under it (the column of a burst dam slumps
+      // instead of frothing), while the voids under liquid at rest travel up the head as without it.
+      const bool falls = side != nullptr && view < 4 && side_of(at(view ^ 4)) != 0;
+      for (int k = 0; k < 3; ++k) {
+        const int flip = falls ? (k == 0 ? 4 : k) : (1 << k);  // above first, else x, y, then below or above
         const int a = at(view ^ flip);
         const std::uint32_t m = material_at(bytes, a);
         if (!free(a) || ((press_movers >> a) & 1u) == 0 || !mats.is_liquid(m) || mats.density[t] >= mats.density[m]) continue;
@@ -246,7 +252,7 @@ constexpr std::uint64_t fluid_pass(std::uint64_t bytes, std::uint32_t movers, in
         // void travels up the head, towards the body's highest surface (a bubble in a pool rises; a
         // void in the rising leg of a U-tube sinks).
         const bool down = flip == 4 && view < 4;
-        if (down && !head::outside_body(heads[b]) && heads[a] <= heads[b]) continue;
+        if (down && !head::outside_body(heads[b]) && heads[a] <= heads[b] && !falls) continue;
         if (heads[a] > highest && head::pushes(heads[a] - top, substep, flip == 4)) {
           highest = heads[a];
           from = a;

@@ -1,5 +1,6 @@
 #include "plain_step.hpp"
 
+#include <array>
 #include <algorithm>
 #include <cstddef>
 #include <stdexcept>
@@ -618,13 +619,17 @@ BlockCells plain_fluid_pass(const PlainRules& r, const BlockCells& cells, const 
       const std::int32_t top = (pressure->z0 + p / 4 + 1) * kPlainHeadUnit;  // the head that just fills the cell
       int from = -1;
       std::int32_t highest = top;
-      for (const int q : {p ^ 1, p ^ 2, p ^ 4}) {
+      // Under momentum a bottom cell under a liquid that carries a velocity takes that liquid first,
+      // whatever the heads: it falls.
+      const bool falls = momentum != nullptr && p < 4 && side[p + 4] != 0;
+      const std::array<int, 3> order = falls ? std::array<int, 3>{p ^ 4, p ^ 1, p ^ 2} : std::array<int, 3>{p ^ 1, p ^ 2, p ^ 4};
+      for (const int q : order) {
         const bool vertical = q == (p ^ 4);
         if (moved[q] || !presses[q] || !is(q, Behaviour::Liquid) || density(q) <= density(p)) continue;
         // A top cell over a void or a gas gives its liquid only to the cell under it.
         if (q >= 4 && q - 4 != p && light(q - 4)) continue;
-        // Down into a cell inside a body only from a higher head than that cell's.
-        if (vertical && q > p && !plain_outside_body(head[p]) && head[q] <= head[p]) continue;
+        // Down into a cell inside a body only from a higher head than that cell's (or, falling, from any).
+        if (vertical && q > p && !plain_outside_body(head[p]) && head[q] <= head[p] && !falls) continue;
         if (head[q] > highest && pushes_in(head[q] - top, pressure->substep, vertical)) {
           highest = head[q];
           from = q;
