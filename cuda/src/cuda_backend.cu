@@ -586,9 +586,9 @@ class CudaBackend final : public Backend {
   }
 
   /// Enqueues copying `host` (x fastest, no padding) into the cells of `box`: a large run in one
-  /// copy (which returns once the driver holds the bytes) unless a side plane is kept, else chunk by chunk, the host filling the
-  /// staging (once the device has finished the last kernel that reads it) and a kernel scattering
-  /// it into the grid. A tool's write is that one kernel.
+  /// copy (which returns once the driver holds the bytes) unless a side plane is kept, else chunk
+  /// by chunk, the host filling the staging (once the device has finished the last kernel that
+  /// reads it) and a kernel scattering it into the grid. A tool's write is that one kernel.
   void copy_in(const Box& box, const std::uint8_t* host) {
     activate();
     before_write();

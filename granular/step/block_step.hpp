@@ -9,9 +9,9 @@
 ///  * MotionRule: one sub-step of the motion model (motion_block.hpp, motion::step_block).
 /// Both take a Platform policy for what differs between host and device: how a table entry is read
 /// (a plain load, or a read-only cache load), how a key is viewed under a symmetry (byte tables on
-/// the CPU, a per-cell loop on a GPU). Everything else
-/// is plain constexpr integer arithmetic compiled by the host compiler and by nvcc
-/// (--expt-relaxed-constexpr), which is what makes every path bit-identical.
+/// the CPU, a per-cell loop on a GPU). Everything else is plain constexpr integer arithmetic
+/// compiled by the host compiler and by nvcc (--expt-relaxed-constexpr), which is what makes every
+/// path bit-identical.
 ///
 /// A Rule also says what sparse stepping needs: quiet() (the block cannot keep its brick awake,
 /// inert_keys.hpp) and steps_uniform() (a block of 8 equal bytes may change; a path may skip such a

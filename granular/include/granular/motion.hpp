@@ -51,8 +51,7 @@ struct MotionParams {
   /// along its velocity until a wall or a grain stops it, or hands it on to the liquid ahead: fronts
   /// run instead of diffusing. Its sub-steps flip the x and y partition offsets with z in 3 of every
   /// 4 sub-steps (motion::motion_offset), so a cell can move sideways 3 cells in 4 sub-steps. Needs
-  /// pressure. A world of such a rule set keeps the plane while it
-  /// holds liquid.
+  /// pressure. A world of such a rule set keeps the plane while it holds liquid.
   bool momentum = false;
   /// True when the rule set uses the motion model.
   constexpr bool enabled() const { return substeps > 1; }

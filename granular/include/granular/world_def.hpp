@@ -16,9 +16,8 @@ namespace granular {
 
 /// Which compute backend steps the world.
 enum class BackendKind {
-  Auto,  ///< the CUDA backend when the program links it (granular::granular of a CUDA build), a
-         ///< usable GPU exists, otherwise
-         ///< the CPU (with a one-line notice)
+  Auto,  ///< the CUDA backend when the program links it (granular::granular of a CUDA build) and a
+         ///< usable GPU exists, otherwise the CPU (with a one-line notice)
   Cpu,   ///< the multithreaded CPU reference
   Cuda,  ///< the CUDA backend (throws BackendError when it is not linked or no GPU is usable)
 };
