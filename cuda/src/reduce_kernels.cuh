@@ -1,10 +1,10 @@
 #pragma once
 /// @file reduce_kernels.cuh
 /// Whole-grid reductions on the device: the grid hash's word sum (hash_cells in grid.hpp, over
-/// whole bytes; a side plane's too), whether a side plane holds a velocity, and the per-material histogram (over each byte's material bits: a motion rule
-/// set's motion level is not a material, granular/motion.hpp). Both read the cells as 8-byte
-/// little-endian words; the buffer is allocated in whole words, and bytes past the last cell are
-/// masked, whatever they hold.
+/// whole bytes; a side plane's too), whether a side plane holds a velocity, and the per-material
+/// histogram (over each byte's material bits: a motion rule set's motion level is not a material,
+/// granular/motion.hpp). All read the bytes as 8-byte little-endian words; the buffer is allocated
+/// in whole words, and bytes past the last cell are masked, whatever they hold.
 /// Kernels and launchers here are static: every translation unit including this gets its own copy.
 
 #include <cuda_runtime.h>
