@@ -100,8 +100,9 @@ constexpr std::array<PresetEntry, 10> kPresets = {{
      1, true, true, 24, false, kFlowGrain, true},
     {"inertial-24-momentum",
      "inertial-24-pressure with liquids that keep a sideways velocity: a liquid pushed out by its head, or running "
-     "off a surface, goes on until a wall stops it, so a burst dam's front runs instead of diffusing",
-     1, true, true, 24, false, kFlowGrain, true, true},
+     "off a surface, goes on until a wall stops it (up to 18 cells a tick), so a burst dam's front runs instead of "
+     "diffusing",
+     2, true, true, 24, false, kFlowGrain, true, true},
 }};
 
 RuleSet make_preset(const PresetEntry& e) {
