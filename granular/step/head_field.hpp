@@ -177,8 +177,8 @@ constexpr int root_cells(std::int32_t excess) {
 /// one sub-step in two, so a liquid moves under a head at up to 2 sqrt(e) = sqrt(2 g e) cells a tick
 /// up or down (g = 2 cells per tick^2: Torricelli's exit speed) and 3 sqrt(e) sideways (Ritter's
 /// front, 2 sqrt(g e) = 2.8 sqrt(e)): speeds that grow as the square root of the head. Under
-/// MotionParams::momentum's schedule (x and y flip in 3 of 4 sub-steps) the sideways push meets its
-/// target in 3 in 4 of those sub-steps: up to 4.5 sqrt(e) cells a tick.
+/// MotionParams::momentum's schedule (x and y flip in about 3 of 4 sub-steps) the sideways push meets
+/// its target in about 3 in 4 of those sub-steps: up to about 4.5 sqrt(e) cells a tick.
 constexpr bool pushes(std::int32_t excess, int substep, bool vertical) {
   // substep < k sqrt(e)  <=>  substep^2 < k^2 e
   const std::int64_t k2 = vertical ? 16 : 36;

@@ -8,7 +8,7 @@
 ///
 /// Speed n (a component's magnitude) lets the liquid take a sideways step along that axis in the
 /// first n / kTopSpeed of a tick's sub-steps (in_window). Under the lever a cell finds its x (and y)
-/// neighbour in its block in 3 of every 4 sub-steps (motion::motion_offset), so speed kTopSpeed is
+/// neighbour in its block in about 3 of every 4 sub-steps (motion::motion_offset), so speed kTopSpeed is
 /// top_cells(substeps) = 3 substeps / 4 cells a tick (18 under 24 sub-steps), the schedule's top
 /// sideways speed, and speed n about n / kTopSpeed of it.
 

@@ -5,9 +5,9 @@
 /// this very code, which is what makes the two backends bit-identical.
 ///
 /// A tick of a motion rule set runs MotionParams::substeps Margolus sub-steps. Sub-step s of tick
-/// t uses the partition offset motion_offset(t, s): z flips every sub-step (x and y in 3 of 4 under
-/// MotionParams::momentum), and the sub-step in which grains at rest take part (s = t & 1) walks all
-/// 8 offsets over 8 ticks, as the one-step cycle does. Per block:
+/// t uses the partition offset motion_offset(t, s): z flips every sub-step (from sub-step 2, x and
+/// y in about 3 of 4 under MotionParams::momentum), and the sub-step in which grains at rest take
+/// part (s = t & 1) walks all 8 offsets over 8 ticks, as the one-step cycle does. Per block:
 ///  0. Under MotionParams::columns, each wake in the bottom layer (the void a grain falling straight
 ///     down left in the last sub-step) is cleared, and the faller above it takes part in this sub-step
 ///     whatever its window, at the wake's level if that is higher than its own.
@@ -172,21 +172,38 @@ constexpr MotionEntry motion_entry_at(std::uint32_t index, TransitionOf transiti
 /// The partition offset of sub-step `substep` of tick `tick` (see the file comment); with
 /// `random_axis_order`, x and y are exchanged on the 8-tick cycles cycle_swaps_axes draws.
 ///
-/// With `flipping` (MotionParams::momentum) x and y flip with z in 3 of every 4 sub-steps: sub-step
-/// s takes x = z ^ G1 ^ bit 1 of the tick and y = z ^ G0 ^ bit 2 of the tick, G1 G0 the Gray code
-/// of (s / 2) mod 4 (00, 01, 11, 10). A cell then meets its neighbour along x (and y) in its block
-/// in 6 of every 8 sub-steps, where the default schedule (x and y from bits 1 and 2 of tick + s)
-/// gives 4 of 8 along x and 2 of 8 along y. Both keep what sparse stepping needs: every run of 8
-/// sub-steps that ends a sparse cycle (s = 0..7, 8..15, ...) takes all 8 offsets, and the sub-step in
-/// which grains at rest take part (s = t & 1, Gray code 00) walks all 8 over 8 ticks.
+/// With `flipping` (MotionParams::momentum) sub-steps 0 and 1 keep the default offsets (x and y
+/// from bits 1 and 2 of tick + s), so the grains at rest and those flowing at level 1, which move
+/// only in those two, meet the default schedule; from sub-step 2 on, each sub-step takes, among the
+/// x and y its run of 8 sub-steps (s = 0..7, 8..15, ...) has not yet used with its z, the pair that
+/// flips most of x and y from the sub-step before (ties: the lower x, then the lower y). A cell then
+/// meets its neighbour along x and y in its block in about 6 of every 8 sub-steps, where the
+/// default gives 4 of 8 along x and 2 of 8 along y, and every run of 8 still takes all 8 offsets,
+/// which sparse stepping needs.
 constexpr BlockOffset motion_offset(std::uint64_t tick, int substep, std::uint64_t seed, bool random_axis_order,
                                     bool flipping = false) {
   const std::uint64_t phase = tick + std::uint64_t(substep);
   BlockOffset o{int((phase >> 1) & 1u), int((phase >> 2) & 1u), substep & 1};
-  if (flipping) {
-    const unsigned pair = unsigned(substep >> 1) & 3u, gray = pair ^ (pair >> 1);
-    o.x = int(unsigned(substep & 1) ^ (gray >> 1) ^ unsigned((tick >> 1) & 1u));
-    o.y = int(unsigned(substep & 1) ^ (gray & 1u) ^ unsigned((tick >> 2) & 1u));
+  if (flipping && substep >= 2) {
+    // (x, y) as 2 x + y; used[z]: those the run of 8 has taken with z.
+    unsigned prev = ((unsigned(tick + 1) >> 1 & 1u) << 1) | (unsigned(tick + 1) >> 2 & 1u);
+    unsigned used[2] = {1u << (((unsigned(tick) >> 1 & 1u) << 1) | (unsigned(tick) >> 2 & 1u)), 1u << prev};
+    for (int s = 2; s <= substep; ++s) {
+      if (s % 8 == 0) used[0] = used[1] = 0;
+      unsigned& taken = used[s & 1];
+      unsigned best = 0, fewest_kept = 3;
+      for (unsigned c = 0; c < 4; ++c) {
+        const unsigned kept = unsigned((c >> 1) == (prev >> 1)) + unsigned((c & 1u) == (prev & 1u));
+        if ((taken >> c & 1u) == 0 && kept < fewest_kept) {
+          best = c;
+          fewest_kept = kept;
+        }
+      }
+      prev = best;
+      taken |= 1u << best;
+    }
+    o.x = int(prev >> 1);
+    o.y = int(prev & 1u);
   }
   if (random_axis_order && cycle_swaps_axes(seed, tick)) {
     const int x = o.x;

@@ -109,7 +109,7 @@ std::uint8_t with_side_component(std::uint8_t side, int axis, int v) {
 }
 
 /// The speed of `cells_per_tick` cells a tick: 7 is 3 substeps / 4 cells a tick (momentum's
-/// schedule meets an x or y neighbour in 3 of 4 sub-steps); rounded, at most 7.
+/// schedule meets an x or y neighbour in about 3 of 4 sub-steps); rounded, at most 7.
 int speed_of_cells(int cells_per_tick, int substeps) {
   const double speed = double(kPlainTopSpeed) * cells_per_tick / (3 * substeps / 4);
   return std::min(kPlainTopSpeed, int(speed + 0.5));
@@ -393,17 +393,33 @@ BlockCells motion_block(const PlainRules& r, BlockCells cells, const BlockAt& b,
 }
 
 /// The partition offset of sub-step `substep` of `tick` with the motion model: z flips every
-/// sub-step and x, y follow tick + substep as the one-step cycle follows the tick; under momentum
-/// x and y are z flipped where bits 1 and 2 of the tick say, and flipped again per sub-step pair
-/// (s / 2 mod 4 = 0, 1, 2, 3) by y: no, yes, yes, no and x: no, no, yes, yes.
+/// sub-step and x, y follow tick + substep as the one-step cycle follows the tick. Under momentum,
+/// from sub-step 2 on, x and y are instead chosen sub-step by sub-step: of the (x, y) not yet taken
+/// with the same z since the last multiple of 8, the first in the order (0,0), (0,1), (1,0), (1,1)
+/// that keeps the fewest of the last sub-step's x and y.
 BlockOffset motion_pass_offset(const PlainRules& r, std::uint64_t tick, int substep) {
   const std::uint64_t phase = tick + std::uint64_t(substep);
   BlockOffset o{int((phase >> 1) & 1u), int((phase >> 2) & 1u), substep & 1};
-  if (r.momentum) {
-    static constexpr int kFlipX[4] = {0, 0, 1, 1}, kFlipY[4] = {0, 1, 1, 0};
-    const int pair = (substep / 2) % 4, z = substep % 2;
-    o.x = z ^ kFlipX[pair] ^ int((tick / 2) % 2);
-    o.y = z ^ kFlipY[pair] ^ int((tick / 4) % 2);
+  if (r.momentum && substep >= 2) {
+    std::vector<std::pair<int, int>> xy;  // (x, y) of sub-steps 0 .. substep
+    for (int s = 0; s < 2; ++s) xy.emplace_back(int(((tick + s) / 2) % 2), int(((tick + s) / 4) % 2));
+    for (int s = 2; s <= substep; ++s) {
+      const std::pair<int, int> last = xy.back();
+      int best_kept = 99;
+      std::pair<int, int> best{};
+      for (const std::pair<int, int> c : {std::pair{0, 0}, std::pair{0, 1}, std::pair{1, 0}, std::pair{1, 1}}) {
+        bool taken = false;
+        for (int u = s - s % 8; u < s; ++u) taken = taken || (u % 2 == s % 2 && xy[std::size_t(u)] == c);
+        const int kept = int(c.first == last.first) + int(c.second == last.second);
+        if (!taken && kept < best_kept) {
+          best_kept = kept;
+          best = c;
+        }
+      }
+      xy.push_back(best);
+    }
+    o.x = xy.back().first;
+    o.y = xy.back().second;
   }
   if (r.random_axis_order && cycle_swaps_axes(r.seed, tick)) {
     const int x = o.x;

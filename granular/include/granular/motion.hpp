@@ -49,8 +49,10 @@ struct MotionParams {
   /// (granular/step/momentum.hpp). A liquid pushed out sideways by its head leaves at the speed the
   /// head gives, one that rolls off a surface or runs down its slope gathers speed, and each goes on
   /// along its velocity until a wall or a grain stops it, or hands it on to the liquid ahead: fronts
-  /// run instead of diffusing. Its sub-steps flip the x and y partition offsets with z in 3 of every
-  /// 4 sub-steps (motion::motion_offset), so a cell can move sideways 3 cells in 4 sub-steps. Needs
+  /// run instead of diffusing. From sub-step 2 on, its sub-steps flip the x and y partition offsets
+  /// with z in about 3 of 4 (motion::motion_offset), so a cell can move sideways about 3 cells in 4
+  /// sub-steps; sub-steps 0 and 1, where grains at rest and flowing grains move, keep the default
+  /// offsets, so sand behaves as without the lever. Needs
   /// pressure. A world of such a rule set keeps the plane while it holds liquid.
   bool momentum = false;
   /// True when the rule set uses the motion model.
