@@ -52,8 +52,8 @@ struct MotionParams {
   /// run instead of diffusing. From sub-step 2 on, its sub-steps flip the x and y partition offsets
   /// with z in about 3 of 4 (motion::motion_offset), so a cell can move sideways about 3 cells in 4
   /// sub-steps; sub-steps 0 and 1, where grains at rest and flowing grains move, keep the default
-  /// offsets, so sand behaves as without the lever. Needs
-  /// pressure. A world of such a rule set keeps the plane while it holds liquid.
+  /// offsets, so sand behaves as without the lever. Needs pressure. A world of such a rule set keeps
+  /// the plane while it holds liquid.
   bool momentum = false;
   /// True when the rule set uses the motion model.
   constexpr bool enabled() const { return substeps > 1; }
