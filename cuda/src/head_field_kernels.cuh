@@ -92,17 +92,6 @@ static __global__ void head_pressing_kernel(HeadCells at, StepMaterials m, Int3 
   }
 }
 
-/// The wake of the flagged bricks, as a tool's wake (wake_dirty_kernel with a list): each brick
-/// flagged in `pressing` becomes dirty and wakes its neighbourhood; the flags are cleared.
-static __global__ void wake_pressing_kernel(SparseParams s, std::uint8_t* pressing) {
-  for (std::uint32_t b = blockIdx.x * blockDim.x + threadIdx.x; b < s.total; b += gridDim.x * blockDim.x) {
-    if (pressing[b] == 0) continue;
-    pressing[b] = 0;
-    s.dirty[b] = 1;
-    wake_neighbourhood(s, b);
-  }
-}
-
 /// CUDA blocks for a head field kernel over `n` items (coarse cells, lines or bricks).
 inline unsigned head_blocks(std::uint64_t n) {
   const std::uint64_t blocks = (n + kHeadThreads - 1) / kHeadThreads;
@@ -134,11 +123,7 @@ static inline void launch_pressing_wake(HeadCells at, const StepMaterials& m, co
   const Int3 c = head::coarse_size(at.size);
   head_pressing_kernel<<<head_blocks(coarse_count(c)), kHeadThreads, 0, stream>>>(at, m, c, heads, s.bricks, pressing);
   check_launch("head pressing kernel launch");
-  wake_pressing_kernel<<<activity_blocks(s.total), kActivityThreads, 0, stream>>>(s, pressing);
-  check_launch("wake pressing bricks kernel launch");
-  check(cudaMemsetAsync(s.count, 0, sizeof(unsigned), stream), "cudaMemsetAsync (brick list count)");
-  build_list_kernel<<<activity_blocks(s.total), kActivityThreads, 0, stream>>>(s);
-  check_launch("build brick list kernel launch");
+  launch_wake_flagged(s, pressing, stream);
 }
 
 }  // namespace granular::cuda

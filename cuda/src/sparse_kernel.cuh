@@ -230,6 +230,18 @@ static __global__ void wake_dirty_kernel(SparseParams s, const std::uint32_t* wa
   }
 }
 
+/// The wake of the flagged bricks, as a tool's wake (wake_dirty_kernel with a list): each brick
+/// flagged in `flags` (one byte per brick) becomes dirty and wakes its neighbourhood; the flags are
+/// cleared.
+static __global__ void wake_flagged_kernel(SparseParams s, std::uint8_t* flags) {
+  for (std::uint32_t b = blockIdx.x * blockDim.x + threadIdx.x; b < s.total; b += gridDim.x * blockDim.x) {
+    if (flags[b] == 0) continue;
+    flags[b] = 0;
+    s.dirty[b] = 1;
+    wake_neighbourhood(s, b);
+  }
+}
+
 /// Rebuilds the list of awake bricks (s.count must be 0 before).
 static __global__ void build_list_kernel(SparseParams s) {
   for (std::uint32_t b = blockIdx.x * blockDim.x + threadIdx.x; b < s.total; b += gridDim.x * blockDim.x)
@@ -315,6 +327,16 @@ static inline void launch_end_cycle(const SparseParams& s, cudaStream_t stream) 
   build_list_kernel<<<blocks, kActivityThreads, 0, stream>>>(s);
   check_launch("build brick list kernel launch");
   check(cudaMemsetAsync(s.dirty, 0, s.total, stream), "cudaMemsetAsync (dirty bricks)");
+}
+
+/// Enqueues the wake of the bricks flagged in `flags` (wake_flagged_kernel, which clears them) and
+/// the rebuild of the awake list.
+static inline void launch_wake_flagged(const SparseParams& s, std::uint8_t* flags, cudaStream_t stream) {
+  wake_flagged_kernel<<<activity_blocks(s.total), kActivityThreads, 0, stream>>>(s, flags);
+  check_launch("wake flagged bricks kernel launch");
+  check(cudaMemsetAsync(s.count, 0, sizeof(unsigned), stream), "cudaMemsetAsync (brick list count)");
+  build_list_kernel<<<activity_blocks(s.total), kActivityThreads, 0, stream>>>(s);
+  check_launch("build brick list kernel launch");
 }
 
 /// Enqueues count_awake_kernel: the awake list counted for `ticks` ticks (`last_tick`: the last of
