@@ -1,14 +1,15 @@
 /// @file test_columns.cpp
-/// The motion model's columns lever (MotionParams::columns, preset inertial-24-columns): a released
-/// block falls in free-fall time as one train of grains, wakes never outlive their sub-step, a settled
-/// world under the lever sleeps, and worlds, snapshots and rule sets hold or refuse wake bytes as the
-/// lever says. (The plain loop and the golden pins cover the lever cell for cell: test_plain_step.cpp,
+/// The motion model's columns lever and its trains (MotionParams::columns and ::trains, preset
+/// inertial-24-columns): a released block falls in free-fall time and stays a block, past the packing
+/// one-cell moves allow, wakes never outlive their sub-step, a settled world under the levers sleeps,
+/// and worlds, snapshots and rule sets hold or refuse wake bytes as the lever says. (The plain loop and the golden pins cover the lever cell for cell: test_plain_step.cpp,
 /// test_golden.cpp.)
 
 #include <doctest/doctest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
 #include "granular/errors.hpp"
 #include "granular/motion.hpp"
@@ -33,10 +34,12 @@ struct Fall {
   double packing = 0;
 };
 
-Fall drop_block(const char* rules, int side) {
+Fall drop_block(const std::shared_ptr<const RuleSet>& rules, int side) {
   const int margin = 4, clearance = 12 * side;
   const Int3 size{side + 2 * margin, side + 2 * margin, clearance + side + 4};
-  World world(test_def(size, rules, 2, 5));
+  WorldDef def = test_def(size, rules->name.c_str(), 2, 5);
+  def.rule_set = rules;
+  World world(def);
   world.paint(Box{{margin, margin, clearance}, {margin + side, margin + side, clearance + side}}, Material::Granular);
   auto layers = [&] {
     std::vector<double> grains(std::size_t(size.z), 0);
@@ -72,6 +75,8 @@ Fall drop_block(const char* rules, int side) {
   return f;
 }
 
+Fall drop_block(const char* rules, int side) { return drop_block(make_rule_set(rules), side); }
+
 /// True when some cell byte of `world` is a wake.
 bool holds_wake(const World& world) {
   for (const std::uint8_t c : world.capture().cells)
@@ -97,6 +102,39 @@ TEST_CASE("columns: a released block falls two of its heights in free-fall time 
   CHECK(without.ticks >= 3 * with.ticks);
   CHECK(with.packing >= 0.4);
   CHECK(with.packing >= 3 * without.packing);
+}
+
+TEST_CASE("trains: a released block keeps its packing past the bound that one-cell moves set") {
+  const int side = 16;
+  const std::shared_ptr<const RuleSet> trains = make_rule_set("inertial-24-columns");
+  REQUIRE(trains->motion.trains);
+  auto wakes_only = std::make_shared<RuleSet>(*trains);
+  wakes_only->motion.trains = false;
+  const Fall with = drop_block(trains, side);
+  const Fall without = drop_block(wakes_only, side);
+  // The bound: a column falling v cells a sub-step holds at most 1 / (1 + v) of its cells, v the
+  // speed after the fall of 2 side lengths (g = 2 cells per tick^2, 24 sub-steps a tick).
+  const double v = std::sqrt(2 * 2.0 * 2.0 * side) / 24;
+  const double bound = 1 / (1 + v);
+  CAPTURE(with.ticks);
+  CAPTURE(with.packing);
+  CAPTURE(without.ticks);
+  CAPTURE(without.packing);
+  CAPTURE(bound);
+  CHECK(without.packing < bound);
+  CHECK(with.packing > bound);
+  CHECK(with.packing >= 1.5 * without.packing);
+  CHECK(with.ticks <= without.ticks);  // closing the gaps never slows the fall
+}
+
+TEST_CASE("trains: the lever needs columns and a World; its rule sets fingerprint apart") {
+  RuleSet rules = preset("inertial-24-columns");
+  const std::uint64_t on = rule_fingerprint(rules);
+  rules.motion.trains = false;
+  CHECK(rule_fingerprint(rules) != on);
+  rules.motion.trains = true;
+  rules.motion.columns = false;
+  check_has(error_of<RuleError>([&] { validate_rule_set(rules); }), {"RuleSet::motion.trains = true", "columns = false"});
 }
 
 TEST_CASE("columns: the bowl falls, settles and sleeps; sparse equals dense and no wake outlives its sub-step") {

@@ -119,6 +119,11 @@ TEST_CASE("distributed world: 2 and 3 in-process ranks equal one World for every
     for (const bool sparse : {true, false}) {
       if (!sparse && rules != "inertial-24" && rules != "paper") continue;
       WorldDef def = test_def(size, rules.c_str(), 1, 5);
+      if (preset(rules).motion.trains) {  // refused (the test below): its other levers, without trains
+        auto without = std::make_shared<RuleSet>(preset(rules));
+        without->motion.trains = false;
+        def.rule_set = without;
+      }
       def.sparse = sparse;
       const Trace whole = run_whole(def, initial, 4, 6, false);
       for (const int ranks : {2, 3}) {
@@ -449,17 +454,21 @@ TEST_CASE("distributed world: a tool call that would wrap the tool-call counter 
   }
 }
 
-TEST_CASE("distributed world: a rule set with pressure is refused on every rank, naming the field") {
+TEST_CASE("distributed world: a rule set with pressure or trains is refused on every rank, naming the field") {
   const Int3 size{16, 16, 64};
   const Grid initial = mixed_material_grid(size, 3);
-  const WorldDef def = test_def(size, "inertial-24-pressure", 1, 5);
-  std::atomic<int> refused{0};
-  run_local_ranks(2, [&](Communicator& comm) {
-    try {
-      DistributedWorld w(def, comm, initial);
-    } catch (const InvalidArgument& e) {
-      if (std::string(e.what()).find("RuleSet::motion.pressure = true") != std::string::npos) ++refused;
-    }
-  });
-  CHECK(refused == 2);
+  for (const auto& [rules, field] : {std::pair{"inertial-24-pressure", "RuleSet::motion.pressure = true"},
+                                     std::pair{"inertial-24-columns", "RuleSet::motion.trains = true"}}) {
+    CAPTURE(rules);
+    const WorldDef def = test_def(size, rules, 1, 5);
+    std::atomic<int> refused{0};
+    run_local_ranks(2, [&](Communicator& comm) {
+      try {
+        DistributedWorld w(def, comm, initial);
+      } catch (const InvalidArgument& e) {
+        if (std::string(e.what()).find(field) != std::string::npos) ++refused;
+      }
+    });
+    CHECK(refused == 2);
+  }
 }

@@ -31,6 +31,7 @@
 #include "rule_launch.cuh"
 #include "reduce_kernels.cuh"
 #include "sparse_kernel.cuh"
+#include "train_kernels.cuh"
 #include "step/block_step.hpp"
 #include "step/motion_table.hpp"
 #include "step/step_rules_builder.hpp"
@@ -114,6 +115,11 @@ class CudaBackend final : public Backend {
       step_rules_.side = true;
     }
     if (sparse_) init_sparse(s);
+    // MotionParams::trains with sparse stepping: a byte per brick for the wake of the bricks a train changed.
+    if (sparse_ && step_rules_.motion.trains) {
+      train_flags_ = cuda::DeviceBuffer<std::uint8_t>(total_bricks_, "the bricks a train changed");
+      cuda::check(cudaMemsetAsync(train_flags_.data(), 0, train_flags_.bytes(), s), "cudaMemsetAsync (train bricks)");
+    }
     step_rules_.inert = inert_.data();
     stream_.synchronize("building the result table");
     if (info.rules->motion.enabled()) {
@@ -463,12 +469,14 @@ class CudaBackend final : public Backend {
         });
         if ((n & 7u) == 7u) cuda::launch_end_cycle(sp, s);
         ++n;
+        if (n % substeps == 0) close_trains(sp, s);
         continue;
       }
       // The pair kernel steps no side plane: a rule set with one runs its steps one by one.
       const bool fuse = n + 1 < end && !step_rules_.side &&
                         cuda::pairable(step_offset(step_rules_, n), step_offset(step_rules_, n + 1)) &&
-                        !(mode == Mode::Recording && (n & 7u) == 7u) && !(head_field_ && (n + 1) % substeps == 0) &&
+                        !(mode == Mode::Recording && (n & 7u) == 7u) &&
+                        !((head_field_ || step_rules_.motion.trains) && (n + 1) % substeps == 0) &&
                         halo_ready();
       if (fuse) {
         cuda::with_device_step_pair(step_rules_, n, [&](const auto& a, const auto& b) {
@@ -492,11 +500,25 @@ class CudaBackend final : public Backend {
           }
         }
       n += done;
+      if (n % substeps == 0 && step_rules_.motion.trains) {
+        // The tick's trains close; with sparse stepping the bricks they changed wake, which changes
+        // the awake list, so recording counts the ticks before with the list they stepped.
+        if (mode == Mode::Recording) count();
+        close_trains(sp, s);
+      }
     }
     if (halo != nullptr) cuda::check(cudaFreeAsync(halo, s), "cudaFreeAsync (pair halo)");
     if (mode == Mode::Dense) return;
     count();
     fetch_counters(ticks);
+  }
+
+  /// Enqueues the closing of the trains after a tick (MotionParams::trains; nothing without the
+  /// lever): every column with dense stepping, the columns of awake brick columns with sparse
+  /// stepping (`sp`), whose changed bricks then wake.
+  void close_trains(const cuda::SparseParams& sp, cudaStream_t s) {
+    if (!step_rules_.motion.trains) return;
+    cuda::launch_close_trains(cells_, size_, step_rules_.materials, sparse_ ? &sp : nullptr, train_flags_.data(), s);
   }
 
   /// Enqueues zeroing the activity counters (before a sparse step's first tick).
@@ -666,6 +688,7 @@ class CudaBackend final : public Backend {
   cuda::DeviceBuffer<std::uint64_t> inert_;
   std::optional<cuda::DeviceHeadField> head_field_;  ///< MotionParams::pressure with a liquid in the table: the heads
   cuda::DeviceBuffer<std::uint8_t> side_;  ///< the side plane (MotionParams::momentum with a head field), else empty
+  cuda::DeviceBuffer<std::uint8_t> train_flags_;  ///< per brick, MotionParams::trains with sparse stepping: a train changed it
   cuda::PinnedCounters counters_host_;        ///< the activity counters, copied back by each step
   mutable bool counters_pending_ = false;     ///< a step's counters are on their way to counters_host_
   mutable ActivityStats last_{};

@@ -220,6 +220,7 @@ struct SubStep {
   int substep = 0;              ///< this sub-step, 0 .. substeps - 1
   int substeps = 2;             ///< MotionParams::substeps (the highest level follows from it)
   bool columns = false;         ///< MotionParams::columns: grains in free fall fall as columns
+  bool trains = false;          ///< MotionParams::trains: a fast grain waits behind one falling as fast
   bool random_symmetry = false; ///< draw a horizontal symmetry per block
   StepMaterials materials;      ///< the rule set's material table (codes, grains, grain motion)
 
@@ -235,8 +236,8 @@ struct SubStep {
 /// domain origin packs to `origin` (block_position_offset).
 constexpr SubStep sub_step(const MotionParams& motion, const StepMaterials& materials, std::uint64_t seed,
                            std::uint64_t tick, int substep, bool random_symmetry, std::uint64_t origin = 0) {
-  return SubStep{seed,      tick, substep, motion.substeps, motion.columns, random_symmetry, materials,
-                 block_seed_key(seed), block_seed_key(seed ^ fluid::kDrawSalt), origin};
+  return SubStep{seed,      tick,           substep,         motion.substeps, motion.columns, motion.trains,
+                 random_symmetry, materials, block_seed_key(seed), block_seed_key(seed ^ fluid::kDrawSalt), origin};
 }
 
 /// The phase bits of a block whose cells are all grains, as sub-step 0 sets them, at partition z
@@ -398,6 +399,16 @@ constexpr std::uint64_t step_block_as(std::uint64_t bytes, const SubStep& m, int
     const std::uint32_t late = ((reach + 0x01010101u * std::uint32_t(0x80 - (s + 2))) >> 7) & 0x01010101u;
     part &= late | (s == 1 ? start : 0u) | follow;
   }
+  // Under MotionParams::trains a top grain at level 2 or more over a grain falling at least as fast
+  // (the cell below it in the block) waits for it: it falls with it, it does not slip around it.
+  if (kColumns && m.trains)
+    for (int k = 0; k < 4; ++k) {
+      const std::uint32_t above = (top >> (8 * k)) & 0xFFu, below = std::uint32_t(bytes >> (8 * k)) & 0xFFu;
+      const int level = int((above >> kMotionShift) & kMotionLevelMask);
+      if (level >= 2 && mats.is_granular(above & kMaterialMask) && mats.is_granular(below & kMaterialMask) &&
+          int((below >> kMotionShift) & kMotionLevelMask) >= level)
+        part &= ~(1u << (8 * k));
+    }
   const std::uint32_t gases = s < 2 && mats.gases != 0 ? std::uint32_t(props >> 3) & 0x01010101u : 0u;
   // Under pressure, every liquid at rest of the block (bit p for cell p, head::at_rest_liquid): the
   // pressure stage moves them in every sub-step.

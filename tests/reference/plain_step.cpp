@@ -255,7 +255,11 @@ BlockCells motion_block(const PlainRules& r, BlockCells cells, const BlockAt& b,
     if (code[i] != kCodeGrain) continue;
     const int level = cell_motion(cells[i]);
     const int window_start = (cells[i] & kMotionPhaseBit) ? 1 : 0;
-    const bool in_window = (s >= window_start && s < window_start + motion_window(level)) || follower[i];
+    bool in_window = (s >= window_start && s < window_start + motion_window(level)) || follower[i];
+    // Trains: a grain at level 2 or more right above a grain at its level or faster waits for it.
+    if (r.trains && level >= 2 && behaviour_of(r, cells[i]) == Behaviour::Granular &&
+        behaviour_of(r, cells[i - 4]) == Behaviour::Granular && cell_motion(cells[i - 4]) >= level)
+      in_window = false;
     if (!in_window) {
       code[i] = kCodeObstacle;  // too slow to move in this sub-step
     } else {
@@ -769,6 +773,7 @@ PlainRules plain_rules(const RuleSet& rules, const Lut& lut, std::uint64_t seed)
   plain.random_axis_order = rules.random_axis_order;
   plain.substeps = rules.motion.substeps;
   plain.columns = rules.motion.columns;
+  plain.trains = rules.motion.trains;
   plain.pressure = rules.motion.pressure;
   plain.momentum = rules.motion.momentum;
   bool have_static = false, have_granular = false, have_liquid = false;
@@ -804,6 +809,52 @@ PlainRules plain_rules(const RuleSet& rules, const Lut& lut, std::uint64_t seed)
   return plain;
 }
 
+/// Trains, after a tick: in every column, bottom up, the granular grains moving at one level L, each
+/// with only void below it down to the one before and at most motion_window(L) cells of it, are packed
+/// down onto the lowest of them, in order; the voids that were between them go above them.
+void plain_close_trains(std::span<std::uint8_t> cells, Int3 n, const PlainRules& r) {
+  auto granular_moving = [&](std::uint8_t c) {
+    return behaviour_of(r, c) == Behaviour::Granular && cell_motion(c) >= 1;
+  };
+  for (int y = 0; y < n.y; ++y)
+    for (int x = 0; x < n.x; ++x) {
+      auto at = [&](int z) -> std::uint8_t& {
+        return cells[std::size_t(x) + std::size_t(n.x) * (std::size_t(y) + std::size_t(n.y) * std::size_t(z))];
+      };
+      int z = 0;
+      while (z < n.z) {
+        if (!granular_moving(at(z))) {
+          ++z;
+          continue;
+        }
+        // A train from z: its grains' old places, as long as each next one qualifies.
+        const int level = cell_motion(at(z));
+        std::vector<int> grains{z};
+        int next = z + 1;
+        while (true) {
+          int k = next;
+          while (k < n.z && behaviour_of(r, at(k)) == Behaviour::Void) ++k;
+          if (k >= n.z || !granular_moving(at(k)) || cell_motion(at(k)) != level ||
+              k - grains.back() - 1 > motion_window(level))
+            break;
+          grains.push_back(k);
+          next = k + 1;
+        }
+        // Pack: in order, each grain after the first trades places with the cell just above the
+        // grains packed so far (a void: everything between the train's grains is), and that void
+        // loses its wake bit.
+        for (std::size_t i = 1; i < grains.size(); ++i) {
+          const int to = z + int(i);
+          if (to == grains[i]) continue;
+          std::swap(at(to), at(grains[i]));
+          at(grains[i]) = std::uint8_t(at(grains[i]) & kMaterialMask);
+        }
+        const int end = grains.back() + 1;
+        z = end;
+      }
+    }
+}
+
 void plain_step(std::span<std::uint8_t> cells, Int3 size, const PlainRules& rules, std::uint64_t tick, int threads,
                 std::span<std::uint8_t> side) {
   if (!rules.motion()) {
@@ -816,6 +867,7 @@ void plain_step(std::span<std::uint8_t> cells, Int3 size, const PlainRules& rule
   for (int s = 0; s < rules.substeps; ++s)
     plain_pass(cells, size, rules, motion_pass_offset(rules, tick, s), tick, s, threads,
                rules.pressure ? &heads : nullptr, rules.momentum ? side : std::span<std::uint8_t>());
+  if (rules.trains) plain_close_trains(cells, size, rules);
 }
 
 void plain_run(std::span<std::uint8_t> cells, Int3 size, const PlainRules& rules, std::uint64_t first_tick, int ticks,

@@ -65,6 +65,8 @@ struct PlainRules {
   bool random_axis_order = false;  ///< draw the offset order per cycle (RuleSet::random_axis_order)
   int substeps = 1;                ///< Margolus sub-steps per tick; above 1 the motion model is on
   bool columns = false;            ///< MotionParams::columns: wakes, followers, falling layers accelerate
+  bool trains = false;             ///< MotionParams::trains: fast grains wait behind grains falling as fast,
+                                   ///< and every tick each column's falling trains close their gaps
   bool pressure = false;           ///< MotionParams::pressure: a head per coarse cell moves liquids at rest
   bool momentum = false;           ///< MotionParams::momentum: liquids carry a sideways velocity in a side plane
   std::array<PlainMaterial, kMaterialCount> materials{};  ///< per state

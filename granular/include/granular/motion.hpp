@@ -35,6 +35,15 @@ struct MotionParams {
   /// grain alone in its block's top layer does). So a released block falls as a train of grains that
   /// all move as far per tick as its front.
   bool columns = false;
+  /// A falling body of grains stays whole (a lever of columns): a granular grain falling at level 2
+  /// or more over a granular grain falling at least as fast waits for it instead of slipping around
+  /// it, and after the last sub-step of every tick each column closes the gaps of its *trains* (grains
+  /// of one level, each at most one tick's travel of that level above the one below it, only void
+  /// between them): every grain steps down onto the one below it and the voids go to the train's top
+  /// (granular/step/column_trains.hpp). So a released block falls as a block, past the packing of
+  /// 1 / (1 + v) that one-cell moves allow a column falling v cells a sub-step. A DistributedWorld
+  /// refuses it (a train may cross a slab).
+  bool trains = false;
   /// Liquids feel the head of their body (a motion model's lever): each tick the backend computes a
   /// hydraulic head per coarse cell of 2 x 2 x 2 cells, the highest free surface of the liquid body
   /// the coarse cell belongs to (granular/step/head_field.hpp), and the block step lets a liquid

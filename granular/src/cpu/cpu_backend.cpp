@@ -7,6 +7,7 @@
 #include <new>
 #include <tuple>
 
+#include "cpu/cpu_column_trains.hpp"
 #include "cpu/cpu_sparse_step.hpp"
 #include "cpu/cpu_step.hpp"
 #include "granular/errors.hpp"
@@ -110,10 +111,20 @@ void CpuBackend::step(std::uint64_t first_tick, int ticks) {
         step_pass(c);
       }
     }
+    if (step_rules_.motion.trains) close_tick_trains();
     ++last_.ticks;
     last_.brick_ticks += last_.active_bricks;
     last_.cell_ticks += last_.active_cells;
   }
+}
+
+void CpuBackend::close_tick_trains() {
+  // After the tick's last sub-step, which ended a sparse cycle: the awake bricks are those of the next
+  // cycle, and every brick holding a moving grain is among them. The bricks a train changed wake as
+  // a tool's write wakes them.
+  const std::vector<std::uint32_t> changed =
+      close_trains(grid_.cells().data(), grid_.size(), step_rules_.materials, sparse_ ? &activity_.active() : nullptr, pool_);
+  if (sparse_ && !changed.empty()) activity_.wake(changed);
 }
 
 void CpuBackend::prepare_heads() {

@@ -49,6 +49,8 @@ class CpuBackend final : public Backend {
   /// Before a tick under MotionParams::pressure: StepRules::heads (null without liquid), the heads
   /// solved when they may have changed, and the bricks where a pressure move may start woken.
   void prepare_heads();
+  /// Closes the trains of the grid after a tick (MotionParams::trains) and wakes the bricks they changed.
+  void close_tick_trains();
   /// Liquid cells among `cells` (the rule set's liquids).
   std::uint64_t liquid_in(std::span<const std::uint8_t> cells) const;
   /// Liquid cells of the grid inside `box`.

@@ -55,6 +55,10 @@ SlabLayout make_layout(const WorldDef& def, Communicator& comm, Int3 size) {
       throw InvalidArgument("DistributedWorld: rule set '" + rules->name +
                             "' has RuleSet::motion.pressure = true; the head of a liquid body is the highest surface "
                             "of the whole body, which a slab cannot see: run it as one World, or turn pressure off");
+    if (rules->motion.trains)
+      throw InvalidArgument("DistributedWorld: rule set '" + rules->name +
+                            "' has RuleSet::motion.trains = true; a falling train closes its gaps along its whole "
+                            "column, which may cross a slab: run it as one World, or turn trains off");
     layout.emplace(size, comm.size(), SlabLayout::halo_for(*rules));
     mine = {1, std::uint64_t(size.x), std::uint64_t(size.y), std::uint64_t(size.z), def.seed, rule_fingerprint(*rules)};
     rules_name = rules->name;

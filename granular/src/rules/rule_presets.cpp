@@ -68,6 +68,7 @@ struct PresetEntry {
   GrainMotion grain = kInertialGrain;  ///< sand's motion under a motion model (gravel's follows from it)
   bool pressure = false;  ///< MotionParams::pressure
   bool momentum = false;  ///< MotionParams::momentum
+  bool trains = false;    ///< MotionParams::trains
 };
 
 constexpr std::array<PresetEntry, 10> kPresets = {{
@@ -84,8 +85,9 @@ constexpr std::array<PresetEntry, 10> kPresets = {{
      "inertial with 24 sub-steps per tick: a top speed of 23 cells per tick instead of 15, for 1.5 times the cost", 1,
      true, true, 24},
     {"inertial-24-columns",
-     "inertial-24 with grains in free fall falling as columns: a released block falls as one train of grains", 1, true,
-     true, 24, true},
+     "inertial-24 with grains in free fall falling as columns, in trains that close their gaps every tick: a "
+     "released block falls as a block, in free-fall time",
+     2, true, true, 24, true, kInertialGrain, false, false, true},
     {"inertial-24-entrain",
      "inertial-24 with avalanches: a rolling or toppling grain sets the grains at rest on step edges of its block "
      "moving, so a tilted slope fails near 38 degrees and its avalanche stops near 34",
@@ -116,6 +118,7 @@ RuleSet make_preset(const PresetEntry& e) {
   r.motion.columns = e.columns;
   r.motion.pressure = e.pressure;
   r.motion.momentum = e.momentum;
+  r.motion.trains = e.trains;
   r.materials = default_materials(r.motion.enabled() ? e.grain : GrainMotion{});
   r.transition = r.motion.enabled() ? &motion_transition : &paper_transition;
   r.device_rule = r.motion.enabled() ? "motion" : "paper";

@@ -126,6 +126,9 @@ void validate_rule_set(const RuleSet& rules) {
   if (rules.motion.columns && !rules.motion.enabled())
     throw RuleError(who + "RuleSet::motion.columns = true with motion.substeps = 1; columns are a lever of the motion "
                           "model: set substeps to a multiple of 8 up to 32, or columns to false");
+  if (rules.motion.trains && !rules.motion.columns)
+    throw RuleError(who + "RuleSet::motion.trains = true with motion.columns = false; trains are a lever of columns "
+                          "(a train is what falling as columns leaves of a body): set columns to true, or trains to false");
 }
 
 std::uint64_t rule_fingerprint(const RuleSet& rules) {
@@ -140,6 +143,7 @@ std::uint64_t rule_fingerprint(const RuleSet& rules) {
   if (rules.random_axis_order) h = mix64(h ^ 0x617865736F726465ull);
   if (rules.motion.enabled()) h = mix64(h ^ 0x6D6F74696F6E0000ull ^ std::uint64_t(rules.motion.substeps));
   if (rules.motion.columns) h = mix64(h ^ 0x636F6C756D6E7300ull);
+  if (rules.motion.trains) h = mix64(h ^ 0x747261696E730000ull);
   if (rules.motion.pressure) h = mix64(h ^ 0x7072657373757265ull);
   if (rules.motion.momentum) h = mix64(h ^ 0x6D6F6D656E74756Dull);
   for (const MaterialDef& d : rules.materials) {
