@@ -10,7 +10,7 @@
 /// one column, each at most one tick's travel at that level above the one below it, with only void
 /// between them. Closing it moves each gap's void to the train's top (every grain steps down onto the
 /// one below it, in order), so the body falls on as one. It is a permutation of the column: every
-/// material is conserved exactly, and no grain moves further than the train's front fell.
+/// material is conserved exactly, and a grain moves down by the gaps below it in its train only.
 
 #include <cstdint>
 
