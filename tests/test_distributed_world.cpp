@@ -118,12 +118,8 @@ TEST_CASE("distributed world: 2 and 3 in-process ranks equal one World for every
     if (preset(rules).motion.pressure) continue;  // refused: see the test below
     for (const bool sparse : {true, false}) {
       if (!sparse && rules != "inertial-24" && rules != "paper") continue;
-      WorldDef def = test_def(size, rules.c_str(), 1, 5);
-      if (preset(rules).motion.trains) {  // refused (the test below): its other levers, without trains
-        auto without = std::make_shared<RuleSet>(preset(rules));
-        without->motion.trains = false;
-        def.rule_set = without;
-      }
+      // A preset with trains is refused (the test below): its other levers run.
+      WorldDef def = without_trains(test_def(size, rules.c_str(), 1, 5));
       def.sparse = sparse;
       const Trace whole = run_whole(def, initial, 4, 6, false);
       for (const int ranks : {2, 3}) {

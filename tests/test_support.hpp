@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <initializer_list>
+#include <memory>
 #include <random>
 #include <span>
 #include <string>
@@ -16,6 +17,7 @@
 #include "granular/grid.hpp"
 #include "granular/material.hpp"
 #include "granular/motion.hpp"
+#include "granular/rule_presets.hpp"
 #include "granular/world.hpp"
 
 namespace granular::test {
@@ -34,6 +36,17 @@ inline WorldDef test_def(Int3 size, const char* rules = "paper", int threads = 2
 /// `def` with sparse stepping on or off.
 inline WorldDef with_sparse(WorldDef def, bool sparse) {
   def.sparse = sparse;
+  return def;
+}
+
+/// `def` as a DistributedWorld takes it: a preset with MotionParams::trains (which a distributed world
+/// refuses) runs as its own rule set without them, every other lever kept.
+inline WorldDef without_trains(WorldDef def) {
+  if (def.rule_set == nullptr && preset(def.rules).motion.trains) {
+    auto rules = std::make_shared<RuleSet>(preset(def.rules));
+    rules->motion.trains = false;
+    def.rule_set = std::move(rules);
+  }
   return def;
 }
 

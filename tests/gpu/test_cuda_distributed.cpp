@@ -5,7 +5,6 @@
 
 #include <doctest/doctest.h>
 
-#include <memory>
 #include <mutex>
 #include <string>
 
@@ -30,12 +29,7 @@ WorldDef def_of(Int3 size, const std::string& rules, BackendKind backend) {
   def.seed = 13;
   // A distributed world refuses trains (test_distributed_world.cpp): a preset with them runs its
   // other levers.
-  if (preset(rules).motion.trains) {
-    auto without = std::make_shared<RuleSet>(preset(rules));
-    without->motion.trains = false;
-    def.rule_set = without;
-  }
-  return def;
+  return granular::test::without_trains(def);
 }
 
 /// Tools at the slab boundaries of a 2- or 3-rank split, then ticks, `rounds` times; the hashes.

@@ -830,15 +830,13 @@ void plain_close_trains(std::span<std::uint8_t> cells, Int3 n, const PlainRules&
         // A train from z: its grains' old places, as long as each next one qualifies.
         const int level = cell_motion(at(z));
         std::vector<int> grains{z};
-        int next = z + 1;
         while (true) {
-          int k = next;
+          int k = grains.back() + 1;
           while (k < n.z && behaviour_of(r, at(k)) == Behaviour::Void) ++k;
           if (k >= n.z || !granular_moving(at(k)) || cell_motion(at(k)) != level ||
               k - grains.back() - 1 > motion_window(level))
             break;
           grains.push_back(k);
-          next = k + 1;
         }
         // Pack: in order, each grain after the first trades places with the cell just above the
         // grains packed so far (a void: everything between the train's grains is), and that void
@@ -849,8 +847,7 @@ void plain_close_trains(std::span<std::uint8_t> cells, Int3 n, const PlainRules&
           std::swap(at(to), at(grains[i]));
           at(grains[i]) = std::uint8_t(at(grains[i]) & kMaterialMask);
         }
-        const int end = grains.back() + 1;
-        z = end;
+        z = grains.back() + 1;
       }
     }
 }
