@@ -8,6 +8,7 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <memory>
 
@@ -102,6 +103,44 @@ TEST_CASE("columns: a released block falls two of its heights in free-fall time 
   CHECK(without.ticks >= 3 * with.ticks);
   CHECK(with.packing >= 0.4);
   CHECK(with.packing >= 3 * without.packing);
+}
+
+TEST_CASE("columns: grains against a wall fall as fast as the rest of their block") {
+  // A block that fills a walled shaft wall to wall: gravity accelerates every grain in free fall,
+  // so the grains beside the walls keep up with the middle of the block.
+  const int side = 16, clearance = 12 * side;
+  const Int3 size{side + 2, side + 2, clearance + side + 4};
+  World world(test_def(size, "inertial-24-columns", 2, 5));
+  for (const Box& wall : {Box{{0, 0, 0}, {1, size.y, size.z}}, Box{{size.x - 1, 0, 0}, {size.x, size.y, size.z}},
+                          Box{{0, 0, 0}, {size.x, 1, size.z}}, Box{{0, size.y - 1, 0}, {size.x, size.y, size.z}}})
+    world.paint(wall, Material::Solid);
+  world.paint(Box{{1, 1, clearance}, {side + 1, side + 1, clearance + side}}, Material::Granular);
+  // Mean height of the grains in the columns beside a wall and in the others.
+  auto heights = [&] {
+    const std::vector<std::uint8_t> cells = world.read_region(Box{{0, 0, 0}, size});
+    double sum[2] = {}, n[2] = {};
+    for (std::size_t i = 0; i < cells.size(); ++i) {
+      if (cells[i] != to_cell(Material::Granular)) continue;
+      const int x = int(i % std::size_t(size.x)), y = int(i / std::size_t(size.x) % std::size_t(size.y));
+      const int z = int(i / std::size_t(size.x * size.y));
+      const int beside = x == 1 || x == side || y == 1 || y == side ? 1 : 0;
+      sum[beside] += z;
+      n[beside] += 1;
+    }
+    return std::array<double, 2>{sum[0] / n[0], sum[1] / n[1]};
+  };
+  const double start = heights()[0];
+  int ticks = 0;
+  while (start - heights()[0] < 1.5 * side && ticks < 100) {
+    world.step(1);
+    ++ticks;
+  }
+  const std::array<double, 2> h = heights();
+  CAPTURE(ticks);
+  CAPTURE(h[0]);
+  CAPTURE(h[1]);
+  CHECK(start - h[0] >= 1.5 * side);
+  CHECK(std::abs(h[1] - h[0]) <= 2.0);
 }
 
 TEST_CASE("trains: a released block keeps its packing past the bound that one-cell moves set") {

@@ -24,7 +24,7 @@
 ///  3. The 8 bytes are permuted with their motion levels, and each grain that took part updates
 ///     its level: one that fell straight down gains 1 in the first sub-step of its window when
 ///     nothing is beside it in the top layer (gravity accelerates free grains, not a dense flow),
-///     under MotionParams::columns when every grain of the top layer fell (a falling layer);
+///     under MotionParams::columns whatever is beside it (every grain that falls is in free fall);
 ///     one that toppled down a step gains 1 with chance topple_gain / 256; one that was blocked
 ///     from below loses 1 with chance roll_cost / 256 if it rolled, kStuckCost / 256 if its block
 ///     had no room. So a moving grain runs on down slopes steeper than the balance of gains and
@@ -399,13 +399,13 @@ constexpr std::uint64_t step_block_as(std::uint64_t bytes, const SubStep& m, int
     const std::uint32_t late = ((reach + 0x01010101u * std::uint32_t(0x80 - (s + 2))) >> 7) & 0x01010101u;
     part &= late | (s == 1 ? start : 0u) | follow;
   }
-  // Under MotionParams::trains a top grain at level 2 or more over a grain falling at least as fast
-  // (the cell below it in the block) waits for it: it falls with it, it does not slip around it.
+  // Under MotionParams::trains a moving top grain (level 1 or more) over a grain falling at least as
+  // fast (the cell below it in the block) waits for it: it falls with it, it does not slip around it.
   if (kColumns && m.trains)
     for (int k = 0; k < 4; ++k) {
       const std::uint32_t above = (top >> (8 * k)) & 0xFFu, below = std::uint32_t(bytes >> (8 * k)) & 0xFFu;
       const int level = int((above >> kMotionShift) & kMotionLevelMask);
-      if (level >= 2 && mats.is_granular(above & kMaterialMask) && mats.is_granular(below & kMaterialMask) &&
+      if (level >= 1 && mats.is_granular(above & kMaterialMask) && mats.is_granular(below & kMaterialMask) &&
           int((below >> kMotionShift) & kMotionLevelMask) >= level)
         part &= ~(1u << (8 * k));
     }
@@ -447,10 +447,6 @@ constexpr std::uint64_t step_block_as(std::uint64_t bytes, const SubStep& m, int
   occupied = (occupied | (occupied >> 7) | (occupied >> 14) | (occupied >> 21)) & 15u;
   const int max_level = MotionParams{.substeps = m.substeps}.max_level();
   auto move_of = [&](int k) { return ((entry >> (3 + 8 * k)) & 1u) | ((entry >> (6 + 8 * k)) & 2u); };
-  // Under MotionParams::columns, the top cells that fell straight down (bit k for cell 4 + k).
-  std::uint32_t fell = 0;
-  if constexpr (kColumns)
-    for (int k = 0; k < 4; ++k) fell |= (move_of(k) == kFell ? 1u : 0u) << k;
   std::uint32_t new_top = top;
   std::uint32_t wakes_left = 0;  // byte k: the wake top cell 4 + k leaves if it fell, else 0
   bool flowed = false;           // a moving grain rolled or toppled (GrainMotion::entrain)
@@ -469,9 +465,8 @@ constexpr std::uint64_t step_block_as(std::uint64_t bytes, const SubStep& m, int
     const int draw = int((random >> (40 + 6 * k)) & 63u) * 4;
     if (move == kFell) {
       // Gravity accelerates a grain in free fall, in the first sub-step of its window: one with nothing
-      // beside it in the top layer, or under MotionParams::columns one whose top layer all fell.
-      const std::uint32_t others = occupied & ~(1u << k);
-      if (s == (phase ? 1 : 0) && (others & ~fell) == 0) ++level;
+      // beside it in the top layer, or under MotionParams::columns every grain that fell.
+      if (s == (phase ? 1 : 0) && (kColumns || (occupied & ~(1u << k)) == 0)) ++level;
     } else if (move == kToppled) {
       if (draw < int(mats.topple_gain[material])) ++level;
     } else if (level > 0 && draw < (move == kRolled ? int(mats.roll_cost[material]) : kStuckCost)) {

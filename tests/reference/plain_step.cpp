@@ -256,8 +256,8 @@ BlockCells motion_block(const PlainRules& r, BlockCells cells, const BlockAt& b,
     const int level = cell_motion(cells[i]);
     const int window_start = (cells[i] & kMotionPhaseBit) ? 1 : 0;
     bool in_window = (s >= window_start && s < window_start + motion_window(level)) || follower[i];
-    // Trains: a grain at level 2 or more right above a grain at its level or faster waits for it.
-    if (r.trains && level >= 2 && behaviour_of(r, cells[i]) == Behaviour::Granular &&
+    // Trains: a moving grain (level 1 or more) right above a grain at its level or faster waits for it.
+    if (r.trains && level >= 1 && behaviour_of(r, cells[i]) == Behaviour::Granular &&
         behaviour_of(r, cells[i - 4]) == Behaviour::Granular && cell_motion(cells[i - 4]) >= level)
       in_window = false;
     if (!in_window) {
@@ -295,14 +295,7 @@ BlockCells motion_block(const PlainRules& r, BlockCells cells, const BlockAt& b,
   }
 
   const int max_level = MotionParams{.substeps = r.substeps}.max_level();
-  // A top-layer grain "falls as part of its layer" when every other non-void top cell fell straight
-  // down too (columns), else only when it is alone in the top layer.
   auto fell_straight = [&](int j) { return destination_of[j] < 4 && (destination_of[j] & 3) == (j & 3); };
-  auto layer_fell = [&](int i) {
-    for (int j = 4; j < 8; ++j)
-      if (j != i && flow_code(r, cells[j]) != kCodeVoid && !(moving[j] && fell_straight(j))) return false;
-    return true;
-  };
   // Entrainment: did a moving grain roll (to another top cell) or topple (down into another column)?
   bool flowed = false;
   for (int i = 4; i < 8; ++i) {
@@ -332,7 +325,9 @@ BlockCells motion_block(const PlainRules& r, BlockCells cells, const BlockAt& b,
       if (to < 4) {
         const bool straight_down = (to & 3) == (i & 3);
         if (straight_down) {
-          if (s == (phase ? 1 : 0) && (r.columns ? layer_fell(i) : alone_in_top_layer(r, cells, i))) ++level;
+          // Gravity accelerates a grain in free fall: under columns every one that fell, else one alone
+          // in the top layer.
+          if (s == (phase ? 1 : 0) && (r.columns || alone_in_top_layer(r, cells, i))) ++level;
         } else if (level_draw(i) < mat.topple_gain) {
           ++level;
         }

@@ -31,12 +31,13 @@ struct MotionParams {
   /// Grains in free fall fall as columns (a motion model's lever): the void a grain falling straight
   /// down leaves is a *wake* for one sub-step (kWakeBit and the grain's level), and the faller above a
   /// wake falls after it in the next sub-step, whatever its window, taking the wake's level if it is
-  /// higher; a top layer whose every grain falls straight down accelerates (without the lever, only a
-  /// grain alone in its block's top layer does). So a released block falls as a train of grains that
-  /// all move as far per tick as its front.
+  /// higher; every grain that falls straight down in the first sub-step of its window accelerates,
+  /// whatever is beside it (without the lever, only a grain alone in its block's top layer does). So a
+  /// released block falls as a train of grains that all move as far per tick as its front, and grains
+  /// against a wall fall as fast as the rest.
   bool columns = false;
-  /// A falling body of grains stays whole (a lever of columns): a granular grain falling at level 2
-  /// or more over a granular grain falling at least as fast waits for it instead of slipping around
+  /// A falling body of grains stays whole (a lever of columns): a moving granular grain (level 1 or
+  /// more) over a granular grain falling at least as fast waits for it instead of slipping around
   /// it, and after the last sub-step of every tick each column closes the gaps of its *trains* (grains
   /// of one level, each at most one tick's travel of that level above the one below it, only void
   /// between them): every grain steps down onto the one below it and the voids go to the train's top

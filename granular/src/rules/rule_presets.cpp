@@ -87,7 +87,7 @@ constexpr std::array<PresetEntry, 10> kPresets = {{
     {"inertial-24-columns",
      "inertial-24 with grains in free fall falling as columns, in trains that close their gaps every tick: a "
      "released block falls as a block, in free-fall time",
-     2, true, true, 24, true, kInertialGrain, false, false, true},
+     3, true, true, 24, true, kInertialGrain, false, false, true},
     {"inertial-24-entrain",
      "inertial-24 with avalanches: a rolling or toppling grain sets the grains at rest on step edges of its block "
      "moving, so a tilted slope fails near 38 degrees and its avalanche stops near 34",
