@@ -1,7 +1,7 @@
 /// @file test_columns.cpp
 /// The motion model's columns lever and its trains (MotionParams::columns and ::trains, preset
 /// inertial-24-columns): a released block falls in free-fall time and stays a block, past the packing
-/// one-cell moves allow, wakes never outlive their sub-step, a settled world under the levers sleeps,
+/// one-cell moves allow, its grains against a wall keeping up with the rest, wakes never outlive their sub-step, a settled world under the levers sleeps,
 /// and worlds, snapshots and rule sets hold or refuse wake bytes as the lever says. (The plain loop and the golden pins cover the lever cell for cell: test_plain_step.cpp,
 /// test_golden.cpp.)
 
