@@ -159,7 +159,7 @@ LIMITS = [
     "  grain) it meets both falling-block targets (0.965 and 1.01) but loses the silo's fill dependence",
     "  (0.40), the hourglass (0.76) and the smallest cone (30.9 degrees): 23 of the 32 granular targets",
     "  against the default's 24. The silo's pack takes the speed of the grains leaving the orifice and",
-    "  falls as a mass; docs/accuracy/columns-default.md lists the 21 variants tried.",
+    "  falls as a mass; docs/accuracy/columns-default.md lists the 22 variants tried.",
     "* **Lever kept: entrain (`inertial-24-entrain`, and under the default rules; `GrainMotion::entrain`,",
     "  docs/design/motion-model.md, \"Motion model\").** A grain that rolls or topples sets the grains at rest",
     "  on step edges of its block moving (level 1) with chance entrain / 256: a flowing layer erodes the",
