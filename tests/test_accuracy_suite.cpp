@@ -190,3 +190,30 @@ TEST_CASE("accuracy suite, quick: cone sizes, dug slope and falling block measur
   CHECK(packing > 0);
   CHECK(packing <= 1);
 }
+
+// The heap while poured, quick, on the default rules (2 s on 2 cores). Asserted: what holds by
+// construction (the emitter's grains conserved, every metric measured, the pile at rest when the run
+// ends, its angle at rest the last one measured). Reported only (docs/ACCURACY.md): the angles and the time to rest against their targets.
+TEST_CASE("accuracy suite, quick: the heap while poured measures its angle and its time to rest") {
+  const SuiteReport r = run_suite(quick_options(WorldDef{}.rules), {"pour"});
+  REQUIRE(r.tests.size() == 1);
+  const TestReport& t = r.tests[0];
+  CHECK(r.conserved());
+  for (const Metric& m : t.metrics) {
+    MESSAGE(t.test << " " << m.name << " = " << m.measured << " (target " << m.reference << " +- " << m.tolerance << ")");
+    CHECK(std::isfinite(m.measured));
+  }
+  REQUIRE(t.series.size() == 5);
+  const Series& angle = t.series[0];
+  const Series& moving = t.series[4];
+  REQUIRE(angle.x.size() == moving.x.size());
+  REQUIRE(!moving.y.empty());
+  // The run ends at rest: fewer than 0.1% of the grains move in the last sample.
+  CHECK(moving.y.back() < 0.001);
+  // A pile stands from the first samples on, and its angle at rest is the last sample's.
+  REQUIRE(angle.y.size() > 2);
+  CHECK(std::isfinite(angle.y[1]));
+  CHECK(metric(t, "rest_angle").measured == angle.y.back());
+  // The pour's 16 N ticks (N = 96) are all in the report's ticks.
+  CHECK(t.ticks > 16u * 96u);
+}

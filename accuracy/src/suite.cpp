@@ -21,7 +21,7 @@ TestReport open_report(const SuiteOptions& options, std::string test, std::strin
 
 std::vector<std::string> suite_test_names() {
   return {"cone",          "cone_sizes",            "gravel_cone", "hysteresis", "dug_slope",
-          "silo",          "collapse",              "fall",        "falling_block",
+          "pour",          "silo",          "collapse",              "fall",        "falling_block",
           "communicating_vessels", "dam_break",     "levelling",   "torricelli", "buoyancy",
           "conservation"};
 }
@@ -56,6 +56,7 @@ SuiteReport run_suite(const SuiteOptions& o, const std::vector<std::string>& tes
   if (wanted("gravel_cone")) report.tests.push_back(run_gravel_cone_test(o));
   if (wanted("hysteresis")) report.tests.push_back(run_hysteresis_test(o));
   if (wanted("dug_slope")) report.tests.push_back(run_dug_slope_test(o));
+  if (wanted("pour")) report.tests.push_back(run_pour_test(o));
   if (wanted("silo")) report.tests.push_back(run_silo_test(o));
   std::size_t collapse_index = 0;
   if (wanted("collapse")) {

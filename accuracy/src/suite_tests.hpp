@@ -43,7 +43,14 @@ TestReport run_hysteresis_test(const SuiteOptions& options);
 /// its wall's point at half depth) and the angle per azimuth.
 TestReport run_dug_slope_test(const SuiteOptions& options);
 
-/// 6. Silo discharge: a cylindrical silo (radius 1.5 D + 6 quick, + 8 full) with a flat bottom and
+/// 6. Heap while poured: the shipped pile scene (quick N = 96, full 192) poured by its emitter, then
+/// watched until fewer than 0.1% of its grains move (at most 60 s). The steepest angle over the pour's
+/// second half and the angle at rest against dry sand's hysteresis band (33 .. 36 deg, widened by the
+/// hysteresis test's 2 deg), and the seconds from the pour's end to rest against one second, with the
+/// angle and the share of grains moving against time.
+TestReport run_pour_test(const SuiteOptions& options);
+
+/// 7. Silo discharge: a cylindrical silo (radius 1.5 D + 6 quick, + 8 full) with a flat bottom and
 /// a centred round orifice of diameter D, filled 5 silo diameters high; grains that leave are
 /// removed below and counted. Steady flow rate W(D) while the fill height falls from 3 to 2 silo
 /// diameters, the fit W = C (D - k)^n (Beverloo: n = 5/2), and W against the fill height; then
@@ -51,19 +58,19 @@ TestReport run_dug_slope_test(const SuiteOptions& options);
 /// from 20% to 80%.
 TestReport run_silo_test(const SuiteOptions& options);
 
-/// 7. Column collapse: a cylinder of sand of radius R0 and height a R0 released at once, for
+/// 8. Column collapse: a cylinder of sand of radius R0 and height a R0 released at once, for
 /// a in {0.5, 1, 2, 4, 8}; normalised runout (R_inf - R0) / R0 against a with power-law fits below
 /// and above a = 1.7 (Lube et al. 2004: exponents 1 and 1/2). Its series "stop time" holds the
 /// ticks each collapse took to come to rest against H0, which run_fall_test uses.
 TestReport run_collapse_test(const SuiteOptions& options);
 
-/// 8. Free fall: a single grain dropped from 16 to 256 cells (quick: to 128); the exponent of fall
+/// 9. Free fall: a single grain dropped from 16 to 256 cells (quick: to 128); the exponent of fall
 /// distance against time (2 under gravity) and of fall time against height (1/2). When `collapse`
 /// is given (the collapse test's report), also the exponent of the collapse stop time against
 /// H0 (1/2: t_stop is proportional to sqrt(H0 / g)).
 TestReport run_fall_test(const SuiteOptions& options, const TestReport* collapse);
 
-/// 9. Falling block: a cube of sand (quick 24 cells wide, 800 above the floor; full 96, 4000)
+/// 10. Falling block: a cube of sand (quick 24 cells wide, 800 above the floor; full 96, 4000)
 /// released at rest and watched every tick until its centre (the grains' mean height) has fallen
 /// 2 block heights; its packing fraction then (the grains in its footprint between the 5th and
 /// 95th percentile layers over the footprint's cells there: 1 at release) against the one at
@@ -71,34 +78,34 @@ TestReport run_fall_test(const SuiteOptions& options, const TestReport* collapse
 /// the fall and the fill of the layers within 2 block heights of its top, at release and at the end.
 TestReport run_falling_block_test(const SuiteOptions& options);
 
-/// 10. Communicating vessels: a U-tube with one leg full of liquid and the other empty over a full
+/// 11. Communicating vessels: a U-tube with one leg full of liquid and the other empty over a full
 /// channel (quick: legs of 8^2 cells, 40 high; full: 32^2, 160 high), run until at rest or 20
 /// oscillation periods; the level difference of the legs against 0 (+- 1 cell).
 TestReport run_communicating_vessels_test(const SuiteOptions& options);
 
-/// 11. Dam break: a liquid column H0 high and 2 H0 long released at the closed end of a dry channel
+/// 12. Dam break: a liquid column H0 high and 2 H0 long released at the closed end of a dry channel
 /// (quick: H0 in {16, 32}, 8 wide; full: {32, 64, 128}, 32 wide); the front's arrival times over its
 /// first 2 H0 of travel fitted as x_f = U t, U / (2 sqrt(g H0)) against Ritter's 1 (+- 0.15).
 TestReport run_dam_break_test(const SuiteOptions& options);
 
-/// 12. Levelling: a block of liquid 4 h high over the first quarter of a closed tank L long (h =
+/// 13. Levelling: a block of liquid 4 h high over the first quarter of a closed tank L long (h =
 /// L / 16 the depth at rest; quick: L in {64, 128}, 8 wide; full: {256, 512}, 32 wide) released at
 /// once and run until its surface has been flat (every x within 1 cell of h) for 2 L / sqrt(g h),
 /// at rest, or 40 L / sqrt(g h); the later of the two levelling times, in L / sqrt(g h), against 0
 /// (+- 5).
 TestReport run_levelling_test(const SuiteOptions& options);
 
-/// 13. Torricelli: a cylindrical tank of liquid (quick: radius 8, 64 high, orifice 4; full: 32,
+/// 14. Torricelli: a cylindrical tank of liquid (quick: radius 8, 64 high, orifice 4; full: 32,
 /// 192, 8) drains through a centred bottom orifice; the exponent n of Q = C h^n over windows of
 /// the head from 90% to 20% of the fill against 1/2 (+- 0.1).
 TestReport run_torricelli_test(const SuiteOptions& options);
 
-/// 14. Buoyancy: a block of sand dropped onto liquid in a closed box, with a gas pocket under the
+/// 15. Buoyancy: a block of sand dropped onto liquid in a closed box, with a gas pocket under the
 /// liquid (quick: 24^2 x 40; full: 96^2 x 160), run until at rest; sand cells with liquid below
 /// them, gas cells with liquid above them, and materials whose count changed, each against 0.
 TestReport run_buoyancy_test(const SuiteOptions& options);
 
-/// 15. Conservation and stability: random scenes (void/solid/granular, and all 8 states) stepped
+/// 16. Conservation and stability: random scenes (void/solid/granular, and all 8 states) stepped
 /// for many ticks (quick 2 x 10^4 each; full 10^6 and 10^5) must keep every material's count exactly
 /// and give the same hash on the configured backend and on the CPU with 1, 2 and 3 threads (full:
 /// 1 thread for the 10^6-tick scene, 1 and 3 for the other), and with sparse and dense stepping;

@@ -11,7 +11,7 @@
 namespace granular::accuracy {
 
 /// Every test name, in the order the suite runs them: cone, cone_sizes, gravel_cone, hysteresis,
-/// dug_slope, silo, collapse, fall, falling_block, communicating_vessels, dam_break, levelling,
+/// dug_slope, pour, silo, collapse, fall, falling_block, communicating_vessels, dam_break, levelling,
 /// torricelli, buoyancy, conservation (fall uses collapse's stop times; conservation checks every earlier test).
 std::vector<std::string> suite_test_names();
 
