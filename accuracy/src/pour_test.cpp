@@ -29,11 +29,13 @@ HeightMap pile_heights(const World& world, int floor_z) {
   const std::vector<std::uint8_t> cells = world.read_region(Box{{0, 0, 0}, s});
   HeightMap h{s.x, s.y, std::vector<double>(std::size_t(s.x) * std::size_t(s.y), 0)};
   const std::uint8_t sand = to_cell(Material::Granular);
+  const std::size_t layer = std::size_t(s.x) * std::size_t(s.y);
   for (int y = 0; y < s.y; ++y)
     for (int x = 0; x < s.x; ++x) {
+      const std::size_t column = std::size_t(x) + std::size_t(s.x) * std::size_t(y);
       int z = floor_z;
-      while (z < s.z && cells[std::size_t(x) + std::size_t(s.x) * (std::size_t(y) + std::size_t(s.y) * std::size_t(z))] == sand) ++z;
-      h.h[std::size_t(x) + std::size_t(s.x) * std::size_t(y)] = z - floor_z;
+      while (z < s.z && cells[column + layer * std::size_t(z)] == sand) ++z;
+      h.h[column] = z - floor_z;
     }
   return h;
 }

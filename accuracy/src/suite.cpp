@@ -20,10 +20,9 @@ TestReport open_report(const SuiteOptions& options, std::string test, std::strin
 }
 
 std::vector<std::string> suite_test_names() {
-  return {"cone",          "cone_sizes",            "gravel_cone", "hysteresis", "dug_slope",
-          "pour",          "silo",          "collapse",              "fall",        "falling_block",
-          "communicating_vessels", "dam_break",     "levelling",   "torricelli", "buoyancy",
-          "conservation"};
+  return {"cone",     "cone_sizes", "gravel_cone",           "hysteresis", "dug_slope", "pour",
+          "silo",     "collapse",   "fall",                  "falling_block", "communicating_vessels",
+          "dam_break", "levelling", "torricelli",            "buoyancy",   "conservation"};
 }
 
 SuiteReport run_suite(const SuiteOptions& o, const std::vector<std::string>& tests) {

@@ -44,10 +44,10 @@ TestReport run_hysteresis_test(const SuiteOptions& options);
 TestReport run_dug_slope_test(const SuiteOptions& options);
 
 /// 6. Heap while poured: the shipped pile scene (quick N = 96, full 192) poured by its emitter, then
-/// watched until fewer than 0.1% of its grains move (at most 60 s). The steepest angle over the pour's
-/// second half and the angle at rest against dry sand's hysteresis band (33 .. 36 deg, widened by the
-/// hysteresis test's 2 deg), and the seconds from the pour's end to rest against one second, with the
-/// angle and the share of grains moving against time.
+/// watched until fewer than 0.1% of its grains move between two samples 8 ticks apart (at most 60 s).
+/// The steepest angle over the pour's second half and the angle at rest against dry sand's hysteresis
+/// band (33 .. 36 deg, widened by the hysteresis test's 2 deg), and the seconds from the pour's end to
+/// rest against one second, with the angle and the share of the grains moved against time.
 TestReport run_pour_test(const SuiteOptions& options);
 
 /// 7. Silo discharge: a cylindrical silo (radius 1.5 D + 6 quick, + 8 full) with a flat bottom and
