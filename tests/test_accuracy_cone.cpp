@@ -145,3 +145,18 @@ TEST_CASE("pour_cone: paper and isotropic rules conserve grains; paper's footpri
   const PourResult iso = pour_checked("isotropic");
   CHECK(iso.metrics.r_half_ratio < paper.metrics.r_half_ratio);
 }
+
+TEST_CASE("stacked_height_map: a column's height stops at its first gap, height_map counts every grain") {
+  Grid g({4, 4, 16});
+  g.fill(Box{{0, 0, 0}, {4, 4, 1}}, Material::Solid);
+  g.fill(Box{{1, 1, 1}, {2, 2, 6}}, Material::Granular);  // a stack of 5 on the floor
+  g.fill(Box{{1, 1, 9}, {2, 2, 12}}, Material::Granular); // 3 more falling above a gap
+  g.set({2, 2, 4}, Material::Granular);                   // a grain in the air over an empty column
+  const HeightMap stacked = stacked_height_map(g, 1, Material::Granular);
+  const HeightMap all = height_map(g, 1, Material::Granular);
+  CHECK(stacked.at(1, 1) == 5);
+  CHECK(all.at(1, 1) == 8);
+  CHECK(stacked.at(2, 2) == 0);
+  CHECK(all.at(2, 2) == 1);
+  CHECK(stacked.at(0, 0) == 0);
+}

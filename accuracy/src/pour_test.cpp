@@ -3,9 +3,11 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "granular/accuracy/cone_metrics.hpp"
+#include "granular/accuracy/height_map.hpp"
 #include "granular/errors.hpp"
 #include "granular/scene.hpp"
 #include "granular/world.hpp"
@@ -22,44 +24,15 @@ constexpr double kThetaStop = 33.0, kThetaStart = 36.0, kBandTolerance = 2.0;
 /// Fewer grains than this share of the pile moved since the last sample is a pile at rest.
 constexpr double kRestShare = 0.001;
 
-/// The pile's height map: per column, the granular cells stacked without a gap from `floor_z` up, so
-/// the stream still falling onto the pile is not counted as its height.
-HeightMap pile_heights(const World& world, int floor_z) {
-  const Int3 s = world.size();
-  const std::vector<std::uint8_t> cells = world.read_region(Box{{0, 0, 0}, s});
-  HeightMap h{s.x, s.y, std::vector<double>(std::size_t(s.x) * std::size_t(s.y), 0)};
-  const std::uint8_t sand = to_cell(Material::Granular);
-  const std::size_t layer = std::size_t(s.x) * std::size_t(s.y);
-  for (int y = 0; y < s.y; ++y)
-    for (int x = 0; x < s.x; ++x) {
-      const std::size_t column = std::size_t(x) + std::size_t(s.x) * std::size_t(y);
-      int z = floor_z;
-      while (z < s.z && cells[column + layer * std::size_t(z)] == sand) ++z;
-      h.h[column] = z - floor_z;
-    }
-  return h;
-}
-
-/// The world's cells (materials only) and how many of them hold sand.
-struct SandCells {
-  std::vector<std::uint8_t> cells;
-  double grains = 0;
-};
-
-SandCells read_sand(const World& world) {
-  SandCells s{world.read_region(Box{{0, 0, 0}, world.size()}), 0};
-  const std::uint8_t sand = to_cell(Material::Granular);
-  for (const std::uint8_t c : s.cells) s.grains += c == sand ? 1 : 0;
-  return s;
-}
-
-/// The share of `now`'s grains whose cell held no sand at `before`: the grains that moved in between
+/// The share of `now`'s grains whose cell held no sand in `before`: the grains that moved in between
 /// (a measure of every rule set, with or without motion levels).
-double moved_share(const SandCells& before, const SandCells& now) {
+double moved_share(const Grid& before, const Grid& now) {
   const std::uint8_t sand = to_cell(Material::Granular);
+  const auto was = before.cells(), is = now.cells();
   double moved = 0;
-  for (std::size_t i = 0; i < now.cells.size(); ++i) moved += now.cells[i] == sand && before.cells[i] != sand ? 1 : 0;
-  return now.grains > 0 ? moved / now.grains : 0;
+  for (std::size_t i = 0; i < is.size(); ++i) moved += is[i] == sand && was[i] != sand ? 1 : 0;
+  const double grains = double(now.count()[sand]);
+  return grains > 0 ? moved / grains : 0;
 }
 
 }  // namespace
@@ -94,7 +67,7 @@ TestReport run_pour_test(const SuiteOptions& o) {
   Series angle{"the pile's angle", "time (s)", "angle (deg)", {}, {}, false};
   Series moving{"grains moved", "time (s)", "share of the grains moved since the last sample", {}, {}, false};
   double pour_max = 0, pour_max_s = 0, rest_angle = std::nan(""), rest_s = std::nan("");
-  SandCells last = read_sand(world);
+  Grid last = world.read_grid();
   const Vec3 axis{size.x / 2.0, size.y / 2.0, 0};
   const auto start = std::chrono::steady_clock::now();
   while (r.ticks < limit) {
@@ -104,10 +77,10 @@ TestReport run_pour_test(const SuiteOptions& o) {
     r.ticks += 1;
     if (r.ticks % sample != 0) continue;
     const double t = double(r.ticks) * tick_s;
-    const ConeMetrics cone = measure_cone(pile_heights(world, floor_z), axis);
-    const SandCells now = read_sand(world);
+    Grid now = world.read_grid();
+    const ConeMetrics cone = measure_cone(stacked_height_map(now, floor_z, Material::Granular), axis);
     const double share = moved_share(last, now);
-    last = now;
+    last = std::move(now);
     angle.x.push_back(t);
     angle.y.push_back(cone.bins > 0 ? cone.angle_deg : std::nan(""));
     moving.x.push_back(t);
@@ -150,7 +123,7 @@ TestReport run_pour_test(const SuiteOptions& o) {
   r.series.push_back({"the pour ends", "time (s)", "angle (deg)", {t_end, t_end}, {kThetaStop - 10, kThetaStart + 30}, true});
   r.series.push_back(moving);
   std::snprintf(text, sizeof text, "%.0f grains poured in %.1f s; steepest angle over the pour's second half %.1f deg at %.1f s; ",
-                last.grains, t_end, pour_max, pour_max_s);
+                double(last.count()[to_cell(Material::Granular)]), t_end, pour_max, pour_max_s);
   std::string note = text;
   if (std::isnan(rest_s)) {
     note += "the pile still moved 60 s after the pour ended";

@@ -24,4 +24,8 @@ struct HeightMap {
 /// below 0 counts from 0).
 HeightMap height_map(const Grid& grid, int floor_z, Material material);
 
+/// h(x, y) = the number of `material` cells stacked without a gap in column (x, y) from floor_z up:
+/// a pile's height with whatever falls onto it from above left out.
+HeightMap stacked_height_map(const Grid& grid, int floor_z, Material material);
+
 }  // namespace granular::accuracy
