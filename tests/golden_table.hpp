@@ -12,9 +12,10 @@
 ///
 /// Besides the shipped scenes (sand and solid only), one scene of every material, built here
 /// (all_materials_pool, tests/reference/material_scenes.hpp), is pinned under inertial-24, under its
-/// columns, entrain, flow, pressure and momentum levers (inertial-24-columns, inertial-24-entrain,
-/// inertial-24-flow, inertial-24-pressure and inertial-24-momentum, whose hash covers the liquids'
-/// velocities) and under isotropic: its values were taken where the plain per-block loop reaches
+/// columns, entrain, flow, pressure, momentum and shallow-water levers (inertial-24-columns,
+/// inertial-24-entrain, inertial-24-flow, inertial-24-pressure, inertial-24-momentum, whose hash covers
+/// the liquids' velocities, and inertial-24-shallow, whose hash covers the face plane) and under
+/// isotropic: its values were taken where the plain per-block loop reaches
 /// the same hash (test_golden.cpp checks that on every run).
 
 #include <cstdint>
@@ -93,6 +94,11 @@ inline constexpr GoldenCase kGoldenCases[] = {
     {"inertial-24-momentum", "dam_break", 32, 64, 0x4d216388a7e144e3ull},
     {"inertial-24-momentum", "reservoir", 32, 64, 0xb05bc95b8406c9e8ull},
     {"inertial-24-momentum", kAllMaterialsScene, 32, 64, 0xf52f8bc046a7c748ull},
+    {"inertial-24-shallow", "bowl", 32, 64, 0x8e5f2b19f2e47c41ull},
+    {"inertial-24-shallow", "u_tube", 32, 64, 0xfe7f9a38f12284b3ull},
+    {"inertial-24-shallow", "dam_break", 32, 64, 0xade4738cf4f237c9ull},
+    {"inertial-24-shallow", "reservoir", 32, 64, 0x0851fb3487c339c5ull},
+    {"inertial-24-shallow", kAllMaterialsScene, 32, 64, 0xdcadb64a79f6eb7cull},
 };
 
 /// The initial grid of a golden case: its shipped scene built at its N (the scene of every material

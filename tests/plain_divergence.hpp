@@ -16,35 +16,41 @@
 
 namespace granular::test {
 
-/// The plain loop's run from an initial grid: its cells (motion bits included) after each tick, and
-/// under MotionParams::momentum its side plane.
+/// The plain loop's run from an initial grid: its cells (motion bits included) after each tick,
+/// under MotionParams::momentum its side plane, and under MotionParams::shallow its face plane.
 struct PlainTrajectory {
   Int3 size{};                                      ///< grid extent
   std::vector<std::vector<std::uint8_t>> after_tick;  ///< after_tick[t]: the cells after tick t (0-based)
   std::vector<std::vector<std::uint8_t>> side_after_tick;  ///< the side plane after tick t (momentum; else empty)
+  std::vector<std::vector<std::int32_t>> faces_after_tick;  ///< the face plane after tick t (shallow; else empty)
 };
 
-/// The World::hash() of a grid of `size` holding `cells` and the side plane `side` (empty: none).
-inline std::uint64_t plain_hash(Int3 size, const std::vector<std::uint8_t>& cells, const std::vector<std::uint8_t>& side) {
-  return finish_hash(size, hash_words(cells, 0, (cells.size() + 7) / 8) + side_hash_term(side));
+/// The World::hash() of a grid of `size` holding `cells`, the side plane `side` and the face plane
+/// `faces` (empty: none).
+inline std::uint64_t plain_hash(Int3 size, const std::vector<std::uint8_t>& cells, const std::vector<std::uint8_t>& side,
+                                const std::vector<std::int32_t>& faces = {}) {
+  return finish_hash(size, hash_words(cells, 0, (cells.size() + 7) / 8) + side_hash_term(side) + faces_hash_term(faces));
 }
 
 /// The hash of the plain loop's state after tick t.
 inline std::uint64_t plain_hash_after(const PlainTrajectory& plain, std::size_t t) {
   return plain_hash(plain.size, plain.after_tick[t],
-                    plain.side_after_tick.empty() ? std::vector<std::uint8_t>() : plain.side_after_tick[t]);
+                    plain.side_after_tick.empty() ? std::vector<std::uint8_t>() : plain.side_after_tick[t],
+                    plain.faces_after_tick.empty() ? std::vector<std::int32_t>() : plain.faces_after_tick[t]);
 }
 
 /// Runs the plain loop `ticks` ticks from `initial` with the rule set, table and seed of `world`.
 inline PlainTrajectory plain_trajectory(const World& world, const Grid& initial, int ticks) {
   const reference::PlainRules rules = reference::plain_rules(world.rules(), world.lut(), world.def().seed);
-  PlainTrajectory run{initial.size(), {}, {}};
+  PlainTrajectory run{initial.size(), {}, {}, {}};
   std::vector<std::uint8_t> cells(initial.cells().begin(), initial.cells().end());
   std::vector<std::uint8_t> side(rules.momentum ? cells.size() : 0, 0);
+  std::vector<std::int32_t> faces(rules.shallow ? 4 * std::size_t(initial.size().x) * std::size_t(initial.size().y) : 0, 0);
   for (int t = 0; t < ticks; ++t) {
-    reference::plain_step(cells, initial.size(), rules, std::uint64_t(t), 1, side);
+    reference::plain_step(cells, initial.size(), rules, std::uint64_t(t), 1, side, faces);
     run.after_tick.push_back(cells);
     if (rules.momentum) run.side_after_tick.push_back(side);
+    if (rules.shallow) run.faces_after_tick.push_back(faces);
   }
   return run;
 }

@@ -115,7 +115,7 @@ TEST_CASE("distributed world: 2 and 3 in-process ranks equal one World for every
   const Int3 size{21, 19, 77};
   const Grid initial = mixed_material_grid(size, 11);
   for (const std::string& rules : rule_preset_names()) {
-    if (preset(rules).motion.pressure) continue;  // refused: see the test below
+    if (preset(rules).motion.pressure || preset(rules).motion.shallow) continue;  // refused: see the test below
     for (const bool sparse : {true, false}) {
       if (!sparse && rules != "inertial-24" && rules != "paper") continue;
       // A preset with trains is refused (the test below): its other levers run.
@@ -450,11 +450,12 @@ TEST_CASE("distributed world: a tool call that would wrap the tool-call counter 
   }
 }
 
-TEST_CASE("distributed world: a rule set with pressure or trains is refused on every rank, naming the field") {
+TEST_CASE("distributed world: a rule set with pressure, trains or shallow water is refused on every rank, naming the field") {
   const Int3 size{16, 16, 64};
   const Grid initial = mixed_material_grid(size, 3);
   for (const auto& [rules, field] : {std::pair{"inertial-24-pressure", "RuleSet::motion.pressure = true"},
-                                     std::pair{"inertial-24-columns", "RuleSet::motion.trains = true"}}) {
+                                     std::pair{"inertial-24-columns", "RuleSet::motion.trains = true"},
+                                     std::pair{"inertial-24-shallow", "RuleSet::motion.shallow = true"}}) {
     CAPTURE(rules);
     const WorldDef def = test_def(size, rules, 1, 5);
     std::atomic<int> refused{0};

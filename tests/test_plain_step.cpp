@@ -10,6 +10,8 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
+
 #include <array>
 #include <cstdint>
 #include <iterator>
@@ -136,11 +138,19 @@ TEST_CASE("plain step: World on the CPU, sparse and dense, 1 and 2 threads, equa
       // The plain loop's own thread split (the benchmark's) changes nothing.
       std::vector<std::uint8_t> threaded(initial.cells().begin(), initial.cells().end());
       std::vector<std::uint8_t> threaded_side(plain.side_after_tick.empty() ? 0 : threaded.size(), 0);
-      reference::plain_run(threaded, size, plain_rules_of(first), 0, kTicks, 3, threaded_side);
+      std::vector<std::int32_t> threaded_faces(plain.faces_after_tick.empty() ? 0 : plain.faces_after_tick[0].size(), 0);
+      reference::plain_run(threaded, size, plain_rules_of(first), 0, kTicks, 3, threaded_side, threaded_faces);
       const std::string split = granular::test::first_differing_cell(size, plain.after_tick.back(), threaded,
                                                                      "plain loop on 1 thread", "on 3 threads");
       CHECK_MESSAGE(split.empty(), "preset " << preset << ", " << to_string(size) << ": " << split);
       if (!plain.side_after_tick.empty()) CHECK(threaded_side == plain.side_after_tick.back());
+      if (!plain.faces_after_tick.empty()) {
+        CHECK(threaded_faces == plain.faces_after_tick.back());
+        // The pass had liquid to move: some face of the plane moved during the run.
+        CHECK(std::any_of(plain.faces_after_tick.begin(), plain.faces_after_tick.end(), [](const auto& faces) {
+          return std::any_of(faces.begin(), faces.end(), [](std::int32_t f) { return f != 0; });
+        }));
+      }
       for (const bool sparse : {true, false})
         for (const int threads : {1, 2}) {
           WorldDef def = test_def(size, preset.c_str(), threads, seed);

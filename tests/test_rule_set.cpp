@@ -77,7 +77,7 @@ TEST_CASE("rule set: a preset is a value whose material table a game may change"
   CHECK(momentum.motion.momentum);
   CHECK_FALSE(pressure.motion.momentum);
   CHECK(rule_fingerprint(momentum) != rule_fingerprint(pressure));
-  CHECK(rule_preset_names().size() == 10);
+  CHECK(rule_preset_names().size() == 11);
   for (const auto& name : rule_preset_names()) CHECK(preset(name).name == name);
 }
 

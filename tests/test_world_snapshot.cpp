@@ -167,12 +167,15 @@ TEST_CASE("snapshot: bad files are ParseErrors naming the field, offset or value
   check_has(parse_error(bad), {"not a snapshot file", "bad magic \"GXNP\"", "expected \"GSNP\""});
   check_has(parse_error({'G', 'R', 'A', 'W', 1, 0, 0, 0}), {"bad magic \"GRAW\""});
   bad = good;
-  bad[4] = 5;
-  check_has(parse_error(bad), {"unsupported snapshot version 5", "version (bytes 4..7)", "reads versions 1..4"});
-  // A version 3 file relabelled 4 lacks the side plane its frames should hold after the cells.
-  bad = good;
-  bad[4] = 4;
-  CHECK_THROWS_AS(decode_snapshot(bad, "bad.gsnap"), ParseError);
+  bad[4] = 6;
+  check_has(parse_error(bad), {"unsupported snapshot version 6", "version (bytes 4..7)", "reads versions 1..5"});
+  // A version 3 file relabelled 4 or 5 lacks the side or face plane its frames should hold after
+  // the cells.
+  for (const std::uint8_t planed : {4, 5}) {
+    bad = good;
+    bad[4] = planed;
+    CHECK_THROWS_AS(decode_snapshot(bad, "bad.gsnap"), ParseError);
+  }
   // Versions 2 and 3 hold one or more frames, version 1 one; versions 1 and 2 hash the cells alone.
   const std::uint64_t cells_hash = decode_snapshot(good, "good.gsnap").hash();
   for (const std::uint8_t older : {1, 2}) {

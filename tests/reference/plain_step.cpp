@@ -771,6 +771,7 @@ PlainRules plain_rules(const RuleSet& rules, const Lut& lut, std::uint64_t seed)
   plain.trains = rules.motion.trains;
   plain.pressure = rules.motion.pressure;
   plain.momentum = rules.motion.momentum;
+  plain.shallow = rules.motion.shallow;
   bool have_static = false, have_granular = false, have_liquid = false;
   for (int s = 0; s < kMaterialCount; ++s) {
     const MaterialDef& d = rules.materials[std::size_t(s)];
@@ -847,8 +848,156 @@ void plain_close_trains(std::span<std::uint8_t> cells, Int3 n, const PlainRules&
     }
 }
 
+void plain_shallow_pass(std::span<std::uint8_t> cells, Int3 n, const PlainRules& r, std::span<std::int32_t> faces) {
+  // The constants of shallow_water.hpp, written out.
+  constexpr int kIterations = 32;
+  constexpr std::int64_t kCell = 32768;            // volume units a cell
+  constexpr std::int64_t kSpeed = 65536;           // velocity units a cell a tick
+  constexpr std::int64_t kPush = kSpeed * 2 / 32;  // g dt: 2 cells a tick^2 over 1/32 tick
+  constexpr std::int64_t kTop = std::int64_t(1) << 30;
+  const std::size_t nx = std::size_t(n.x), ny = std::size_t(n.y), columns = nx * ny;
+  if (faces.size() != 4 * columns) throw std::invalid_argument("plain_shallow_pass: the face plane needs 4 values a column");
+  std::int32_t* u[2] = {faces.data(), faces.data() + columns};
+  std::int32_t* f[2] = {faces.data() + 2 * columns, faces.data() + 3 * columns};
+  auto at = [&](std::size_t c, int z) -> std::uint8_t& { return cells[c + columns * std::size_t(z)]; };
+  auto is_liquid = [&](std::uint8_t c) { return behaviour_of(r, c) == Behaviour::Liquid; };
+  auto is_open = [&](std::uint8_t c) {
+    const Behaviour b = behaviour_of(r, c);
+    return b == Behaviour::Void || b == Behaviour::Gas;
+  };
+  // The column's ground: over its highest cell that is neither open nor liquid.
+  auto ground_of = [&](std::size_t c) {
+    for (int z = n.z - 1; z >= 0; --z)
+      if (!is_open(at(c, z)) && !is_liquid(at(c, z))) return z + 1;
+    return 0;
+  };
+  auto highest_liquid = [&](std::size_t c, int ground) {
+    for (int z = n.z - 1; z >= ground; --z)
+      if (is_liquid(at(c, z))) return z;
+    return -1;
+  };
+  auto neighbour = [&](std::size_t c, int a) -> std::ptrdiff_t {
+    const std::size_t x = c % nx, y = c / nx;
+    if (a == 0) return x + 1 < nx ? std::ptrdiff_t(c + 1) : -1;
+    return y + 1 < ny ? std::ptrdiff_t(c + nx) : -1;
+  };
+  auto behind = [&](std::size_t c, int a) -> std::ptrdiff_t {
+    const std::size_t x = c % nx, y = c / nx;
+    if (a == 0) return x > 0 ? std::ptrdiff_t(c - 1) : -1;
+    return y > 0 ? std::ptrdiff_t(c - nx) : -1;
+  };
+  std::vector<int> ground(columns), depth(columns);
+  std::vector<std::int64_t> level(columns);
+  std::vector<std::int32_t> next_u[2] = {std::vector<std::int32_t>(columns), std::vector<std::int32_t>(columns)};
+  std::vector<std::int64_t> volume[2] = {std::vector<std::int64_t>(columns), std::vector<std::int64_t>(columns)};
+  for (int it = 0; it < kIterations; ++it) {
+    for (std::size_t c = 0; c < columns; ++c) {
+      ground[c] = ground_of(c);
+      depth[c] = 0;
+      for (int z = ground[c]; z < n.z; ++z) depth[c] += is_liquid(at(c, z)) ? 1 : 0;
+    }
+    for (std::size_t c = 0; c < columns; ++c) {
+      level[c] = (std::int64_t(ground[c]) + depth[c]) * kCell;
+      for (int a = 0; a < 2; ++a) {
+        level[c] -= f[a][c];
+        if (const std::ptrdiff_t b = behind(c, a); b >= 0) level[c] += f[a][std::size_t(b)];
+      }
+    }
+    // The depths of face (c, a) above the higher ground: {its own column, the next}.
+    auto depths = [&](std::size_t c, int a) {
+      const std::size_t m = std::size_t(neighbour(c, a));
+      const std::int64_t g = std::int64_t(std::max(ground[c], ground[m])) * kCell;
+      return std::pair<std::int64_t, std::int64_t>{level[c] - g, level[m] - g};
+    };
+    auto passes = [&](std::size_t c, int a) {
+      const auto [p, q] = depths(c, a);
+      return p > 0 || q > 0;
+    };
+    auto upwind = [&](std::size_t c, int a, std::int64_t v) {
+      const auto [p, q] = depths(c, a);
+      return std::max<std::int64_t>(0, v > 0 ? p : v < 0 ? q : std::max(p, q));
+    };
+    for (std::size_t c = 0; c < columns; ++c)
+      for (int a = 0; a < 2; ++a) {
+        const std::ptrdiff_t m = neighbour(c, a);
+        if (m < 0 || !passes(c, a)) {
+          next_u[a][c] = 0;
+          volume[a][c] = 0;
+          continue;
+        }
+        std::int64_t v = u[a][c] + kPush * (level[c] - level[std::size_t(m)]) / kCell;
+        const std::int64_t h = upwind(c, a, v > 0 ? 1 : v < 0 ? -1 : 0);
+        const std::ptrdiff_t up = v > 0 ? behind(c, a) : v < 0 ? neighbour(std::size_t(m), a) >= 0 ? m : -1 : -1;
+        if (up >= 0 && h > 0) {
+          const std::int32_t w = u[a][std::size_t(up)];
+          if (w != 0 && (w > 0) == (v > 0)) {
+            const std::int64_t rate_num = std::abs(std::int64_t(w)) * upwind(std::size_t(up), a, w);
+            const std::int64_t rate_den = kSpeed * kIterations * h;
+            v = rate_num >= rate_den ? w : v + (w - v) * rate_num / rate_den;
+          }
+        }
+        const std::int64_t cells_deep = std::max<std::int64_t>(1, h / kCell);
+        v -= v * 16 / (256 * std::max<std::int64_t>(16, cells_deep));
+        const std::int64_t stop = std::max<std::int64_t>(1, 4096 / (cells_deep * cells_deep));
+        v = std::abs(v) <= stop ? 0 : v > 0 ? v - stop : v + stop;
+        v = std::clamp(v, -kTop, kTop);
+        next_u[a][c] = std::int32_t(v);
+        volume[a][c] = f[a][c] + v * upwind(c, a, v) / (kSpeed * kIterations);
+      }
+    // A column whose outflow exceeds its depth scales its outflows to its depth.
+    std::vector<std::pair<std::int64_t, std::int64_t>> scale(columns, {0, 0});
+    for (std::size_t c = 0; c < columns; ++c) {
+      std::int64_t out = 0;
+      for (int a = 0; a < 2; ++a) {
+        out += std::max<std::int64_t>(0, volume[a][c]);
+        if (const std::ptrdiff_t b = behind(c, a); b >= 0) out += std::max<std::int64_t>(0, -volume[a][std::size_t(b)]);
+      }
+      if (out > std::int64_t(depth[c]) * kCell) scale[c] = {std::int64_t(depth[c]) * kCell, out};
+    }
+    std::vector<std::int32_t> whole[2] = {std::vector<std::int32_t>(columns, 0), std::vector<std::int32_t>(columns, 0)};
+    for (std::size_t c = 0; c < columns; ++c)
+      for (int a = 0; a < 2; ++a) {
+        std::int64_t v = volume[a][c];
+        if (v != 0) {
+          const std::size_t donor = v > 0 ? c : std::size_t(neighbour(c, a));
+          if (scale[donor].second != 0) v = v * scale[donor].first / scale[donor].second;
+        }
+        // The nearest whole cell, a half towards none.
+        std::int64_t k = std::abs(v) / kCell;
+        if (std::abs(v) - k * kCell > kCell / 2) ++k;
+        k = v < 0 ? -k : k;
+        whole[a][c] = std::int32_t(k);
+        f[a][c] = std::int32_t(v - k * kCell);
+        u[a][c] = next_u[a][c];
+      }
+    // The moves: even x faces, odd x, even y, odd y.
+    for (int phase = 0; phase < 4; ++phase) {
+      const int a = phase / 2;
+      for (std::size_t c = 0; c < columns; ++c) {
+        const std::size_t along = a == 0 ? c % nx : c / nx;
+        if (int(along % 2) != phase % 2 || whole[a][c] == 0) continue;
+        const std::size_t m = std::size_t(neighbour(c, a));
+        const std::size_t from = whole[a][c] > 0 ? c : m, to = whole[a][c] > 0 ? m : c;
+        for (int left = std::abs(whole[a][c]); left > 0; --left) {
+          const int source = highest_liquid(from, ground[from]);
+          const int top = highest_liquid(to, ground[to]);
+          const int target = top >= 0 ? top + 1 : ground[to];
+          if (source < 0 || target >= n.z) {
+            u[a][c] = 0;
+            f[a][c] = 0;
+            break;
+          }
+          const std::uint8_t liquid = at(from, source), space = at(to, target);
+          at(to, target) = std::uint8_t(liquid & kMaterialMask);
+          at(from, source) = std::uint8_t(space & kMaterialMask);
+        }
+      }
+    }
+  }
+}
+
 void plain_step(std::span<std::uint8_t> cells, Int3 size, const PlainRules& rules, std::uint64_t tick, int threads,
-                std::span<std::uint8_t> side) {
+                std::span<std::uint8_t> side, std::span<std::int32_t> faces) {
   if (!rules.motion()) {
     plain_pass(cells, size, rules, block_offset(tick, rules.seed, rules.random_axis_order), tick, 0, threads);
     return;
@@ -860,11 +1009,12 @@ void plain_step(std::span<std::uint8_t> cells, Int3 size, const PlainRules& rule
     plain_pass(cells, size, rules, motion_pass_offset(rules, tick, s), tick, s, threads,
                rules.pressure ? &heads : nullptr, rules.momentum ? side : std::span<std::uint8_t>());
   if (rules.trains) plain_close_trains(cells, size, rules);
+  if (rules.shallow) plain_shallow_pass(cells, size, rules, faces);
 }
 
 void plain_run(std::span<std::uint8_t> cells, Int3 size, const PlainRules& rules, std::uint64_t first_tick, int ticks,
-               int threads, std::span<std::uint8_t> side) {
-  for (int t = 0; t < ticks; ++t) plain_step(cells, size, rules, first_tick + std::uint64_t(t), threads, side);
+               int threads, std::span<std::uint8_t> side, std::span<std::int32_t> faces) {
+  for (int t = 0; t < ticks; ++t) plain_step(cells, size, rules, first_tick + std::uint64_t(t), threads, side, faces);
 }
 
 }  // namespace granular::reference

@@ -69,6 +69,7 @@ struct PlainRules {
                                    ///< and every tick each column's falling trains close their gaps
   bool pressure = false;           ///< MotionParams::pressure: a head per coarse cell moves liquids at rest
   bool momentum = false;           ///< MotionParams::momentum: liquids carry a sideways velocity in a side plane
+  bool shallow = false;            ///< MotionParams::shallow: after each tick, open liquid moves as shallow water
   std::array<PlainMaterial, kMaterialCount> materials{};  ///< per state
   /// Without a motion model the Lut is indexed by materials: the state it is asked for in place of
   /// each gravity-and-flow code 0, 1, 2 (void, the first static and the first granular material),
@@ -199,15 +200,28 @@ BlockCells plain_fluid_pass(const PlainRules& rules, const BlockCells& cells, co
                             int symmetry, std::uint64_t draws, bool levels, const PlainPressure* pressure = nullptr,
                             PlainMomentum* momentum = nullptr);
 
+/// The shallow-water pass of MotionParams::shallow over `cells` (x fastest, `size` extent), as
+/// granular/step/shallow_water.hpp's comment gives it, with the face plane `faces` (4 size.x size.y
+/// values: the x faces' velocities, the y faces', the x faces' fractions, the y faces'; x fastest),
+/// which it updates. Written from that comment and the constants' documentation, with the pass's
+/// integer formulas written out: every iteration finds each column's ground and depth by walking
+/// it, and every move walks the donor and the receiver from the top for their highest liquid cell.
+/// Its readings of the text: a face's upstream face is the face of the same axis behind it along
+/// its velocity (after gravity), and it counts only when it moves the same way; the depth a face
+/// rubs on is its upwind depth in whole cells, at least 1.
+void plain_shallow_pass(std::span<std::uint8_t> cells, Int3 size, const PlainRules& rules, std::span<std::int32_t> faces);
+
 /// One tick `tick` of the plain loop over the whole grid `cells` (x fastest, `size` extent), split
 /// over `threads` std::threads by block layers (the result does not depend on `threads`). Under
 /// MotionParams::momentum `side` is the side plane (one byte per cell, laid out as `cells`; empty:
-/// every velocity 0 and none kept); without, it is ignored.
+/// every velocity 0 and none kept); without, it is ignored. Under MotionParams::shallow `faces` is
+/// the face plane (plain_shallow_pass; it must hold 4 size.x size.y values), and the pass ends the tick.
 void plain_step(std::span<std::uint8_t> cells, Int3 size, const PlainRules& rules, std::uint64_t tick,
-                int threads = 1, std::span<std::uint8_t> side = {});
+                int threads = 1, std::span<std::uint8_t> side = {}, std::span<std::int32_t> faces = {});
 
-/// Ticks first_tick .. first_tick + ticks - 1 of the plain loop, in order (`side` as plain_step's).
+/// Ticks first_tick .. first_tick + ticks - 1 of the plain loop, in order (`side` and `faces` as
+/// plain_step's).
 void plain_run(std::span<std::uint8_t> cells, Int3 size, const PlainRules& rules, std::uint64_t first_tick, int ticks,
-               int threads = 1, std::span<std::uint8_t> side = {});
+               int threads = 1, std::span<std::uint8_t> side = {}, std::span<std::int32_t> faces = {});
 
 }  // namespace granular::reference

@@ -94,6 +94,12 @@ std::uint64_t hash_cells(Int3 size, std::span<const std::uint8_t> cells);
 /// cells), else a mix of its own hash_words sum. Backends and WorldSnapshot::hash add it alike.
 std::uint64_t side_hash_term(std::span<const std::uint8_t> side);
 
+/// What a face plane (MotionParams::shallow: 4 int32 per column) adds to the sum of hash_words
+/// partials of its grid: 0 when it holds only zeros (or is empty), else a mix of a sum over its
+/// values v_i of mix(uint32(v_i) + (i+1) * 0x9E3779B97F4A7C15). Backends and WorldSnapshot::hash add
+/// it alike.
+std::uint64_t faces_hash_term(std::span<const std::int32_t> faces);
+
 /// Partial hash of a word range [first_word, first_word + count) of `cells` (the summand of
 /// hash_cells), for backends that reduce in parallel; combine with finish_hash.
 std::uint64_t hash_words(std::span<const std::uint8_t> cells, std::size_t first_word, std::size_t word_count);

@@ -65,6 +65,18 @@ struct MotionParams {
   /// offsets, so sand behaves as without the lever. Needs pressure. A world of such a rule set keeps
   /// the plane while it holds liquid.
   bool momentum = false;
+  /// Liquid under open sky moves as shallow water (a motion model's lever): after the last sub-step of
+  /// every tick, each column's liquid above its ground (the cell over its highest cell that is
+  /// neither void, gas nor liquid) is a shallow-water column, and the faces between neighbouring
+  /// columns carry a velocity and a fraction of a cell in a *face plane* (4 int32 per column, part of
+  /// the world's state: hash, snapshots). In 32 iterations a tick the faces accelerate down the
+  /// surface steps, carry their momentum downstream and lose some to bed friction, and each whole
+  /// cell a face carries moves from the top of one column to the top of the other
+  /// (granular/step/shallow_water.hpp). So a released body of water runs out as a body, a pool levels
+  /// within a few L / sqrt(g h), and a pool at rest stays at rest and costs nothing. Refused with
+  /// pressure (the head's pushes and the pass work against each other); liquid under a cover moves
+  /// by the block step alone (docs/design/shallow-water.md). A DistributedWorld refuses it.
+  bool shallow = false;
   /// True when the rule set uses the motion model.
   constexpr bool enabled() const { return substeps > 1; }
   /// The highest motion level: a grain at it falls motion_window(max_level()) <= substeps - 1 cells

@@ -29,7 +29,11 @@ struct WorldSnapshot {
   std::vector<std::uint8_t> side;      ///< the side plane under MotionParams::momentum (a liquid's velocity per
                                        ///< cell, x fastest; granular/step/momentum.hpp), or empty when every
                                        ///< cell is at rest
-  /// The World::hash() of the cells and their velocities.
+  std::vector<std::int32_t> faces;     ///< the face plane under MotionParams::shallow (4 int32 per column:
+                                       ///< the x faces' velocities, the y faces', the x faces' fractions, the
+                                       ///< y faces', each nx ny values, x fastest; granular/step/shallow_water.hpp),
+                                       ///< or empty when every face is at rest
+  /// The World::hash() of the cells, their velocities and the faces.
   std::uint64_t hash() const;
 };
 
@@ -48,6 +52,11 @@ inline constexpr std::uint32_t kSnapshotVersion = 3;
 /// kSnapshotVersion, which every earlier reader reads.
 inline constexpr std::uint32_t kSideSnapshotVersion = 4;
 
+/// The snapshot format version of a snapshot with a face plane (WorldSnapshot::faces not empty): as
+/// kSnapshotVersion, but the zstd frames hold the face plane after the cells (16 nx ny bytes, each
+/// value a little-endian int32), and the hash covers it (WorldSnapshot::hash).
+inline constexpr std::uint32_t kFacesSnapshotVersion = 5;
+
 /// An older version, still read: the cells in one zstd frame; the header hash covers the cells only.
 inline constexpr std::uint32_t kOneFrameSnapshotVersion = 1;
 
@@ -65,8 +74,10 @@ inline constexpr const char* kSnapshotExtension = ".gsnap";
 
 /// Encodes `snapshot` in the snapshot format, version kSnapshotVersion (header, rule set name, one
 /// zstd frame of the cells), or kSideSnapshotVersion when it has a side plane (the frame holds the
-/// cells, then the side plane).
-/// Throws InvalidArgument for a bad size, a cell count other than the size's, or a rule set name
+/// cells, then the side plane), or kFacesSnapshotVersion when it has a face plane (the cells, then
+/// the faces).
+/// Throws InvalidArgument for a bad size, a cell count other than the size's, a side plane of
+/// another size, a face plane of other than 4 values per column, both planes at once, or a rule set name
 /// that is empty, longer than kMaxSnapshotRulesName or holds a control character; OutOfMemory when
 /// the buffer cannot be allocated.
 std::vector<std::uint8_t> encode_snapshot(const WorldSnapshot& snapshot);

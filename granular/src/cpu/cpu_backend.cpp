@@ -73,7 +73,8 @@ CpuBackend::CpuBackend(const BackendCreateInfo& info)
                                                  .inert = inert_ ? inert_->data() : nullptr,
                                                  .heads = head_field_ ? head_field_->heads() : nullptr});
   outside_row_.assign(std::size_t(grid_.size().x), std::uint8_t(step_rules_.materials.outside));
-  if (head_field_) liquid_cells_ = liquid_in(grid_.cells());
+  if (info.rules->motion.shallow && step_materials(info.rules->materials).liquids != 0) shallow_.emplace(grid_.size());
+  if (head_field_ || shallow_) liquid_cells_ = liquid_in(grid_.cells());
   if (head_field_ && info.rules->motion.momentum) {
     side_.assign(grid_.cells().size(), 0);
     outside_side_row_.assign(std::size_t(grid_.size().x), 0);
@@ -112,6 +113,7 @@ void CpuBackend::step(std::uint64_t first_tick, int ticks) {
       }
     }
     if (step_rules_.motion.trains) close_tick_trains();
+    if (shallow_) run_shallow_pass();
     ++last_.ticks;
     last_.brick_ticks += last_.active_bricks;
     last_.cell_ticks += last_.active_cells;
@@ -125,6 +127,20 @@ void CpuBackend::close_tick_trains() {
   const std::vector<std::uint32_t> changed =
       close_trains(grid_.cells().data(), grid_.size(), step_rules_.materials, sparse_ ? &activity_.active() : nullptr, pool_);
   if (sparse_ && !changed.empty()) activity_.wake(changed);
+}
+
+void CpuBackend::run_shallow_pass() {
+  // The pass is a function of the cells and the face plane: at rest on cells no step or write has
+  // changed since, it would change nothing, so it is skipped (a pool at rest costs nothing). A grid
+  // without liquid whose faces are at rest has nothing to move either.
+  if (sparse_ && shallow_rest_ && !activity_.changed_since(shallow_pass_)) return;
+  if (liquid_cells_ == 0 && shallow_->at_rest()) return;
+  const std::vector<std::uint32_t> changed = shallow_->run(grid_.cells().data(), step_rules_.materials, pool_);
+  shallow_rest_ = shallow_->at_rest();
+  if (sparse_) {
+    if (!changed.empty()) activity_.wake(changed);
+    shallow_pass_ = activity_.pass();
+  }
 }
 
 void CpuBackend::prepare_heads() {
@@ -251,7 +267,7 @@ void CpuBackend::drop_checkpoint() {
 
 void CpuBackend::write(const Box& box, std::span<const std::uint8_t> in, std::span<const std::uint32_t> wake_bricks) {
   const int w = box.max.x - box.min.x;
-  if (head_field_) liquid_cells_ = liquid_cells_ - liquid_in(box) + liquid_in(in);
+  if (head_field_ || shallow_) liquid_cells_ = liquid_cells_ - liquid_in(box) + liquid_in(in);
   std::size_t o = 0;
   for (int z = box.min.z; z < box.max.z; ++z)
     for (int y = box.min.y; y < box.max.y; ++y, o += std::size_t(w)) {
@@ -264,6 +280,7 @@ void CpuBackend::write(const Box& box, std::span<const std::uint8_t> in, std::sp
     }
   if (sparse_) activity_.wake(wake_bricks);
   heads_solved_ = false;
+  shallow_rest_ = false;
 }
 
 MaterialCounts CpuBackend::count() const {
@@ -297,6 +314,7 @@ std::uint64_t CpuBackend::hash() const {
   for (auto p : partial) sum += p;
   // With a side plane, the velocities are part of the state.
   sum += side_hash_term(side_);
+  if (shallow_) sum += faces_hash_term(shallow_->faces());
   return finish_hash(grid_.size(), sum);
 }
 
@@ -317,6 +335,22 @@ void CpuBackend::write_side(std::span<const std::uint8_t> side) {
     throw InvalidArgument("cpu backend: write_side: " + std::to_string(side.size()) + " side bytes for the " +
                           std::to_string(side_.size()) + " cells of the " + to_string(grid_.size()) + " grid");
   std::copy(side.begin(), side.end(), side_.begin());
+}
+
+std::vector<std::int32_t> CpuBackend::read_faces() const { return shallow_ ? shallow_->faces() : std::vector<std::int32_t>{}; }
+
+void CpuBackend::write_faces(std::span<const std::int32_t> faces) {
+  if (!shallow_) {
+    if (std::all_of(faces.begin(), faces.end(), [](std::int32_t f) { return f == 0; })) return;
+    throw InvalidArgument("cpu backend: write_faces: the rule set has no face plane (MotionParams::shallow with a "
+                          "liquid material) to write WorldSnapshot::faces into");
+  }
+  if (!faces.empty() && faces.size() != shallow_->face_count())
+    throw InvalidArgument("cpu backend: write_faces: " + std::to_string(faces.size()) + " face values for the " +
+                          std::to_string(shallow_->face_count()) + " of the " + to_string(grid_.size()) +
+                          " grid (4 per column)");
+  shallow_->set_faces(faces);
+  shallow_rest_ = false;
 }
 
 std::unique_ptr<Backend> make_cpu_backend(const BackendCreateInfo& info) {

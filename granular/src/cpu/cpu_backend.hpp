@@ -7,6 +7,7 @@
 
 #include "cpu/brick_activity.hpp"
 #include "cpu/cpu_head_field.hpp"
+#include "cpu/cpu_shallow_pass.hpp"
 #include "cpu/cpu_step.hpp"
 #include "granular/extend/backend.hpp"
 #include "granular/extend/backend_factory.hpp"
@@ -35,6 +36,8 @@ class CpuBackend final : public Backend {
   std::uint64_t hash() const override;
   std::vector<std::uint8_t> read_side() const override;
   void write_side(std::span<const std::uint8_t> side) override;
+  std::vector<std::int32_t> read_faces() const override;
+  void write_faces(std::span<const std::int32_t> faces) override;
   void take_changed_bricks(std::span<std::uint8_t> flags) override;
   ActivityStats last_activity() const override { return last_; }
   /// A host copy of the cells.
@@ -51,6 +54,9 @@ class CpuBackend final : public Backend {
   void prepare_heads();
   /// Closes the trains of the grid after a tick (MotionParams::trains) and wakes the bricks they changed.
   void close_tick_trains();
+  /// Runs the shallow-water pass after a tick (MotionParams::shallow) unless it is at rest on
+  /// unchanged cells, and wakes the bricks it changed.
+  void run_shallow_pass();
   /// Liquid cells among `cells` (the rule set's liquids).
   std::uint64_t liquid_in(std::span<const std::uint8_t> cells) const;
   /// Liquid cells of the grid inside `box`.
@@ -74,7 +80,12 @@ class CpuBackend final : public Backend {
                                              ///< heads_pass_ (sparse stepping; a write clears it)
   std::uint32_t heads_pass_ = 0;             ///< the pass the heads were last solved after
   std::vector<std::uint32_t> pressing_;      ///< the bricks the last solve found a pressure move may start in
-  std::uint64_t liquid_cells_ = 0;           ///< liquid cells of the grid (head_field_ only; writes update it)
+  std::uint64_t liquid_cells_ = 0;           ///< liquid cells of the grid (head_field_ or shallow_ only; writes
+                                             ///< update it)
+  std::optional<CpuShallowPass> shallow_;    ///< MotionParams::shallow with a liquid in the table: the face plane
+  bool shallow_rest_ = false;                ///< the pass was at rest on the cells of activity_'s pass
+                                             ///< shallow_pass_ (sparse stepping; a write clears it)
+  std::uint32_t shallow_pass_ = 0;           ///< the pass the shallow-water pass last ran after
   std::vector<std::uint8_t> side_;           ///< the side plane (MotionParams::momentum with a liquid in the table;
                                              ///< else empty), laid out as the cells
   std::vector<std::uint8_t> outside_side_row_;  ///< a row of zero side bytes (StepContext::outside_side_row)

@@ -61,6 +61,9 @@ DistributedWorld::DistributedWorld(const WorldDef& def, Communicator& comm, cons
         if (h.version == kSideSnapshotVersion)
           throw ParseError(src + ": snapshot version " + std::to_string(h.version) +
                            " holds a side plane (MotionParams::momentum), which a DistributedWorld cannot step");
+        if (h.version == kFacesSnapshotVersion)
+          throw ParseError(src + ": snapshot version " + std::to_string(h.version) +
+                           " holds a face plane (MotionParams::shallow), which a DistributedWorld cannot step");
         // The slab's cells are checked against the memory budget before they are allocated.
         check_grid_size(local.size, src + ": header fields nx, ny, nz (" + to_string(size) + "): this rank's slab");
         WorldSnapshot part = h.meta;

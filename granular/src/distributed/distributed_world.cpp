@@ -59,6 +59,10 @@ SlabLayout make_layout(const WorldDef& def, Communicator& comm, Int3 size) {
       throw InvalidArgument("DistributedWorld: rule set '" + rules->name +
                             "' has RuleSet::motion.trains = true; a falling train closes its gaps along its whole "
                             "column, which may cross a slab: run it as one World, or turn trains off");
+    if (rules->motion.shallow)
+      throw InvalidArgument("DistributedWorld: rule set '" + rules->name +
+                            "' has RuleSet::motion.shallow = true; the shallow-water pass counts the liquid of whole "
+                            "columns, which cross the slabs: run it as one World, or turn shallow off");
     layout.emplace(size, comm.size(), SlabLayout::halo_for(*rules));
     mine = {1, std::uint64_t(size.x), std::uint64_t(size.y), std::uint64_t(size.z), def.seed, rule_fingerprint(*rules)};
     rules_name = rules->name;

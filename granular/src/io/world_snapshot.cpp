@@ -57,6 +57,15 @@ std::string name_problem(const std::string& name) {
   return {};
 }
 
+/// Bytes of the plane a snapshot of `version` holds after the cells of its `size` grid: a side byte
+/// per cell (kSideSnapshotVersion), 4 int32 per column (kFacesSnapshotVersion), or none.
+std::uint64_t plane_bytes(std::uint32_t version, Int3 size) {
+  const std::uint64_t columns = std::uint64_t(size.x) * std::uint64_t(size.y);
+  if (version == kSideSnapshotVersion) return columns * std::uint64_t(size.z);
+  if (version == kFacesSnapshotVersion) return 16 * columns;
+  return 0;
+}
+
 /// The extents of the header, checked (ParseError, or OutOfMemory when the cells do not fit).
 Int3 parse_extents(std::span<const std::uint8_t> head, const std::string& src) {
   std::uint64_t dims[3];
@@ -72,7 +81,7 @@ Int3 parse_extents(std::span<const std::uint8_t> head, const std::string& src) {
 }  // namespace
 
 std::uint64_t WorldSnapshot::hash() const {
-  return finish_hash(size, hash_words(cells, 0, (cells.size() + 7) / 8) + side_hash_term(side));
+  return finish_hash(size, hash_words(cells, 0, (cells.size() + 7) / 8) + side_hash_term(side) + faces_hash_term(faces));
 }
 
 std::uint64_t snapshot_file_hash(const WorldSnapshot& meta, std::uint64_t cells_hash, std::uint32_t version) {
@@ -99,19 +108,34 @@ std::vector<std::uint8_t> encode_snapshot(const WorldSnapshot& s) {
     throw InvalidArgument("encode_snapshot: WorldSnapshot::side holds " + std::to_string(s.side.size()) +
                           " bytes; the " + to_string(s.size) + " grid has " + std::to_string(cells) +
                           " cells (or 0 bytes: no velocity)");
-  const std::uint32_t version = s.side.empty() ? kSnapshotVersion : kSideSnapshotVersion;
+  const std::uint64_t face_values = 4 * std::uint64_t(s.size.x) * std::uint64_t(s.size.y);
+  if (!s.faces.empty() && s.faces.size() != face_values)
+    throw InvalidArgument("encode_snapshot: WorldSnapshot::faces holds " + std::to_string(s.faces.size()) +
+                          " values; the " + to_string(s.size) + " grid's face plane has " + std::to_string(face_values) +
+                          " (4 per column; or 0: every face at rest)");
+  if (!s.faces.empty() && !s.side.empty())
+    throw InvalidArgument("encode_snapshot: WorldSnapshot::side and WorldSnapshot::faces are both set; no rule set "
+                          "keeps both planes (MotionParams::momentum needs pressure, which shallow refuses)");
+  const std::uint32_t version =
+      !s.faces.empty() ? kFacesSnapshotVersion : !s.side.empty() ? kSideSnapshotVersion : kSnapshotVersion;
+  const std::uint64_t extra = s.side.size() + 4 * s.faces.size();
   std::vector<std::uint8_t> body;
-  if (!s.side.empty()) {
+  if (extra != 0) {
     try {
-      body.reserve(s.cells.size() + s.side.size());
+      body.reserve(s.cells.size() + extra);
     } catch (const std::bad_alloc&) {
-      throw OutOfMemory("encode_snapshot: could not allocate " + std::to_string(2 * cells) +
-                        " bytes for the cells and side plane of a " + to_string(s.size) + " grid");
+      throw OutOfMemory("encode_snapshot: could not allocate " + std::to_string(cells + extra) +
+                        " bytes for the cells and the side or face plane of a " + to_string(s.size) + " grid");
     }
     body.insert(body.end(), s.cells.begin(), s.cells.end());
     body.insert(body.end(), s.side.begin(), s.side.end());
+    for (const std::int32_t f : s.faces) {
+      std::uint8_t le[4];
+      put_u32(le, std::uint32_t(f));
+      body.insert(body.end(), le, le + 4);
+    }
   }
-  const std::vector<std::uint8_t> packed = zstd_compress(s.side.empty() ? s.cells : body, 3, "encode_snapshot");
+  const std::vector<std::uint8_t> packed = zstd_compress(extra == 0 ? s.cells : body, 3, "encode_snapshot");
   std::vector<std::uint8_t> out = snapshot_header_bytes(s, version, snapshot_file_hash(s, s.hash(), version), packed.size());
   try {
     out.insert(out.end(), packed.begin(), packed.end());
@@ -157,10 +181,10 @@ SnapshotHeader parse_snapshot_header(std::span<const std::uint8_t> bytes, std::u
   }
   SnapshotHeader h;
   h.version = get_u32(bytes, kVersionField.at);
-  if (h.version < kOneFrameSnapshotVersion || h.version > kSideSnapshotVersion)
+  if (h.version < kOneFrameSnapshotVersion || h.version > kFacesSnapshotVersion)
     throw ParseError(src + ": unsupported snapshot version " + std::to_string(h.version) + " (field " +
                      field_text(kVersionField) + "); this build reads versions " +
-                     std::to_string(kOneFrameSnapshotVersion) + ".." + std::to_string(kSideSnapshotVersion));
+                     std::to_string(kOneFrameSnapshotVersion) + ".." + std::to_string(kFacesSnapshotVersion));
   WorldSnapshot& s = h.meta;
   s.size = parse_extents(bytes, src);
   const std::uint32_t name_length = get_u32(bytes, kNameLengthField.at);
@@ -191,10 +215,11 @@ SnapshotHeader parse_snapshot_header(std::span<const std::uint8_t> bytes, std::u
                      "the file should be " + std::to_string(h.body_at + h.packed_size) + " bytes but it is " +
                      std::to_string(total));
   const std::uint64_t cells = std::uint64_t(s.size.x) * std::uint64_t(s.size.y) * std::uint64_t(s.size.z);
-  const std::uint64_t planes = h.version == kSideSnapshotVersion ? 2 : 1;  // the cells, and the side plane
-  if (exceeds_expansion(planes * cells, h.packed_size, kMaxZstdExpansion))
+  const std::uint64_t extra = plane_bytes(h.version, s.size);  // the side or face plane after the cells
+  if (exceeds_expansion(cells + extra, h.packed_size, kMaxZstdExpansion))
     throw ParseError(src + ": header fields nx, ny, nz (" + to_string(s.size) + " = " + std::to_string(cells) +
-                     " cells" + (planes == 2 ? ", and as many side bytes" : "") + ") cannot come from " +
+                     " cells" + (extra == 0 ? "" : ", and " + std::to_string(extra) + " bytes of its plane") +
+                     ") cannot come from " +
                      std::to_string(h.packed_size) + " bytes of compressed cells (zstd expands at most " +
                      std::to_string(kMaxZstdExpansion) + "-fold)");
   return h;
@@ -216,12 +241,16 @@ namespace {
 WorldSnapshot decode_body(SnapshotHeader h, std::span<const std::uint8_t> packed, const std::string& src) {
   WorldSnapshot& s = h.meta;
   const std::uint64_t cells = std::uint64_t(s.size.x) * std::uint64_t(s.size.y) * std::uint64_t(s.size.z);
-  const bool with_side = h.version == kSideSnapshotVersion;
-  s.cells = zstd_decompress(packed, with_side ? 2 * cells : cells,
-                            src + ": the compressed cells at byte " + std::to_string(h.body_at),
+  const std::uint64_t extra = plane_bytes(h.version, s.size);
+  s.cells = zstd_decompress(packed, cells + extra, src + ": the compressed cells at byte " + std::to_string(h.body_at),
                             h.version != kOneFrameSnapshotVersion);
-  if (with_side) {
-    s.side.assign(s.cells.begin() + std::ptrdiff_t(cells), s.cells.end());
+  if (h.version == kSideSnapshotVersion) s.side.assign(s.cells.begin() + std::ptrdiff_t(cells), s.cells.end());
+  if (h.version == kFacesSnapshotVersion) {
+    s.faces.resize(std::size_t(extra / 4));
+    for (std::size_t i = 0; i < s.faces.size(); ++i)
+      s.faces[i] = std::int32_t(get_u32(std::span<const std::uint8_t>(s.cells), std::size_t(cells) + 4 * i));
+  }
+  if (extra != 0) {
     s.cells.resize(std::size_t(cells));
     s.cells.shrink_to_fit();
   }
@@ -235,9 +264,10 @@ WorldSnapshot decode_body(SnapshotHeader h, std::span<const std::uint8_t> packed
 void check_snapshot_memory(const SnapshotHeader& h, double extra, const std::string& src) {
   const Int3 size = h.meta.size;
   const std::uint64_t cells = std::uint64_t(size.x) * std::uint64_t(size.y) * std::uint64_t(size.z);
-  // A snapshot with a side plane decodes twice the cells, then keeps the cells and the side plane.
+  // A snapshot with a side or face plane decodes the cells and the plane, then keeps both apart.
+  const double plane = double(plane_bytes(h.version, size));
   check_grid_size(size, src + ": header fields nx, ny, nz (" + to_string(size) + " = " + std::to_string(cells) + " cells)",
-                  h.version == kSideSnapshotVersion ? 3.0 : 1.0, extra);
+                  plane == 0 ? 1.0 : 2.0, extra + 2.0 * plane);
 }
 
 }  // namespace

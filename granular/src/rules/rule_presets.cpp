@@ -69,9 +69,10 @@ struct PresetEntry {
   bool pressure = false;  ///< MotionParams::pressure
   bool momentum = false;  ///< MotionParams::momentum
   bool trains = false;    ///< MotionParams::trains
+  bool shallow = false;   ///< MotionParams::shallow (the liquid's spread is then 0: the pass levels it)
 };
 
-constexpr std::array<PresetEntry, 10> kPresets = {{
+constexpr std::array<PresetEntry, 11> kPresets = {{
     {"paper", "gravity then flow, fixed preference order (the paper's rules)", 1, false, false, 1},
     {"isotropic",
      "the paper's rules under a random horizontal symmetry per block and tick and a random offset order per cycle", 2,
@@ -105,6 +106,10 @@ constexpr std::array<PresetEntry, 10> kPresets = {{
      "off a surface, goes on until a wall stops it (up to 18 cells a tick), so a burst dam's front runs instead of "
      "diffusing",
      2, true, true, 24, false, kFlowGrain, true, true},
+    {"inertial-24-shallow",
+     "inertial-24-flow with liquid under open sky moving as shallow water: a released body of water runs out as a "
+     "body, a pool levels within a few L / sqrt(g h) and then rests",
+     1, true, true, 24, false, kFlowGrain, false, false, false, true},
 }};
 
 RuleSet make_preset(const PresetEntry& e) {
@@ -119,7 +124,16 @@ RuleSet make_preset(const PresetEntry& e) {
   r.motion.pressure = e.pressure;
   r.motion.momentum = e.momentum;
   r.motion.trains = e.trains;
+  r.motion.shallow = e.shallow;
   r.materials = default_materials(r.motion.enabled() ? e.grain : GrainMotion{});
+  // Under the shallow-water pass the liquid's surface is the pass's to level: the block step's
+  // random spread of a surface cell would keep a pool at rest churning (docs/design/shallow-water.md).
+  if (e.shallow) {
+    MaterialDef& liquid = r.materials[to_cell(Material::Liquid)];
+    liquid.spread = 0;
+    liquid.grain.topple_gain = 0;
+    liquid.grain.roll_cost = 256;
+  }
   r.transition = r.motion.enabled() ? &motion_transition : &paper_transition;
   r.device_rule = r.motion.enabled() ? "motion" : "paper";
   return r;

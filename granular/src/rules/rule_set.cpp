@@ -126,6 +126,13 @@ void validate_rule_set(const RuleSet& rules) {
   if (rules.motion.columns && !rules.motion.enabled())
     throw RuleError(who + "RuleSet::motion.columns = true with motion.substeps = 1; columns are a lever of the motion "
                           "model: set substeps to a multiple of 8 up to 32, or columns to false");
+  if (rules.motion.shallow && !rules.motion.enabled())
+    throw RuleError(who + "RuleSet::motion.shallow = true with motion.substeps = 1; shallow is a lever of the motion "
+                          "model: set substeps to a multiple of 8 up to 32, or shallow to false");
+  if (rules.motion.shallow && rules.motion.pressure)
+    throw RuleError(who + "RuleSet::motion.shallow = true with motion.pressure = true; the head's pushes and the "
+                          "shallow-water pass work against each other (docs/design/shallow-water.md): set one of "
+                          "them to false");
   if (rules.motion.trains && !rules.motion.columns)
     throw RuleError(who + "RuleSet::motion.trains = true with motion.columns = false; trains are a lever of columns "
                           "(a train is what falling as columns leaves of a body): set columns to true, or trains to false");
@@ -146,6 +153,7 @@ std::uint64_t rule_fingerprint(const RuleSet& rules) {
   if (rules.motion.trains) h = mix64(h ^ 0x747261696E730000ull);
   if (rules.motion.pressure) h = mix64(h ^ 0x7072657373757265ull);
   if (rules.motion.momentum) h = mix64(h ^ 0x6D6F6D656E74756Dull);
+  if (rules.motion.shallow) h = mix64(h ^ 0x7368616C6C6F7700ull);
   for (const MaterialDef& d : rules.materials) {
     add_text(d.name);
     h = mix64(h ^ (std::uint64_t(d.behaviour) << 56) ^ std::uint64_t(d.grain.topple_gain) ^

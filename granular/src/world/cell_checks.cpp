@@ -4,6 +4,7 @@
 #include "granular/material.hpp"
 #include "granular/motion.hpp"
 #include "granular/rule_set.hpp"
+#include "step/shallow_water.hpp"
 #include "step/step_materials.hpp"
 
 namespace granular {
@@ -59,6 +60,32 @@ void check_side_bytes(std::span<const std::uint8_t> side, std::span<const std::u
                             ", not a liquid: only a liquid carries a velocity");
     if ((v & 15u) == 8u || (v >> 4) == 8u)
       throw InvalidArgument(at + ": a component of -8; each lies in -7..7 (granular/step/momentum.hpp)");
+  }
+}
+
+void check_face_plane(std::span<const std::int32_t> faces, Int3 size, const RuleSet& rules, const std::string& what) {
+  if (faces.empty()) return;
+  const std::size_t columns = std::size_t(size.x) * std::size_t(size.y);
+  if (faces.size() != 4 * columns)
+    throw InvalidArgument(what + ": WorldSnapshot::faces holds " + std::to_string(faces.size()) + " values; the " +
+                          to_string(size) + " grid's face plane has " + std::to_string(4 * columns) +
+                          " (4 per column; or 0: every face at rest)");
+  static constexpr const char* kFields[4] = {"x velocity", "y velocity", "x fraction", "y fraction"};
+  for (std::size_t i = 0; i < faces.size(); ++i) {
+    const std::int32_t v = faces[i];
+    if (v == 0) continue;
+    const int field = int(i / columns);
+    const int x = int((i % columns) % std::size_t(size.x)), y = int((i % columns) / std::size_t(size.x));
+    const std::string at = what + ": WorldSnapshot::faces, the " + kFields[field] + " of column (" + std::to_string(x) +
+                           ", " + std::to_string(y) + "), is " + std::to_string(v);
+    if (!rules.motion.shallow)
+      throw InvalidArgument(at + ", but rule set '" + rules.name + "' has no face plane (RuleSet::motion.shallow = false)");
+    if ((field % 2 == 0 && x + 1 == size.x) || (field % 2 == 1 && y + 1 == size.y))
+      throw InvalidArgument(at + " on the grid's edge, a wall: it must be 0");
+    const std::int64_t limit = field < 2 ? shallow::kMaxSpeed : shallow::kVolume - 1;
+    if (v > limit || v < -limit)
+      throw InvalidArgument(at + "; it lies in -" + std::to_string(limit) + ".." + std::to_string(limit) +
+                            (field < 2 ? " (shallow::kMaxSpeed)" : " (less than a cell, shallow::kVolume)"));
   }
 }
 

@@ -51,4 +51,11 @@ void check_cell_bytes(std::span<const std::uint8_t> cells, const RuleSet& rules,
 void check_side_bytes(std::span<const std::uint8_t> side, std::span<const std::uint8_t> cells, Int3 size,
                       const RuleSet& rules, const std::string& what);
 
+/// Throws InvalidArgument starting with `what` when `faces` (WorldSnapshot::faces of a grid of
+/// `size`) cannot be a face plane under `rules`: it is neither empty nor 4 values per column, it holds
+/// a non-zero value under rules without MotionParams::shallow, a velocity beyond shallow::kMaxSpeed,
+/// a fraction of a whole cell or more, or a non-zero value on a face at the grid's edge (a wall);
+/// names the column, the field and the value.
+void check_face_plane(std::span<const std::int32_t> faces, Int3 size, const RuleSet& rules, const std::string& what);
+
 }  // namespace granular

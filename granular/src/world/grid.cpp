@@ -149,6 +149,16 @@ std::uint64_t side_hash_term(std::span<const std::uint8_t> side) {
   return side_hash_of_sum(hash_words(side, 0, (side.size() + 7) / 8));
 }
 
+std::uint64_t faces_hash_term(std::span<const std::int32_t> faces) {
+  std::uint64_t sum = 0;
+  bool any = false;
+  for (std::size_t i = 0; i < faces.size(); ++i) {
+    any = any || faces[i] != 0;
+    sum += mix64(std::uint64_t(std::uint32_t(faces[i])) + std::uint64_t(i + 1) * 0x9E3779B97F4A7C15ull);
+  }
+  return any ? mix64(sum ^ 0x66616365706C616Eull) : 0;  // "faceplan"
+}
+
 std::uint64_t hash_cells(Int3 size, std::span<const std::uint8_t> cells) {
   const std::size_t words = (cells.size() + 7) / 8;
   return finish_hash(size, hash_words(cells, 0, words));

@@ -112,6 +112,7 @@ World::World(const WorldDef& def, const WorldSnapshot& snapshot) : def_(def) {
   check_snapshot_rules(snapshot, *rules, rule_fingerprint(*rules), "World");
   check_cell_bytes(snapshot.cells, *rules, "World: snapshot", [&](std::size_t i) { return cell_text(i, snapshot.size); });
   check_side_bytes(snapshot.side, snapshot.cells, snapshot.size, *rules, "World");
+  check_face_plane(snapshot.faces, snapshot.size, *rules, "World");
   // The initial grid and the backend's copy of it.
   check_grid_size(snapshot.size, "World: the snapshot's grid", 2.0, kWorldExtraBytes);
   def_.seed = snapshot.seed;
@@ -119,6 +120,7 @@ World::World(const WorldDef& def, const WorldSnapshot& snapshot) : def_(def) {
   std::copy(snapshot.cells.begin(), snapshot.cells.end(), initial.cells().begin());
   init(initial, rules);
   live().write_side(snapshot.side);
+  live().write_faces(snapshot.faces);
   tick_ = snapshot.tick;
   tool_calls_ = snapshot.tool_calls;
 }
@@ -331,6 +333,7 @@ WorldSnapshot World::capture() const {
   s.size = size_;
   s.cells = read_cells(Box{{0, 0, 0}, size_});
   s.side = live().read_side();
+  s.faces = live().read_faces();
   s.tick = tick_;
   s.seed = def_.seed;
   s.tool_calls = tool_calls_;
@@ -355,8 +358,10 @@ void World::restore(const WorldSnapshot& snapshot) {
   check_snapshot_rules(snapshot, *rules_, rule_fingerprint_, "World::restore");
   check_cell_bytes(snapshot.cells, *rules_, "World::restore: snapshot", [&](std::size_t i) { return cell_text(i, size_); });
   check_side_bytes(snapshot.side, snapshot.cells, size_, *rules_, "World::restore");
+  check_face_plane(snapshot.faces, size_, *rules_, "World::restore");
   write_grid(snapshot.cells, all_bricks(brick_counts()));
   live().write_side(snapshot.side);
+  live().write_faces(snapshot.faces);
   tick_ = snapshot.tick;
   tool_calls_ = snapshot.tool_calls;
 }

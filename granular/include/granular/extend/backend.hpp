@@ -40,7 +40,8 @@ class Backend {
   virtual void write(const Box& box, std::span<const std::uint8_t> in, std::span<const std::uint32_t> wake_bricks) = 0;
   /// Cells per material.
   virtual MaterialCounts count() const = 0;
-  /// The grid hash (hash_cells), plus side_hash_term of the side plane when it keeps one.
+  /// The grid hash (hash_cells), plus side_hash_term of the side plane and faces_hash_term of the face
+  /// plane when it keeps them.
   virtual std::uint64_t hash() const = 0;
   /// The side plane (MotionParams::momentum: one byte per cell, x fastest), or empty when the backend
   /// keeps none or it holds only zeros. The default keeps none.
@@ -53,6 +54,17 @@ class Backend {
     if (!side.empty())
       throw InvalidArgument("the " + description() + " backend keeps no side plane (MotionParams::momentum) to write "
                             "WorldSnapshot::side into");
+  }
+  /// The face plane (MotionParams::shallow: 4 int32 per column, shallow_water.hpp's order), or empty
+  /// when the backend keeps none or it holds only zeros. The default keeps none.
+  virtual std::vector<std::int32_t> read_faces() const { return {}; }
+  /// Replaces the face plane with `faces` (as read_faces gives it; empty: all zero), after the cells
+  /// were written, as write_side. Throws InvalidArgument when `faces` is not empty and the backend
+  /// keeps no face plane (the default keeps none).
+  virtual void write_faces(std::span<const std::int32_t> faces) {
+    if (!faces.empty())
+      throw InvalidArgument("the " + description() + " backend keeps no face plane (MotionParams::shallow) to write "
+                            "WorldSnapshot::faces into");
   }
   /// Sets flags[i] = 1 (one entry per brick) for every brick whose cells step() changed since the
   /// last call, and forgets them. A dense backend sets every flag.

@@ -1,0 +1,210 @@
+/// @file test_shallow_water.cpp
+/// The shallow-water lever (MotionParams::shallow, preset inertial-24-shallow;
+/// granular/step/shallow_water.hpp): a burst dam runs out as a body and levels, where the default
+/// rules leave a slope; every material is conserved; sparse = dense on any thread count with the
+/// face plane in the hash; the pool comes to rest and then costs nothing; a level pool with a partly
+/// filled top layer never starts; snapshots (format version 5) hold the face plane and a world made
+/// from one continues bit-identically; bad face planes and rule sets are refused naming the field.
+/// (The plain loop implements the pass independently and the golden pins hold its behaviour:
+/// test_plain_step.cpp, test_golden.cpp.)
+
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "granular/errors.hpp"
+#include "granular/rule_presets.hpp"
+#include "granular/rule_set.hpp"
+#include "granular/world.hpp"
+#include "granular/world_snapshot.hpp"
+#include "test_support.hpp"
+
+using namespace granular;
+using granular::test::test_def;
+using granular::test::with_sparse;
+
+namespace {
+
+constexpr const char* kShallow = "inertial-24-shallow";
+
+/// A closed tank `length` long and 8 wide on a solid floor, a block of liquid `height` high over its
+/// first `block` columns (the accuracy suite's levelling tank, levelling_test.cpp).
+Grid tank(int length, int height, int block, int top_room = 4) {
+  const Int3 s{length, 8, 1 + height + top_room};
+  Grid g(s);
+  g.fill(Box{{0, 0, 0}, {s.x, s.y, 1}}, Material::Solid);
+  g.fill(Box{{0, 0, 1}, {block, s.y, 1 + height}}, Material::Liquid);
+  return g;
+}
+
+/// The surface per slice x: liquid cells over the tank's width, in cells.
+std::vector<double> surface(const World& w) {
+  const Int3 s = w.size();
+  const std::vector<std::uint8_t> cells = w.read_region(Box{{0, 0, 1}, s});
+  std::vector<double> eta(std::size_t(s.x), 0.0);
+  for (std::size_t i = 0; i < cells.size(); ++i)
+    if (cells[i] == to_cell(Material::Liquid)) eta[i % std::size_t(s.x)] += 1.0 / s.y;
+  return eta;
+}
+
+/// The surface's largest distance from `level`.
+double deviation(const std::vector<double>& eta, double level) {
+  double d = 0;
+  for (const double e : eta) d = std::max(d, std::abs(e - level));
+  return d;
+}
+
+/// Steps `w` until its hash holds for `hold` ticks or `limit` ticks pass; returns the tick it
+/// came to rest at (the last change), or -1.
+long rest_tick(World& w, int limit, int hold = 64) {
+  std::uint64_t last = w.hash();
+  long since = long(w.tick());
+  while (long(w.tick()) < limit) {
+    w.step(1);
+    const std::uint64_t h = w.hash();
+    if (h != last) {
+      last = h;
+      since = long(w.tick());
+    }
+    if (long(w.tick()) - since >= hold) return since;
+  }
+  return -1;
+}
+
+}  // namespace
+
+TEST_CASE("shallow water: a block of water levels in a closed tank within 5 shallow-water times, where the default rules leave it standing") {
+  // L = 64, h = 4: L / sqrt(g h) = 22.6 ticks at g = 2 cells a tick^2, so 5 of them are 113 ticks.
+  const Grid g = tank(64, 16, 16);
+  World shallow(test_def(g.size(), kShallow, 2, 1), g);
+  World flow(test_def(g.size(), "inertial-24-flow", 2, 1), g);
+  shallow.step(113);
+  flow.step(113);
+  const double d_shallow = deviation(surface(shallow), 4.0), d_flow = deviation(surface(flow), 4.0);
+  CHECK_MESSAGE(d_shallow <= 1.0, "the surface stands " << d_shallow << " cells from the level at rest");
+  CHECK_MESSAGE(d_flow > 2.0, "the default rules levelled it too (" << d_flow << "): the test no longer tells them apart");
+  CHECK(shallow.count() == g.count());
+}
+
+TEST_CASE("shallow water: sparse and dense stepping, on 1 and 2 threads, give the same cells and face plane") {
+  const Grid g = tank(48, 12, 12);
+  std::vector<std::uint64_t> hashes;
+  std::vector<std::int32_t> faces;
+  for (const bool sparse : {true, false})
+    for (const int threads : {1, 2}) {
+      World w(with_sparse(test_def(g.size(), kShallow, threads, 7), sparse), g);
+      w.step(40);
+      hashes.push_back(w.hash());
+      const WorldSnapshot s = w.capture();
+      if (faces.empty()) faces = s.faces;
+      CHECK(s.faces == faces);
+      CHECK(w.count() == g.count());
+    }
+  CHECK_FALSE(faces.empty());  // mid-flow, some face moves
+  for (const std::uint64_t h : hashes) CHECK(h == hashes.front());
+}
+
+TEST_CASE("shallow water: a burst dam comes to rest as a whole, and its bricks then sleep") {
+  const Grid g = tank(64, 12, 12);
+  World w(test_def(g.size(), kShallow, 2, 3), g);
+  const long rest = rest_tick(w, 1500);
+  REQUIRE_MESSAGE(rest >= 0, "still moving after 1500 ticks");
+  CHECK(w.capture().faces.empty() == false);  // the face plane holds the fractions of its level surface
+  w.step(16);  // two sparse cycles with nothing moving
+  CHECK(w.activity().active_bricks == 0);
+  CHECK(w.count() == g.count());
+}
+
+TEST_CASE("shallow water: a level pool with a partly filled top layer moves no cell and comes to rest") {
+  Grid g = tank(40, 6, 40);
+  // Every other cell of a seventh layer: a top layer half full, its surface level to half a cell.
+  for (int y = 0; y < g.size().y; ++y)
+    for (int x = 0; x < g.size().x; x += 2) g.cells()[g.index({x, y, 7})] = to_cell(Material::Liquid);
+  World w(test_def(g.size(), kShallow, 2, 3), g);
+  const long rest = rest_tick(w, 400);
+  CHECK_MESSAGE(rest >= 0, "still moving after 400 ticks");
+  // The faces hold the half cells (the surface they see is level); the cells never moved.
+  const Grid after = w.read_grid();
+  CHECK(std::equal(after.cells().begin(), after.cells().end(), g.cells().begin()));
+  w.step(16);
+  CHECK(w.activity().active_bricks == 0);
+}
+
+TEST_CASE("shallow water: a snapshot holds the face plane, and a world made from it continues bit-identically") {
+  const Grid g = tank(48, 12, 12);
+  World w(test_def(g.size(), kShallow, 2, 9), g);
+  w.step(12);
+  const WorldSnapshot s = w.capture();
+  REQUIRE_FALSE(s.faces.empty());
+  CHECK(s.faces.size() == 4 * std::size_t(g.size().x) * std::size_t(g.size().y));
+  CHECK(s.hash() == w.hash());
+  // Through the file: format version 5.
+  const std::filesystem::path path = std::filesystem::temp_directory_path() / "granular_shallow_snapshot.gsnap";
+  save_snapshot(s, path);
+  const WorldSnapshot loaded = load_snapshot(path);
+  std::filesystem::remove(path);
+  CHECK(loaded.faces == s.faces);
+  const std::vector<std::uint8_t> bytes = encode_snapshot(s);
+  CHECK(bytes[4] == kFacesSnapshotVersion);
+  World resumed(test_def(g.size(), kShallow, 1, 9), loaded);
+  CHECK(resumed.hash() == w.hash());
+  w.step(30);
+  resumed.step(30);
+  CHECK(resumed.hash() == w.hash());
+  // Restore into the first world: back to tick 12, then the same 30 ticks.
+  w.restore(s);
+  w.step(30);
+  CHECK(w.hash() == resumed.hash());
+}
+
+TEST_CASE("shallow water: a face plane that cannot be the world's is refused, naming the field and the value") {
+  const Grid g = tank(16, 4, 4);
+  World w(test_def(g.size(), kShallow, 1, 1), g);
+  w.step(4);
+  WorldSnapshot s = w.capture();
+  const std::size_t columns = std::size_t(g.size().x) * std::size_t(g.size().y);
+  auto refused = [&](const WorldSnapshot& bad, const char* what) {
+    CAPTURE(what);
+    CHECK_THROWS_WITH_AS(w.restore(bad), doctest::Contains(what), InvalidArgument);
+  };
+  WorldSnapshot short_plane = s;
+  short_plane.faces.assign(3, 1);
+  refused(short_plane, "WorldSnapshot::faces holds 3 values");
+  WorldSnapshot wall = s;
+  wall.faces.assign(4 * columns, 0);
+  wall.faces[std::size_t(g.size().x) - 1] = 5;  // the x face of the last column: the grid's edge
+  refused(wall, "on the grid's edge, a wall");
+  WorldSnapshot fraction = s;
+  fraction.faces.assign(4 * columns, 0);
+  fraction.faces[2 * columns] = 40000;  // an x fraction of more than a cell
+  refused(fraction, "the x fraction of column (0, 0), is 40000");
+  // A world without the lever keeps no face plane.
+  World flow(test_def(g.size(), "inertial-24-flow", 1, 1), g);
+  WorldSnapshot foreign = flow.capture();
+  foreign.faces.assign(4 * columns, 0);
+  foreign.faces[0] = 7;
+  CHECK_THROWS_WITH_AS(flow.restore(foreign), doctest::Contains("RuleSet::motion.shallow = false"), InvalidArgument);
+  // A world without liquid keeps none either (all zero is accepted: nothing moves).
+  foreign.faces.assign(4 * columns, 0);
+  CHECK_NOTHROW(flow.restore(foreign));
+}
+
+TEST_CASE("shallow water: the rule set checks refuse the lever without the motion model or with pressure") {
+  RuleSet rules = preset(kShallow);
+  CHECK_NOTHROW(validate_rule_set(rules));
+  rules.motion.substeps = 1;
+  CHECK_THROWS_WITH_AS(validate_rule_set(rules), doctest::Contains("RuleSet::motion.shallow = true with motion.substeps = 1"),
+                       RuleError);
+  rules = preset(kShallow);
+  rules.motion.pressure = true;
+  CHECK_THROWS_WITH_AS(validate_rule_set(rules), doctest::Contains("motion.shallow = true with motion.pressure = true"),
+                       RuleError);
+  // The lever is part of the rule set's fingerprint.
+  RuleSet without = preset(kShallow);
+  without.motion.shallow = false;
+  CHECK(rule_fingerprint(without) != rule_fingerprint(preset(kShallow)));
+}
