@@ -14,6 +14,7 @@
 #include "cuda_stream.cuh"
 #include "device_buffer.cuh"
 #include "device_head_field.cuh"
+#include "device_shallow_pass.cuh"
 #include "external_interop.cuh"
 #include "granular/extend/backend.hpp"
 #include "granular/extend/backend_factory.hpp"
@@ -114,6 +115,9 @@ class CudaBackend final : public Backend {
       cuda::check(cudaMemsetAsync(side_.data(), 0, side_.bytes(), s), "cudaMemsetAsync (side plane)");
       step_rules_.side = true;
     }
+    // The face plane (shallow_water.hpp), as the CPU backend keeps it: the shallow lever and a liquid.
+    if (info.rules->motion.shallow && step_rules_.materials.liquids != 0)
+      shallow_.emplace(size_, sparse_ ? total_bricks_ : 0u, s);
     if (sparse_) init_sparse(s);
     // MotionParams::trains with sparse stepping: a byte per brick for the wake of the bricks a train changed.
     if (sparse_ && step_rules_.motion.trains) {
@@ -152,10 +156,11 @@ class CudaBackend final : public Backend {
   void step_ticks(std::uint64_t first_tick, int ticks) {
     activate();
     before_write();
-    if (sparse_ && asleep_ && !head_field_) {
+    if (sparse_ && asleep_ && !head_field_ && (!shallow_ || shallow_->at_rest(stream_.get()))) {
       // Nothing is awake and nothing can wake without a tool: the ticks change no cell, so they
       // cost no device work at all (a settled world costs nothing). A head field may wake bricks at
-      // any tick, so a world that keeps one always steps.
+      // any tick, so a world that keeps one always steps; a shallow-water pass that changed
+      // something last time may change more.
       last_ = ActivityStats{};
       last_.total_bricks = total_bricks_;
       last_.ticks = std::uint64_t(ticks);
@@ -263,7 +268,8 @@ class CudaBackend final : public Backend {
     return out;
   }
 
-  /// The cells' word sum, plus side_hash_term of the side plane when the backend keeps one.
+  /// The cells' word sum, plus side_hash_term of the side plane and faces_hash_term of the face
+  /// plane when the backend keeps them.
   std::uint64_t hash() const override {
     activate();
     cudaStream_t s = stream_.get();
@@ -283,7 +289,8 @@ class CudaBackend final : public Backend {
     cuda::check(cudaMemcpyAsync(sums, scratch_.data(), sizeof sums, cudaMemcpyDeviceToHost, s), "cudaMemcpyAsync (hash)");
     stream_.synchronize("hash");
     const std::uint64_t side = sums[2] != 0 ? side_hash_of_sum(sums[1]) : 0;
-    return finish_hash(size_, sums[0] + side);
+    const std::uint64_t faces = shallow_ ? faces_hash_term(shallow_->read(s)) : 0;
+    return finish_hash(size_, sums[0] + side + faces);
   }
 
   /// The side plane copied to the host; empty when the backend keeps none or it holds only zeros.
@@ -317,6 +324,31 @@ class CudaBackend final : public Backend {
                   "cudaMemcpyAsync (side plane to the device)");
     after_write();
     stream_.synchronize("write_side");
+  }
+
+  /// The face plane copied to the host; empty when the backend keeps none or it holds only zeros.
+  std::vector<std::int32_t> read_faces() const override {
+    if (!shallow_) return {};
+    activate();
+    return shallow_->read(stream_.get());
+  }
+
+  /// Replaces the face plane (empty: all zero); returns once the device holds it.
+  void write_faces(std::span<const std::int32_t> faces) override {
+    const bool zero = std::all_of(faces.begin(), faces.end(), [](std::int32_t f) { return f == 0; });
+    if (!shallow_) {
+      if (zero) return;
+      throw InvalidArgument("cuda backend: write_faces: the rule set has no face plane (MotionParams::shallow with a "
+                            "liquid material) to write WorldSnapshot::faces into");
+    }
+    if (!faces.empty() && faces.size() != shallow_->face_count())
+      throw InvalidArgument("cuda backend: write_faces: " + std::to_string(faces.size()) + " face values for the " +
+                            std::to_string(shallow_->face_count()) + " of the " + to_string(size_) +
+                            " grid (4 per column)");
+    activate();
+    before_write();
+    shallow_->write(faces, stream_.get());
+    after_write();
   }
 
   std::uint64_t shared_cell_bytes() const override { return cuda::cell_buffer_bytes(cell_count_); }
@@ -469,14 +501,17 @@ class CudaBackend final : public Backend {
         });
         if ((n & 7u) == 7u) cuda::launch_end_cycle(sp, s);
         ++n;
-        if (n % substeps == 0) close_trains(sp, s);
+        if (n % substeps == 0) {
+          close_trains(sp, s);
+          run_shallow_pass(sp, s);
+        }
         continue;
       }
       // The pair kernel steps no side plane: a rule set with one runs its steps one by one.
       const bool fuse = n + 1 < end && !step_rules_.side &&
                         cuda::pairable(step_offset(step_rules_, n), step_offset(step_rules_, n + 1)) &&
                         !(mode == Mode::Recording && (n & 7u) == 7u) &&
-                        !((head_field_ || step_rules_.motion.trains) && (n + 1) % substeps == 0) &&
+                        !((head_field_ || step_rules_.motion.trains || shallow_) && (n + 1) % substeps == 0) &&
                         halo_ready();
       if (fuse) {
         cuda::with_device_step_pair(step_rules_, n, [&](const auto& a, const auto& b) {
@@ -506,6 +541,12 @@ class CudaBackend final : public Backend {
         if (mode == Mode::Recording) count();
         close_trains(sp, s);
       }
+      if (n % substeps == 0 && shallow_) {
+        // The tick's shallow-water pass, after the trains (the CPU's order); its wake changes the
+        // awake list as the trains' does.
+        if (mode == Mode::Recording) count();
+        run_shallow_pass(sp, s);
+      }
     }
     if (halo != nullptr) cuda::check(cudaFreeAsync(halo, s), "cudaFreeAsync (pair halo)");
     if (mode == Mode::Dense) return;
@@ -519,6 +560,13 @@ class CudaBackend final : public Backend {
   void close_trains(const cuda::SparseParams& sp, cudaStream_t s) {
     if (!step_rules_.motion.trains) return;
     cuda::launch_close_trains(cells_, size_, step_rules_.materials, sparse_ ? &sp : nullptr, train_flags_.data(), s);
+  }
+
+  /// Enqueues the shallow-water pass after a tick (MotionParams::shallow; nothing without it): with
+  /// sparse stepping (`sp`) the bricks it changed then wake.
+  void run_shallow_pass(const cuda::SparseParams& sp, cudaStream_t s) {
+    if (!shallow_) return;
+    shallow_->enqueue(cells_, step_rules_.materials, sparse_ ? &sp : nullptr, s);
   }
 
   /// Enqueues zeroing the activity counters (before a sparse step's first tick).
@@ -687,6 +735,7 @@ class CudaBackend final : public Backend {
   cuda::DeviceBuffer<unsigned long long> counters_;
   cuda::DeviceBuffer<std::uint64_t> inert_;
   std::optional<cuda::DeviceHeadField> head_field_;  ///< MotionParams::pressure with a liquid in the table: the heads
+  std::optional<cuda::DeviceShallowPass> shallow_;   ///< MotionParams::shallow with a liquid in the table: the face plane
   cuda::DeviceBuffer<std::uint8_t> side_;  ///< the side plane (MotionParams::momentum with a head field), else empty
   cuda::DeviceBuffer<std::uint8_t> train_flags_;  ///< per brick, MotionParams::trains with sparse stepping: a train changed it
   cuda::PinnedCounters counters_host_;        ///< the activity counters, copied back by each step

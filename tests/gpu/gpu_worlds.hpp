@@ -12,6 +12,7 @@
 
 #include "granular/rule_presets.hpp"
 #include "granular/world.hpp"
+#include "granular/world_snapshot.hpp"
 
 namespace granular::test {
 
@@ -47,12 +48,23 @@ inline std::string first_byte_difference(const World& a, const char* what, const
   return {};
 }
 
-/// "" when both worlds report the same cells and the same side plane (MotionParams::momentum's
-/// velocities), else the first differing cell, both values and the tick.
+/// "" when both worlds report the same cells, the same side plane (MotionParams::momentum's
+/// velocities) and the same face plane (MotionParams::shallow's), else the first differing cell or
+/// face value, both values and the tick.
 inline std::string first_difference(const World& a, const World& b) {
   const Box whole{{0, 0, 0}, a.size()};
   std::string d = first_byte_difference(a, "cells:", a.read_region(whole), b.read_region(whole));
-  if (d.empty()) d = first_byte_difference(a, "side plane:", a.capture().side, b.capture().side);
+  const WorldSnapshot sa = a.capture(), sb = b.capture();
+  if (d.empty()) d = first_byte_difference(a, "side plane:", sa.side, sb.side);
+  if (d.empty() && sa.faces != sb.faces) {
+    const std::size_t n = std::max(sa.faces.size(), sb.faces.size());
+    for (std::size_t i = 0; i < n && d.empty(); ++i) {
+      const std::int32_t u = i < sa.faces.size() ? sa.faces[i] : 0, v = i < sb.faces.size() ? sb.faces[i] : 0;
+      if (u != v)
+        d = "face plane: first difference at value " + std::to_string(i) + ": " + std::to_string(u) + " vs " +
+            std::to_string(v) + " at tick " + std::to_string(a.tick());
+    }
+  }
   return d;
 }
 
