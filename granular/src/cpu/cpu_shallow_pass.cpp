@@ -64,8 +64,10 @@ std::vector<std::uint32_t> CpuShallowPass::run(std::uint8_t* cells, const StepMa
   const shallow::Plane p = plane();
   const int nx = size_.x, ny = size_.y;
   const std::size_t layer = columns_;
-  // Rows of columns per task: enough rows that a task outweighs its hand-off.
-  const int chunks = std::max(1, std::min(ny, std::min(tasks.thread_count() * 4, int(columns_ / 4096) + 1)));
+  // Rows of columns per task. A pass is 257 parallel loops a tick, so a grid of fewer columns than
+  // kParallelColumns runs them on the calling thread, where a hand-off would outweigh a loop.
+  constexpr std::size_t kParallelColumns = 32768;
+  const int chunks = columns_ < kParallelColumns ? 1 : std::max(1, std::min(ny, tasks.thread_count() * 4));
   auto rows = [&](auto&& body) {
     tasks.run(chunks, [&](int t) {
       for (int y = ny * t / chunks; y < ny * (t + 1) / chunks; ++y) body(y);
@@ -82,9 +84,10 @@ std::vector<std::uint32_t> CpuShallowPass::run(std::uint8_t* cells, const StepMa
       for (int x = 0; x < nx; ++x) column_[std::size_t(p.at(x, y))] = scans[std::size_t(x)].column;
     }
   });
-  std::atomic<bool> changed{false};
+  bool changed_any = false;
   HostColumns grid{cells, layer, changed_lo_.data(), changed_hi_.data()};
   for (int i = 0; i < shallow::kIterations; ++i) {
+    std::atomic<bool> changed{false};
     rows([&](int y) {
       for (int x = 0; x < nx; ++x) shallow::surface_of(p, x, y);
     });
@@ -111,8 +114,12 @@ std::vector<std::uint32_t> CpuShallowPass::run(std::uint8_t* cells, const StepMa
         for (int x = 0; x < nx; ++x)
           if (shallow::in_phase(x, y, phase)) shallow::move_face(p, grid, x, y, shallow::phase_axis(phase), m);
       });
+    // An iteration is a function of the cells and the faces: one that changed neither leaves the
+    // rest of the tick's iterations nothing to do either.
+    if (!changed.load()) break;
+    changed_any = true;
   }
-  at_rest_ = !changed.load();
+  at_rest_ = !changed_any;
   // The bricks of the changed cells, and the record cleared for the next run.
   const Int3 bricks = brick_counts(size_);
   std::vector<std::uint32_t> woken;
