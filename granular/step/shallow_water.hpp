@@ -6,7 +6,10 @@
 /// tests writes it again); nothing here depends on the order columns or faces are visited in.
 ///
 /// A *column* of the grid has a ground (the cell over its highest cell that is neither void, gas
-/// nor liquid) and a depth (the liquid cells above the ground, counted, voids between them not).
+/// nor liquid) and a *body*: the liquid cells from the ground up, each at most kBodyGap void or gas
+/// cells above the one below it (the ground for the first). Its depth is their count (the voids
+/// between them are not counted); a liquid farther up is in flight, and the pass leaves it to the
+/// block step.
 /// Two neighbouring columns, along x and along y, share a *face*, which holds a velocity (kVelocity
 /// units per cell a tick, a staggered grid) and a carried fraction of a cell (kVolume units per
 /// cell). The faces are the *face plane*: 4 int32 per column, part of the world's state.
@@ -72,18 +75,29 @@ struct Column {
   std::int32_t top = -1;    ///< the highest of them (ground - 1 when there is none)
 };
 
+/// The most void or gas cells between two liquid cells of a column's body (shallow::Column): a
+/// liquid farther above the body is in flight, the block step's, and the pass leaves it.
+inline constexpr int kBodyGap = 2;
+
 /// One column's scan, bottom up: visit z = 0, 1, ... in order.
 struct ColumnScan {
-  Column column;  ///< what the cells visited so far make
+  Column column;        ///< what the cells visited so far make
+  bool closed = false;  ///< a liquid more than kBodyGap above the body ended it (until the next ground)
 
   /// Visits `cell`, the column's cell at z.
   constexpr void visit(int z, std::uint8_t cell, const StepMaterials& m) {
     const std::uint32_t material = cell & kMaterialMask;
     if (m.is_liquid(material)) {
+      if (closed) return;
+      if (z - column.top - 1 > kBodyGap) {
+        closed = true;
+        return;
+      }
       ++column.depth;
       column.top = z;
     } else if (!m.is_void(material) && !m.is_gas(material)) {
       column = Column{z + 1, 0, z};
+      closed = false;
     }
   }
 };
@@ -266,8 +280,15 @@ constexpr int move_face(const Plane& p, Grid& grid, int x, int y, int axis, cons
     grid.set(to, target, std::uint8_t(liquid & kMaterialMask));
     grid.set(from, source, std::uint8_t(space & kMaterialMask));
     ++moved;
+    // The receiver's body grows by the cell, and by the liquid in flight within kBodyGap above it.
     receiver.top = target;
     ++receiver.depth;
+    for (int z = target + 1; z < p.nz && z - receiver.top - 1 <= kBodyGap; ++z)
+      if (m.is_liquid(grid.get(to, z) & kMaterialMask)) {
+        receiver.top = z;
+        ++receiver.depth;
+      }
+    // The donor's top is the next cell of its body down.
     --donor.depth;
     int z = source - 1;
     if (donor.depth > 0)

@@ -871,10 +871,17 @@ void plain_shallow_pass(std::span<std::uint8_t> cells, Int3 n, const PlainRules&
       if (!is_open(at(c, z)) && !is_liquid(at(c, z))) return z + 1;
     return 0;
   };
-  auto highest_liquid = [&](std::size_t c, int ground) {
-    for (int z = n.z - 1; z >= ground; --z)
-      if (is_liquid(at(c, z))) return z;
-    return -1;
+  // The column's body: the liquid cells from the ground up, each at most 2 open cells above the
+  // one below it (the ground for the first); returns its highest cell (-1: none) and counts it.
+  auto body_of = [&](std::size_t c, int ground, int& count) {
+    int top = ground - 1;
+    count = 0;
+    for (int z = ground; z < n.z && z - top - 1 <= 2; ++z)
+      if (is_liquid(at(c, z))) {
+        top = z;
+        ++count;
+      }
+    return count > 0 ? top : -1;
   };
   auto neighbour = [&](std::size_t c, int a) -> std::ptrdiff_t {
     const std::size_t x = c % nx, y = c / nx;
@@ -893,8 +900,7 @@ void plain_shallow_pass(std::span<std::uint8_t> cells, Int3 n, const PlainRules&
   for (int it = 0; it < kIterations; ++it) {
     for (std::size_t c = 0; c < columns; ++c) {
       ground[c] = ground_of(c);
-      depth[c] = 0;
-      for (int z = ground[c]; z < n.z; ++z) depth[c] += is_liquid(at(c, z)) ? 1 : 0;
+      body_of(c, ground[c], depth[c]);
     }
     for (std::size_t c = 0; c < columns; ++c) {
       level[c] = (std::int64_t(ground[c]) + depth[c]) * kCell;
@@ -979,8 +985,9 @@ void plain_shallow_pass(std::span<std::uint8_t> cells, Int3 n, const PlainRules&
         const std::size_t m = std::size_t(neighbour(c, a));
         const std::size_t from = whole[a][c] > 0 ? c : m, to = whole[a][c] > 0 ? m : c;
         for (int left = std::abs(whole[a][c]); left > 0; --left) {
-          const int source = highest_liquid(from, ground[from]);
-          const int top = highest_liquid(to, ground[to]);
+          int count = 0;
+          const int source = body_of(from, ground[from], count);
+          const int top = body_of(to, ground[to], count);
           const int target = top >= 0 ? top + 1 : ground[to];
           if (source < 0 || target >= n.z) {
             u[a][c] = 0;

@@ -204,8 +204,8 @@ BlockCells plain_fluid_pass(const PlainRules& rules, const BlockCells& cells, co
 /// granular/step/shallow_water.hpp's comment gives it, with the face plane `faces` (4 size.x size.y
 /// values: the x faces' velocities, the y faces', the x faces' fractions, the y faces'; x fastest),
 /// which it updates. Written from that comment and the constants' documentation, with the pass's
-/// integer formulas written out: every iteration finds each column's ground and depth by walking
-/// it, and every move walks the donor and the receiver from the top for their highest liquid cell.
+/// integer formulas written out: every iteration finds each column's ground and body by walking
+/// it, and every move walks the donor and the receiver from their ground for the top of their body.
 /// Its readings of the text: a face's upstream face is the face of the same axis behind it along
 /// its velocity (after gravity), and it counts only when it moves the same way; the depth a face
 /// rubs on is its upwind depth in whole cells, at least 1.
