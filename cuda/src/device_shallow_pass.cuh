@@ -3,7 +3,8 @@
 /// The CUDA backend's face plane and shallow-water pass (MotionParams::shallow): the device
 /// counterpart of CpuShallowPass (cpu_shallow_pass.hpp). Its buffers live beside the cells; each
 /// tick's pass is enqueued on the backend's stream (shallow_kernels.cuh) with no host
-/// synchronisation, and whether it changed anything stays on the device until asked.
+/// synchronisation, and whether it changed anything stays on the device until asked. As on the CPU,
+/// the tick's iterations end at the first that changed nothing: the kernels after it return at once.
 
 #include <cuda_runtime.h>
 
@@ -41,15 +42,15 @@ class DeviceShallowPass {
         volume_(2 * columns_, "the shallow-water pass's volumes"),
         lo_(columns_, "the shallow-water pass's changed cells"),
         hi_(columns_, "the shallow-water pass's changed cells"),
-        changed_(1, "the shallow-water pass's change flag"),
-        flags_(bricks, "the bricks the shallow-water pass changed") {
+        flags_(1, "the shallow-water pass's flags"),
+        bricks_(bricks, "the bricks the shallow-water pass changed") {
     check(cudaMemsetAsync(faces_.data(), 0, faces_.bytes(), stream), "cudaMemsetAsync (face plane)");
     check(cudaMemsetAsync(cells_.data(), 0, cells_.bytes(), stream), "cudaMemsetAsync (shallow cells)");
     const std::vector<std::int32_t> lo(columns_, size.z);
     check(cudaMemcpyAsync(lo_.data(), lo.data(), lo_.bytes(), cudaMemcpyHostToDevice, stream), "cudaMemcpyAsync (shallow lo)");
     check(cudaMemsetAsync(hi_.data(), 0xFF, hi_.bytes(), stream), "cudaMemsetAsync (shallow hi)");  // -1
-    check(cudaMemsetAsync(changed_.data(), 0xFF, changed_.bytes(), stream), "cudaMemsetAsync (shallow flag)");
-    if (bricks > 0) check(cudaMemsetAsync(flags_.data(), 0, flags_.bytes(), stream), "cudaMemsetAsync (shallow bricks)");
+    mark_not_at_rest(stream);
+    if (bricks > 0) check(cudaMemsetAsync(bricks_.data(), 0, bricks_.bytes(), stream), "cudaMemsetAsync (shallow bricks)");
   }
 
   /// Enqueues on `stream` one tick's pass over `cells` and, with `sparse` (not null), the wake of
@@ -57,34 +58,36 @@ class DeviceShallowPass {
   void enqueue(std::uint8_t* cells, const StepMaterials& m, const SparseParams* sparse, cudaStream_t stream) {
     const shallow::Plane p = plane();
     const unsigned blocks = shallow_blocks(columns_);
-    check(cudaMemsetAsync(changed_.data(), 0, sizeof(unsigned), stream), "cudaMemsetAsync (shallow flag)");
+    check(cudaMemsetAsync(flags_.data(), 0, flags_.bytes(), stream), "cudaMemsetAsync (shallow flags)");
     shallow_scan_kernel<<<blocks, kShallowThreads, 0, stream>>>(cells, size_, m, p);
     check_launch("shallow-water scan kernel launch");
     const DeviceShallowGrid grid{cells, columns_, lo_.data(), hi_.data()};
     for (int i = 0; i < shallow::kIterations; ++i) {
       for (int step = 0; step < 4; ++step) {
-        shallow_step_kernel<<<blocks, kShallowThreads, 0, stream>>>(p, step, changed_.data());
+        shallow_step_kernel<<<blocks, kShallowThreads, 0, stream>>>(p, step, flags_.data());
         check_launch("shallow-water step kernel launch");
       }
       for (int phase = 0; phase < 4; ++phase) {
         shallow_move_kernel<<<shallow_blocks(columns_ / 2 + std::size_t(size_.x) + std::size_t(size_.y)), kShallowThreads,
-                              0, stream>>>(p, grid, m, phase);
+                              0, stream>>>(p, grid, m, phase, flags_.data());
         check_launch("shallow-water move kernel launch");
       }
+      shallow_iteration_end_kernel<<<1, 1, 0, stream>>>(flags_.data());
+      check_launch("shallow-water iteration end kernel launch");
     }
     const SparseParams s = sparse != nullptr ? *sparse : SparseParams{};
-    shallow_changed_kernel<<<blocks, kShallowThreads, 0, stream>>>(size_, grid, sparse != nullptr, s, flags_.data());
+    shallow_changed_kernel<<<blocks, kShallowThreads, 0, stream>>>(size_, grid, sparse != nullptr, s, bricks_.data());
     check_launch("shallow-water changed kernel launch");
-    if (sparse != nullptr) launch_wake_flagged(s, flags_.data(), stream);
+    if (sparse != nullptr) launch_wake_flagged(s, bricks_.data(), stream);
   }
 
   /// True when the last pass changed nothing (no cell, no face). Waits for `stream`.
   bool at_rest(cudaStream_t stream) const {
-    unsigned changed = 1;
-    check(cudaMemcpyAsync(&changed, changed_.data(), sizeof changed, cudaMemcpyDeviceToHost, stream),
-          "cudaMemcpyAsync (shallow flag)");
-    check(cudaStreamSynchronize(stream), "cudaStreamSynchronize (shallow flag)");
-    return changed == 0;
+    ShallowFlags flags{};
+    check(cudaMemcpyAsync(&flags, flags_.data(), sizeof flags, cudaMemcpyDeviceToHost, stream),
+          "cudaMemcpyAsync (shallow flags)");
+    check(cudaStreamSynchronize(stream), "cudaStreamSynchronize (shallow flags)");
+    return flags.pass == 0;
   }
 
   /// The face plane copied to the host (shallow_water.hpp's order), or empty when every face is 0.
@@ -106,8 +109,14 @@ class DeviceShallowPass {
     else
       check(cudaMemcpyAsync(faces_.data(), faces.data(), faces_.bytes(), cudaMemcpyHostToDevice, stream),
             "cudaMemcpyAsync (face plane to the device)");
-    check(cudaMemsetAsync(changed_.data(), 0xFF, changed_.bytes(), stream), "cudaMemsetAsync (shallow flag)");
+    mark_not_at_rest(stream);
     check(cudaStreamSynchronize(stream), "cudaStreamSynchronize (face plane)");
+  }
+
+  /// Enqueues flags that say the last pass changed something (a new or rewritten plane).
+  void mark_not_at_rest(cudaStream_t stream) {
+    check(cudaMemsetAsync(flags_.data(), 0, flags_.bytes(), stream), "cudaMemsetAsync (shallow flags)");
+    check(cudaMemsetAsync(&flags_.data()->pass, 0x01, 1, stream), "cudaMemsetAsync (shallow flags)");
   }
 
   /// The face plane's int32 count: 4 per column.
@@ -140,8 +149,8 @@ class DeviceShallowPass {
   DeviceBuffer<std::int32_t> next_u_, cells_;
   DeviceBuffer<std::int64_t> volume_;
   DeviceBuffer<std::int32_t> lo_, hi_;
-  DeviceBuffer<unsigned> changed_;
-  DeviceBuffer<std::uint8_t> flags_;
+  DeviceBuffer<ShallowFlags> flags_;
+  DeviceBuffer<std::uint8_t> bricks_;
 };
 
 }  // namespace granular::cuda

@@ -50,9 +50,19 @@ static __global__ void shallow_scan_kernel(const std::uint8_t* cells, Int3 size,
   }
 }
 
+/// The flags of a pass on the device: whether the current iteration changed a face or a cell,
+/// whether the pass did, and whether an iteration changed nothing, after which the rest of the
+/// tick's iterations would change nothing either and the kernels return at once.
+struct ShallowFlags {
+  unsigned iteration;  ///< the current iteration changed something
+  unsigned pass;       ///< the pass changed something
+  unsigned done;       ///< an iteration changed nothing: the pass is over
+};
+
 /// One step of an iteration over every column: 0 surface_of, 1 update_face (both axes), 2
-/// limit_column, 3 split_face (both axes; a change of a face sets *changed).
-static __global__ void shallow_step_kernel(shallow::Plane p, int step, unsigned* changed) {
+/// limit_column, 3 split_face (both axes; a change of a face sets flags->iteration).
+static __global__ void shallow_step_kernel(shallow::Plane p, int step, ShallowFlags* flags) {
+  if (flags->done != 0) return;
   const std::uint64_t columns = std::uint64_t(p.nx) * std::uint64_t(p.ny);
   for (std::uint64_t c = std::uint64_t(blockIdx.x) * blockDim.x + threadIdx.x; c < columns;
        c += std::uint64_t(gridDim.x) * blockDim.x) {
@@ -70,13 +80,15 @@ static __global__ void shallow_step_kernel(shallow::Plane p, int step, unsigned*
         shallow::split_face(p, x, y, a);
         any = any || u != p.u[a][c] || f != p.fraction[a][c] || p.cells[a][c] != 0;
       }
-      if (any && *changed == 0) *changed = 1;  // every writer stores the same value
+      if (any && flags->iteration == 0) flags->iteration = 1;  // every writer stores the same value
     }
   }
 }
 
 /// The moves of phase `phase` (shallow::in_phase), one thread per face of the phase.
-static __global__ void shallow_move_kernel(shallow::Plane p, DeviceShallowGrid grid, StepMaterials m, int phase) {
+static __global__ void shallow_move_kernel(shallow::Plane p, DeviceShallowGrid grid, StepMaterials m, int phase,
+                                           const ShallowFlags* flags) {
+  if (flags->done != 0) return;
   const int axis = shallow::phase_axis(phase);
   // The phase's faces: every other column along its axis.
   const int along = axis == 0 ? (p.nx - phase % 2 + 1) / 2 : (p.ny - phase % 2 + 1) / 2;
@@ -93,6 +105,15 @@ static __global__ void shallow_move_kernel(shallow::Plane p, DeviceShallowGrid g
     }
     shallow::move_face(p, grid, x, y, axis, m);
   }
+}
+
+/// The end of an iteration (one thread): one that changed nothing ends the pass; one that changed
+/// something counts for the pass.
+static __global__ void shallow_iteration_end_kernel(ShallowFlags* flags) {
+  if (flags->done != 0) return;
+  if (flags->iteration == 0) flags->done = 1;
+  else flags->pass = 1;
+  flags->iteration = 0;
 }
 
 /// The bricks of the cells the pass changed: flagged in `flags` and in the sparse state's
