@@ -124,21 +124,8 @@ class DeviceShallowPass {
 
  private:
   shallow::Plane plane() {
-    shallow::Plane p;
-    p.nx = size_.x;
-    p.ny = size_.y;
-    p.nz = size_.z;
-    p.columns = column_.data();
-    p.surface = surface_.data();
-    p.limit = limit_.data();
-    for (int a = 0; a < shallow::kAxes; ++a) {
-      p.u[a] = faces_.data() + std::size_t(a) * columns_;
-      p.fraction[a] = faces_.data() + std::size_t(2 + a) * columns_;
-      p.next_u[a] = next_u_.data() + std::size_t(a) * columns_;
-      p.volume[a] = volume_.data() + std::size_t(a) * columns_;
-      p.cells[a] = cells_.data() + std::size_t(a) * columns_;
-    }
-    return p;
+    return shallow::plane_over(size_, shallow::PlaneBuffers{column_.data(), surface_.data(), limit_.data(), faces_.data(),
+                                                            next_u_.data(), volume_.data(), cells_.data()});
   }
 
   Int3 size_;

@@ -40,6 +40,7 @@
 
 #include <cstdint>
 
+#include "granular/geometry.hpp"
 #include "granular/motion.hpp"
 #include "step/step_materials.hpp"
 
@@ -125,6 +126,39 @@ struct Plane {
   /// True when column (x, y) has a neighbour at -1 along `axis`.
   constexpr bool has_previous(int x, int y, int axis) const { return axis == 0 ? x > 0 : y > 0; }
 };
+
+/// The flat buffers a backend keeps a Plane in, for a grid of C = nx ny columns: `columns` and
+/// `surface` C each, `limit` 2 C, `faces` the face plane (4 C: the x velocities, the y velocities,
+/// the x fractions, the y fractions), `next_u`, `volume` and `cells` 2 C each (x faces, then y).
+struct PlaneBuffers {
+  Column* columns;       ///< C columns
+  std::int64_t* surface; ///< C surfaces
+  std::int64_t* limit;   ///< 2 C limits
+  std::int32_t* faces;   ///< the face plane, 4 C values
+  std::int32_t* next_u;  ///< 2 C velocities
+  std::int64_t* volume;  ///< 2 C volumes
+  std::int32_t* cells;   ///< 2 C whole cells
+};
+
+/// The Plane of a grid of `size` over the buffers `b`.
+constexpr Plane plane_over(Int3 size, const PlaneBuffers& b) {
+  Plane p;
+  p.nx = size.x;
+  p.ny = size.y;
+  p.nz = size.z;
+  p.columns = b.columns;
+  p.surface = b.surface;
+  p.limit = b.limit;
+  const std::int64_t columns = std::int64_t(size.x) * std::int64_t(size.y);
+  for (int a = 0; a < kAxes; ++a) {
+    p.u[a] = b.faces + a * columns;
+    p.fraction[a] = b.faces + (2 + a) * columns;
+    p.next_u[a] = b.next_u + a * columns;
+    p.volume[a] = b.volume + a * columns;
+    p.cells[a] = b.cells + a * columns;
+  }
+  return p;
+}
 
 /// Step 1 for column (x, y): its surface with the faces' carried fractions.
 constexpr void surface_of(const Plane& p, int x, int y) {

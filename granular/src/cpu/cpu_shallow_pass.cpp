@@ -27,37 +27,22 @@ struct HostColumns {
 
 }  // namespace
 
-CpuShallowPass::CpuShallowPass(Int3 size) : size_(size), columns_(std::size_t(size.x) * std::size_t(size.y)) {
-  column_.resize(columns_);
-  surface_.resize(columns_);
-  limit_.resize(2 * columns_);
-  for (int a = 0; a < shallow::kAxes; ++a) {
-    u_[a].assign(columns_, 0);
-    fraction_[a].assign(columns_, 0);
-    next_u_[a].assign(columns_, 0);
-    cells_[a].assign(columns_, 0);
-    volume_[a].assign(columns_, 0);
-  }
-  changed_lo_.assign(columns_, size.z);
-  changed_hi_.assign(columns_, -1);
-}
+CpuShallowPass::CpuShallowPass(Int3 size)
+    : size_(size),
+      columns_(std::size_t(size.x) * std::size_t(size.y)),
+      column_(columns_),
+      surface_(columns_),
+      limit_(2 * columns_),
+      faces_(4 * columns_, 0),
+      next_u_(2 * columns_, 0),
+      cells_(2 * columns_, 0),
+      volume_(2 * columns_, 0),
+      changed_lo_(columns_, size.z),
+      changed_hi_(columns_, -1) {}
 
 shallow::Plane CpuShallowPass::plane() {
-  shallow::Plane p;
-  p.nx = size_.x;
-  p.ny = size_.y;
-  p.nz = size_.z;
-  p.columns = column_.data();
-  p.surface = surface_.data();
-  p.limit = limit_.data();
-  for (int a = 0; a < shallow::kAxes; ++a) {
-    p.u[a] = u_[a].data();
-    p.fraction[a] = fraction_[a].data();
-    p.next_u[a] = next_u_[a].data();
-    p.volume[a] = volume_[a].data();
-    p.cells[a] = cells_[a].data();
-  }
-  return p;
+  return shallow::plane_over(size_, shallow::PlaneBuffers{column_.data(), surface_.data(), limit_.data(), faces_.data(),
+                                                          next_u_.data(), volume_.data(), cells_.data()});
 }
 
 std::vector<std::uint32_t> CpuShallowPass::run(std::uint8_t* cells, const StepMaterials& m, TaskSystem& tasks) {
@@ -138,22 +123,15 @@ std::vector<std::uint32_t> CpuShallowPass::run(std::uint8_t* cells, const StepMa
 }
 
 std::vector<std::int32_t> CpuShallowPass::faces() const {
-  const auto zero = [](const std::vector<std::int32_t>& v) { return std::all_of(v.begin(), v.end(), [](std::int32_t f) { return f == 0; }); };
-  if (zero(u_[0]) && zero(u_[1]) && zero(fraction_[0]) && zero(fraction_[1])) return {};
-  std::vector<std::int32_t> out;
-  out.reserve(face_count());
-  for (const auto* v : {&u_[0], &u_[1], &fraction_[0], &fraction_[1]}) out.insert(out.end(), v->begin(), v->end());
-  return out;
+  if (std::all_of(faces_.begin(), faces_.end(), [](std::int32_t f) { return f == 0; })) return {};
+  return faces_;
 }
 
 void CpuShallowPass::set_faces(std::span<const std::int32_t> faces) {
-  std::vector<std::int32_t>* planes[4] = {&u_[0], &u_[1], &fraction_[0], &fraction_[1]};
-  for (int i = 0; i < 4; ++i) {
-    if (faces.empty())
-      std::fill(planes[i]->begin(), planes[i]->end(), 0);
-    else
-      std::copy_n(faces.begin() + std::ptrdiff_t(std::size_t(i) * columns_), columns_, planes[i]->begin());
-  }
+  if (faces.empty())
+    std::fill(faces_.begin(), faces_.end(), 0);
+  else
+    std::copy(faces.begin(), faces.end(), faces_.begin());
   at_rest_ = false;
 }
 

@@ -44,9 +44,9 @@ class CpuShallowPass {
   std::size_t columns_;
   std::vector<shallow::Column> column_;
   std::vector<std::int64_t> surface_, limit_;
-  std::vector<std::int32_t> u_[shallow::kAxes], fraction_[shallow::kAxes], next_u_[shallow::kAxes],
-      cells_[shallow::kAxes];
-  std::vector<std::int64_t> volume_[shallow::kAxes];
+  std::vector<std::int32_t> faces_;  ///< the face plane (shallow::PlaneBuffers::faces)
+  std::vector<std::int32_t> next_u_, cells_;
+  std::vector<std::int64_t> volume_;
   std::vector<std::int32_t> changed_lo_, changed_hi_;  ///< per column: the cells a move changed this run
   bool at_rest_ = false;
 
