@@ -39,12 +39,24 @@ def hash_words(data):
     return total
 
 
-def hash_cells(nx, ny, nz, cells, side=b""):
+def faces_hash_term(faces):
+    """granular::faces_hash_term of a face plane (int32 values): 0 when every value is 0."""
+    if not any(faces):
+        return 0
+    total = 0
+    for i, v in enumerate(faces):
+        total = (total + mix64(((v & 0xFFFFFFFF) + (i + 1) * 0x9E3779B97F4A7C15) & MASK64)) & MASK64
+    return mix64(total ^ 0x66616365706C616E)
+
+
+def hash_cells(nx, ny, nz, cells, side=b"", faces=()):
     """granular::hash_cells: the grid hash a snapshot's header holds; with a side plane that holds a
-    nonzero byte, plus granular::side_hash_term of it (WorldSnapshot::hash)."""
+    nonzero byte, plus granular::side_hash_term of it, and with a face plane, plus
+    granular::faces_hash_term of it (WorldSnapshot::hash)."""
     total = hash_words(cells)
     if any(side):
         total = (total + mix64(hash_words(side) ^ 0x73696465706C616E)) & MASK64
+    total = (total + faces_hash_term(faces)) & MASK64
     dims = nx | ny << 21 | nz << 42
     return mix64((mix64(dims ^ 0x6772616E756C6172) + total) & MASK64)
 
@@ -75,15 +87,15 @@ def snapshot_file_hash(nx, ny, nz, cells_hash, version, tick, seed, tool_calls, 
 
 
 def snapshot(nx, ny, nz, cells, blocks, tick=100, seed=0, tool_calls=3, rules=b"inertial-24", fingerprint=0,
-             version=1, frames=None, side=b""):
+             version=1, frames=None, side=b"", faces=()):
     """A snapshot file (docs/FORMATS.md) of `version` holding `cells` (and in version 4 the side
-    plane `side` after them), compressed as `blocks` in one frame, or as `frames` (a list of
-    (blocks, content bytes)) one after the other."""
+    plane `side`, in version 5 the face plane `faces`, after them), compressed as `blocks` in one
+    frame, or as `frames` (a list of (blocks, content bytes)) one after the other."""
     if frames is None:
-        frames = [(blocks, len(cells) + len(side))]
+        frames = [(blocks, len(cells) + len(side) + 4 * len(faces))]
     body = b"".join(zstd_frame(b, size) for b, size in frames)
-    check = snapshot_file_hash(nx, ny, nz, hash_cells(nx, ny, nz, cells, side), version, tick, seed, tool_calls,
-                               fingerprint, rules)
+    check = snapshot_file_hash(nx, ny, nz, hash_cells(nx, ny, nz, cells, side, faces), version, tick, seed,
+                               tool_calls, fingerprint, rules)
     header = b"GSNP" + struct.pack("<IIIII", version, nx, ny, nz, len(rules)) + struct.pack(
         "<QQQQQQ", tick, seed, tool_calls, fingerprint, check, len(body))
     return header + rules + body
@@ -192,6 +204,12 @@ def main():
     side = bytes([0, 0, 0x1F, 0, 0, 0, 0, 0] * 3)
     (OUT / "snapshot-side-plane-v4.gsnap").write_bytes(
         snapshot(4, 3, 2, cells, [(0, cells + side)], rules=b"inertial-24-momentum", version=4, side=side))
+    # Version 5: the face plane (4 int32 per column: velocities, then fractions) after the cells.
+    faces = [0] * 48
+    faces[0], faces[12 + 1], faces[24 + 2], faces[36] = 700, -65536, 9000, -16384
+    plane = struct.pack("<48i", *faces)
+    (OUT / "snapshot-face-plane-v5.gsnap").write_bytes(
+        snapshot(4, 3, 2, cells, [(0, cells + plane)], rules=b"inertial-24-shallow", version=5, faces=faces))
 
 
 if __name__ == "__main__":
