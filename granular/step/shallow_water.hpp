@@ -2,8 +2,9 @@
 /// @file shallow_water.hpp
 /// MotionParams::shallow: after the last sub-step of every tick, the liquid under open sky moves as
 /// shallow water, column against column. Plain constexpr integer code on flat arrays, one function
-/// per column or per face, that the CPU backend calls over rows of columns (the plain loop of the
-/// tests writes it again); nothing here depends on the order columns or faces are visited in.
+/// per column or per face, that the CPU backend calls over rows of columns and the CUDA kernels one
+/// thread a column or face (the plain loop of the tests writes it again); nothing here depends on the
+/// order columns or faces are visited in.
 ///
 /// A *column* of the grid has a ground (the cell over its highest cell that is neither void, gas
 /// nor liquid) and a *body*: the liquid cells from the ground up, each at most kBodyGap void or gas
@@ -29,13 +30,13 @@
 ///  4. faces (split_face): each face's volume to the nearest whole cell is to move (a half towards
 ///     none), the rest, at most half a cell, is carried;
 ///  5. moves, in four phases of disjoint column pairs (even x faces, odd x, even y, odd y;
-///     move_face): a move swaps the donor's highest liquid cell with the void or gas just over the
-///     receiver's highest liquid cell (or its ground), so every move is a permutation of the grid
-///     and every material is conserved exactly. A move that finds no liquid or no room stops the
-///     face.
+///     move_face): a move swaps the top of the donor's body with the void or gas just over the
+///     receiver's body (or its ground), so every move is a permutation of the grid and every
+///     material is conserved exactly; the receiver's body takes in the liquid in flight the move
+///     brought within kBodyGap. A move that finds no liquid or no room stops the face.
 /// A pool comes to rest: once no face's velocity, rounded, carries anything and every fraction is
-/// held, an iteration changes nothing, and a pass that changed nothing is skipped while no cell
-/// changes (the backends' sparse stepping).
+/// held, an iteration changes nothing; the backends end the tick's iterations there, and skip a
+/// pass that changed nothing while no cell changes (sparse stepping).
 /// docs/design/shallow-water.md gives the reasons and the figures.
 
 #include <cstdint>
