@@ -1,7 +1,9 @@
 /// @file test_shallow_water.cpp
 /// The shallow-water lever (MotionParams::shallow, preset inertial-24-shallow;
 /// granular/step/shallow_water.hpp): a burst dam runs out as a body and levels, where the default
-/// rules leave a slope; every material is conserved; sparse = dense on any thread count with the
+/// rules leave a slope; a U-tube's legs level through the pipe under their wall and rest with the
+/// pipe full; water runs over the top of a pipe; a sealed cavity stays still; every material is
+/// conserved; sparse = dense on any thread count with the
 /// face plane in the hash; the pool comes to rest and then costs nothing; a level pool with a partly
 /// filled top layer never starts; snapshots (format version 5) hold the face plane and a world made
 /// from one continues bit-identically; bad face planes and rule sets are refused naming the field.
@@ -11,6 +13,7 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <string>
@@ -75,7 +78,89 @@ long rest_tick(World& w, int limit, int hold = 64) {
   return -1;
 }
 
+/// The accuracy suite's quick U-tube (communicating_vessels_test.cpp): a solid floor, a channel 4
+/// cells high full of liquid under a solid wall 8 thick that reaches the top of the grid, two legs
+/// of 8 x 8 cells, the left full 40 cells above the channel, the right empty.
+struct UTube {
+  static constexpr int kLeg = 8, kWall = 8, kChannelTop = 5, kHead = 40;
+  static Grid build() {
+    const Int3 s{2 * kLeg + kWall, kLeg, kChannelTop + kHead + 4};
+    Grid g(s);
+    g.fill(Box{{0, 0, 0}, {s.x, s.y, 1}}, Material::Solid);
+    g.fill(Box{{kLeg, 0, kChannelTop}, {kLeg + kWall, s.y, s.z}}, Material::Solid);
+    g.fill(Box{{0, 0, 1}, {s.x, s.y, kChannelTop}}, Material::Liquid);
+    g.fill(Box{{0, 0, kChannelTop}, {kLeg, s.y, kChannelTop + kHead}}, Material::Liquid);
+    return g;
+  }
+  /// The mean level of the leg from x0, in cells above the channel.
+  static double level(const World& w, int x0) {
+    const std::vector<std::uint8_t> cells = w.read_region(Box{{x0, 0, kChannelTop}, {x0 + kLeg, kLeg, w.size().z}});
+    return double(std::count(cells.begin(), cells.end(), to_cell(Material::Liquid))) / (kLeg * kLeg);
+  }
+  /// The liquid cells of the channel under the wall.
+  static long channel(const World& w) {
+    const std::vector<std::uint8_t> cells = w.read_region(Box{{kLeg, 0, 1}, {kLeg + kWall, kLeg, kChannelTop}});
+    return long(std::count(cells.begin(), cells.end(), to_cell(Material::Liquid)));
+  }
+};
+
 }  // namespace
+
+TEST_CASE("shallow water: a U-tube's legs level through the covered channel within one oscillation period, and rest with the channel full") {
+  // The oscillation period 2 pi sqrt(L / 2g) of a liquid column L = 56 cells long at g = 2 cells a
+  // tick^2 is 23.5 ticks: real water has crossed the level after a quarter of it.
+  const Grid g = UTube::build();
+  World shallow(test_def(g.size(), kShallow, 2, 1), g);
+  World flow(test_def(g.size(), "inertial-24-flow", 2, 1), g);
+  shallow.step(24);
+  flow.step(24);
+  const double right = UTube::kLeg + UTube::kWall;
+  const double d_shallow = std::abs(UTube::level(shallow, 0) - UTube::level(shallow, int(right)));
+  const double d_flow = std::abs(UTube::level(flow, 0) - UTube::level(flow, int(right)));
+  CHECK_MESSAGE(d_shallow <= 1.0, "the legs stand " << d_shallow << " cells apart after 24 ticks");
+  CHECK_MESSAGE(d_flow > 10.0, "the default rules levelled it too (" << d_flow << "): the test no longer tells them apart");
+  const long rest = rest_tick(shallow, 600);
+  CHECK_MESSAGE(rest >= 0, "still moving after 600 ticks");
+  CHECK(std::abs(UTube::level(shallow, 0) - UTube::level(shallow, int(right))) <= 1.0);
+  CHECK(UTube::channel(shallow) == long(UTube::kWall) * UTube::kLeg * (UTube::kChannelTop - 1));  // no air left under the wall
+  CHECK(shallow.count() == g.count());
+  shallow.step(16);
+  CHECK(shallow.activity().active_bricks == 0);
+}
+
+TEST_CASE("shallow water: a burst dam runs on over the dry top of a pipe full of water") {
+  // A floor 6 cells thick; a tunnel under it from x = 24 to 40, full of water and sealed; a block
+  // of water 12 high over the first 12 columns. Without the tunnel the front passes x = 40 within
+  // 100 ticks; with it, the tunnel must not hold the front at its edge.
+  auto run = [](bool tunnel) {
+    const Int3 s{64, 8, 24};
+    Grid g(s);
+    g.fill(Box{{0, 0, 0}, {s.x, s.y, 6}}, Material::Solid);
+    if (tunnel) g.fill(Box{{24, 0, 1}, {40, s.y, 4}}, Material::Liquid);
+    g.fill(Box{{0, 0, 6}, {12, s.y, 18}}, Material::Liquid);
+    World w(test_def(s, kShallow, 2, 1), g);
+    w.step(100);
+    const std::vector<std::uint8_t> cells = w.read_region(Box{{40, 0, 6}, s});
+    CHECK(w.count() == g.count());
+    return std::count(cells.begin(), cells.end(), to_cell(Material::Liquid));
+  };
+  const auto open_floor = run(false), over_tunnel = run(true);
+  CHECK(open_floor > 0);
+  CHECK_MESSAGE(over_tunnel > 0, "no water passed x = 40 over the tunnel (" << open_floor << " cells without it)");
+}
+
+TEST_CASE("shallow water: a sealed cavity full of water, with no free surface, moves nothing") {
+  const Int3 s{24, 8, 12};
+  Grid g(s);
+  g.fill(Box{{0, 0, 0}, s}, Material::Solid);
+  g.fill(Box{{2, 1, 2}, {22, 7, 6}}, Material::Liquid);   // the cavity, full
+  g.fill(Box{{2, 1, 7}, {10, 7, 10}}, Material::Liquid);  // a second one over it, full
+  World w(test_def(s, kShallow, 2, 1), g);
+  w.step(20);
+  const Grid after = w.read_grid();
+  CHECK(std::equal(after.cells().begin(), after.cells().end(), g.cells().begin()));
+  CHECK(w.capture().faces.empty());
+}
 
 TEST_CASE("shallow water: a block of water levels in a closed tank within 5 shallow-water times, where the default rules leave it standing") {
   // L = 64, h = 4: L / sqrt(g h) = 22.6 ticks at g = 2 cells a tick^2, so 5 of them are 113 ticks.
@@ -91,21 +176,22 @@ TEST_CASE("shallow water: a block of water levels in a closed tank within 5 shal
 }
 
 TEST_CASE("shallow water: sparse and dense stepping, on 1 and 2 threads, give the same cells and face plane") {
-  const Grid g = tank(48, 12, 12);
-  std::vector<std::uint64_t> hashes;
-  std::vector<std::int32_t> faces;
-  for (const bool sparse : {true, false})
-    for (const int threads : {1, 2}) {
-      World w(with_sparse(test_def(g.size(), kShallow, threads, 7), sparse), g);
-      w.step(40);
-      hashes.push_back(w.hash());
-      const WorldSnapshot s = w.capture();
-      if (faces.empty()) faces = s.faces;
-      CHECK(s.faces == faces);
-      CHECK(w.count() == g.count());
-    }
-  CHECK_FALSE(faces.empty());  // mid-flow, some face moves
-  for (const std::uint64_t h : hashes) CHECK(h == hashes.front());
+  for (const Grid& g : {tank(48, 12, 12), UTube::build()}) {
+    std::vector<std::uint64_t> hashes;
+    std::vector<std::int32_t> faces;
+    for (const bool sparse : {true, false})
+      for (const int threads : {1, 2}) {
+        World w(with_sparse(test_def(g.size(), kShallow, threads, 7), sparse), g);
+        w.step(16);
+        hashes.push_back(w.hash());
+        const WorldSnapshot s = w.capture();
+        if (faces.empty()) faces = s.faces;
+        CHECK(s.faces == faces);
+        CHECK(w.count() == g.count());
+      }
+    CHECK_FALSE(faces.empty());  // mid-flow, some face moves
+    for (const std::uint64_t h : hashes) CHECK(h == hashes.front());
+  }
 }
 
 TEST_CASE("shallow water: a burst dam comes to rest as a whole, and its bricks then sleep") {

@@ -46,8 +46,16 @@ static __global__ void shallow_scan_kernel(const std::uint8_t* cells, Int3 size,
        c += std::uint64_t(gridDim.x) * blockDim.x) {
     shallow::ColumnScan scan;
     for (int z = 0; z < size.z; ++z) scan.visit(z, cells[c + std::uint64_t(z) * columns], m);
-    p.columns[c] = scan.column;
+    p.columns[c] = scan.result();
   }
+}
+
+/// shallow::settle_column on every column, one thread per column, after the scan.
+static __global__ void shallow_settle_kernel(shallow::Plane p) {
+  const std::uint64_t columns = std::uint64_t(p.nx) * std::uint64_t(p.ny);
+  for (std::uint64_t c = std::uint64_t(blockIdx.x) * blockDim.x + threadIdx.x; c < columns;
+       c += std::uint64_t(gridDim.x) * blockDim.x)
+    shallow::settle_column(p.columns, p.nx, p.ny, int(c % std::uint64_t(p.nx)), int(c / std::uint64_t(p.nx)));
 }
 
 /// The flags of a pass on the device: whether the current iteration changed a face or a cell,
@@ -59,8 +67,8 @@ struct ShallowFlags {
   unsigned done;       ///< an iteration changed nothing: the pass is over
 };
 
-/// One step of an iteration over every column: 0 surface_of, 1 update_face (both axes), 2
-/// limit_column, 3 split_face (both axes; a change of a face sets flags->iteration).
+/// One step of an iteration over every column: 0 surface_of, 1 head_of, 2 update_face (both axes),
+/// 3 limit_column, 4 split_face (both axes; a change of a face sets flags->iteration).
 static __global__ void shallow_step_kernel(shallow::Plane p, int step, ShallowFlags* flags) {
   if (flags->done != 0) return;
   const std::uint64_t columns = std::uint64_t(p.nx) * std::uint64_t(p.ny);
@@ -70,8 +78,10 @@ static __global__ void shallow_step_kernel(shallow::Plane p, int step, ShallowFl
     if (step == 0) {
       shallow::surface_of(p, x, y);
     } else if (step == 1) {
-      for (int a = 0; a < shallow::kAxes; ++a) shallow::update_face(p, x, y, a);
+      shallow::head_of(p, x, y);
     } else if (step == 2) {
+      for (int a = 0; a < shallow::kAxes; ++a) shallow::update_face(p, x, y, a);
+    } else if (step == 3) {
       shallow::limit_column(p, x, y);
     } else {
       bool any = false;

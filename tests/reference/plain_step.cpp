@@ -3,6 +3,7 @@
 #include <array>
 #include <algorithm>
 #include <cstddef>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -871,12 +872,18 @@ void plain_shallow_pass(std::span<std::uint8_t> cells, Int3 n, const PlainRules&
       if (!is_open(at(c, z)) && !is_liquid(at(c, z))) return z + 1;
     return 0;
   };
-  // The column's body: the liquid cells from the ground up, each at most 2 open cells above the
-  // one below it (the ground for the first); returns its highest cell (-1: none) and counts it.
-  auto body_of = [&](std::size_t c, int ground, int& count) {
+  // A static cell: neither open, liquid nor falling (a ceiling can be only that).
+  auto is_static = [&](std::uint8_t c) {
+    const Behaviour b = behaviour_of(r, c);
+    return b != Behaviour::Void && b != Behaviour::Gas && b != Behaviour::Liquid && b != Behaviour::Granular;
+  };
+  // The column's body: the liquid cells from the ground up to below `roof`, each at most 2 open
+  // cells above the one below it (the ground for the first); returns its highest cell (-1: none)
+  // and counts it.
+  auto body_of = [&](std::size_t c, int ground, int roof, int& count) {
     int top = ground - 1;
     count = 0;
-    for (int z = ground; z < n.z && z - top - 1 <= 2; ++z)
+    for (int z = ground; z < roof && z - top - 1 <= 2; ++z)
       if (is_liquid(at(c, z))) {
         top = z;
         ++count;
@@ -893,15 +900,50 @@ void plain_shallow_pass(std::span<std::uint8_t> cells, Int3 n, const PlainRules&
     if (a == 0) return x > 0 ? std::ptrdiff_t(c - 1) : -1;
     return y > 0 ? std::ptrdiff_t(c - nx) : -1;
   };
-  std::vector<int> ground(columns), depth(columns);
-  std::vector<std::int64_t> level(columns);
+  // Each column's room for the tick: [ground, roof). Under open sky the roof is the grid's top; a
+  // column with no liquid there takes its highest covered body instead: the liquid from a ground up
+  // to a static cell (covered), if it has one.
+  // But a column beside liquid under open sky whose top is at or above the column's own ground
+  // under open sky stays dry under open sky, so water runs over it.
+  std::vector<int> ground(columns), roof(columns), depth(columns), open_top(columns);
+  std::vector<char> covered(columns, 0);
+  for (std::size_t c = 0; c < columns; ++c) {
+    int count = 0;
+    open_top[c] = body_of(c, ground_of(c), n.z, count);
+  }
+  for (std::size_t c = 0; c < columns; ++c) {
+    ground[c] = ground_of(c);
+    roof[c] = n.z;
+    int count = 0;
+    if (body_of(c, ground[c], n.z, count) >= 0) continue;
+    bool overrun = false;
+    for (int a = 0; a < 2; ++a)
+      for (const std::ptrdiff_t m : {behind(c, a), neighbour(c, a)})
+        overrun = overrun || (m >= 0 && open_top[std::size_t(m)] >= ground[c]);
+    if (overrun) continue;
+    for (int z = ground[c] - 1; z >= 0; --z) {
+      if (!is_static(at(c, z))) continue;
+      int below = z - 1;
+      while (below >= 0 && (is_open(at(c, below)) || is_liquid(at(c, below)))) --below;
+      if (body_of(c, below + 1, z, count) < 0) continue;
+      ground[c] = below + 1;
+      roof[c] = z;
+      covered[c] = 1;
+      break;
+    }
+  }
+  constexpr std::int64_t kNone = std::numeric_limits<std::int64_t>::min();
+  std::vector<std::int64_t> level(columns), head(columns);
   std::vector<std::int32_t> next_u[2] = {std::vector<std::int32_t>(columns), std::vector<std::int32_t>(columns)};
   std::vector<std::int64_t> volume[2] = {std::vector<std::int64_t>(columns), std::vector<std::int64_t>(columns)};
+  // The height two columns' rooms share above the higher ground.
+  auto shared = [&](std::size_t c, std::size_t m) {
+    return std::max(0, std::min(roof[c], roof[m]) - std::max(ground[c], ground[m]));
+  };
   for (int it = 0; it < kIterations; ++it) {
-    for (std::size_t c = 0; c < columns; ++c) {
-      ground[c] = ground_of(c);
-      body_of(c, ground[c], depth[c]);
-    }
+    for (std::size_t c = 0; c < columns; ++c) body_of(c, ground[c], roof[c], depth[c]);
+    // A pipe: a covered column more than half full.
+    auto pipe = [&](std::size_t c) { return covered[c] && 2 * depth[c] > roof[c] - ground[c]; };
     for (std::size_t c = 0; c < columns; ++c) {
       level[c] = (std::int64_t(ground[c]) + depth[c]) * kCell;
       for (int a = 0; a < 2; ++a) {
@@ -909,11 +951,52 @@ void plain_shallow_pass(std::span<std::uint8_t> cells, Int3 n, const PlainRules&
         if (const std::ptrdiff_t b = behind(c, a); b >= 0) level[c] += f[a][std::size_t(b)];
       }
     }
-    // The depths of face (c, a) above the higher ground: {its own column, the next}.
+    // A pipe's level is its head: along each line, from the first columns that are not pipes on
+    // either side (through faces that share room, at most 512 faces away), interpolated by the sum
+    // of 65536 / shared height over the faces to each; the mean of the two lines that find an end;
+    // less the pipe's room left.
+    for (std::size_t c = 0; c < columns; ++c) {
+      head[c] = kNone;
+      if (!pipe(c)) continue;
+      std::int64_t line[2];
+      for (int a = 0; a < 2; ++a) {
+        std::int64_t end_level[2] = {0, 0}, weight[2] = {0, 0};
+        bool found[2] = {false, false};
+        for (int side = 0; side < 2; ++side) {
+          std::size_t here = c;
+          for (int k = 0; k < 512; ++k) {
+            const std::ptrdiff_t next = side == 0 ? behind(here, a) : neighbour(here, a);
+            if (next < 0 || shared(here, std::size_t(next)) == 0) break;
+            weight[side] += 65536 / shared(here, std::size_t(next));
+            if (!pipe(std::size_t(next))) {
+              found[side] = true;
+              end_level[side] = level[std::size_t(next)];
+              break;
+            }
+            here = std::size_t(next);
+          }
+        }
+        line[a] = found[0] && found[1]
+                      ? end_level[0] + (end_level[1] - end_level[0]) * weight[0] / (weight[0] + weight[1])
+                  : found[0] ? end_level[0]
+                  : found[1] ? end_level[1]
+                             : kNone;
+      }
+      const std::int64_t h = line[0] == kNone ? line[1] : line[1] == kNone ? line[0] : (line[0] + line[1]) / 2;
+      head[c] = h == kNone ? kNone : h - std::int64_t(roof[c] - ground[c] - depth[c]) * kCell;
+    }
+    for (std::size_t c = 0; c < columns; ++c)
+      if (pipe(c)) level[c] = head[c];
+    // The depths of face (c, a) above the higher ground: {its own column, the next}; under a cover
+    // up to the shared room's top only, and none through a face without shared room or beside a
+    // pipe without a head.
     auto depths = [&](std::size_t c, int a) {
       const std::size_t m = std::size_t(neighbour(c, a));
       const std::int64_t g = std::int64_t(std::max(ground[c], ground[m])) * kCell;
-      return std::pair<std::int64_t, std::int64_t>{level[c] - g, level[m] - g};
+      if (!covered[c] && !covered[m]) return std::pair<std::int64_t, std::int64_t>{level[c] - g, level[m] - g};
+      if (shared(c, m) == 0 || level[c] == kNone || level[m] == kNone) return std::pair<std::int64_t, std::int64_t>{0, 0};
+      const std::int64_t top = g + std::int64_t(shared(c, m)) * kCell;
+      return std::pair<std::int64_t, std::int64_t>{std::min(level[c], top) - g, std::min(level[m], top) - g};
     };
     auto passes = [&](std::size_t c, int a) {
       const auto [p, q] = depths(c, a);
@@ -986,10 +1069,15 @@ void plain_shallow_pass(std::span<std::uint8_t> cells, Int3 n, const PlainRules&
         const std::size_t from = whole[a][c] > 0 ? c : m, to = whole[a][c] > 0 ? m : c;
         for (int left = std::abs(whole[a][c]); left > 0; --left) {
           int count = 0;
-          const int source = body_of(from, ground[from], count);
-          const int top = body_of(to, ground[to], count);
+          const int source = body_of(from, ground[from], roof[from], count);
+          const int top = body_of(to, ground[to], roof[to], count);
           const int target = top >= 0 ? top + 1 : ground[to];
-          if (source < 0 || target >= n.z) {
+          if (source >= 0 && target >= roof[to] && covered[to] && 2 * count > roof[to] - ground[to]) {
+            // Into a full pipe: the face keeps its velocity and drops what it could not move.
+            f[a][c] = 0;
+            break;
+          }
+          if (source < 0 || target >= roof[to]) {
             u[a][c] = 0;
             f[a][c] = 0;
             break;

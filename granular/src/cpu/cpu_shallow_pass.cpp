@@ -49,7 +49,7 @@ std::vector<std::uint32_t> CpuShallowPass::run(std::uint8_t* cells, const StepMa
   const shallow::Plane p = plane();
   const int nx = size_.x, ny = size_.y;
   const std::size_t layer = columns_;
-  // Rows of columns per task. A pass is 257 parallel loops a tick, so a grid of fewer columns than
+  // Rows of columns per task. A pass is 290 parallel loops a tick, so a grid of fewer columns than
   // kParallelColumns runs them on the calling thread, where a hand-off would outweigh a loop.
   constexpr std::size_t kParallelColumns = 32768;
   const int chunks = columns_ < kParallelColumns ? 1 : std::max(1, std::min(ny, tasks.thread_count() * 4));
@@ -66,8 +66,11 @@ std::vector<std::uint32_t> CpuShallowPass::run(std::uint8_t* cells, const StepMa
       const std::uint8_t* row = cells + std::size_t(nx) * std::size_t(y);
       for (int z = 0; z < size_.z; ++z)
         for (int x = 0; x < nx; ++x) scans[std::size_t(x)].visit(z, row[std::size_t(z) * layer + std::size_t(x)], m);
-      for (int x = 0; x < nx; ++x) column_[std::size_t(p.at(x, y))] = scans[std::size_t(x)].column;
+      for (int x = 0; x < nx; ++x) column_[std::size_t(p.at(x, y))] = scans[std::size_t(x)].result();
     }
+  });
+  rows([&](int y) {
+    for (int x = 0; x < nx; ++x) shallow::settle_column(p.columns, nx, ny, x, y);
   });
   bool changed_any = false;
   HostColumns grid{cells, layer, changed_lo_.data(), changed_hi_.data()};
@@ -75,6 +78,9 @@ std::vector<std::uint32_t> CpuShallowPass::run(std::uint8_t* cells, const StepMa
     std::atomic<bool> changed{false};
     rows([&](int y) {
       for (int x = 0; x < nx; ++x) shallow::surface_of(p, x, y);
+    });
+    rows([&](int y) {
+      for (int x = 0; x < nx; ++x) shallow::head_of(p, x, y);
     });
     rows([&](int y) {
       for (int x = 0; x < nx; ++x)
