@@ -205,6 +205,24 @@ TEST_CASE("shallow water: a burst dam comes to rest as a whole, and its bricks t
   CHECK(w.count() == g.count());
 }
 
+TEST_CASE("shallow water: a deep pool with a partly filled top layer comes to rest, and its bricks sleep") {
+  // 80 cells deep: a slow wave there carries a cell a tick across a face at a tenth of a cell a
+  // tick, so the pool rests only if its last waves die out.
+  const Int3 s{32, 32, 86};
+  Grid g(s);
+  g.fill(Box{{0, 0, 0}, {s.x, s.y, 1}}, Material::Solid);
+  g.fill(Box{{0, 0, 1}, {s.x, s.y, 81}}, Material::Liquid);
+  for (int y = 0; y < s.y; ++y)
+    for (int x = 0; x < s.x; ++x)
+      if ((7 * x + 13 * y) % 11 == 0) g.cells()[g.index({x, y, 81})] = to_cell(Material::Liquid);
+  World w(test_def(s, kShallow, 2, 3), g);
+  const long rest = rest_tick(w, 600);
+  CHECK_MESSAGE(rest >= 0, "still moving after 600 ticks");
+  w.step(16);
+  CHECK(w.activity().active_bricks == 0);
+  CHECK(w.count() == g.count());
+}
+
 TEST_CASE("shallow water: a level pool with a partly filled top layer moves no cell and comes to rest") {
   Grid g = tank(40, 6, 40);
   // Every other cell of a seventh layer: a top layer half full, its surface level to half a cell.

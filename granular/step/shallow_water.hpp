@@ -34,7 +34,7 @@
 ///     does not stops. Its velocity accelerates down the surface step (g = 2 cells a tick^2), takes
 ///     its upstream face's velocity at the rate the flow replaces its liquid (a momentum-conserving
 ///     upwind advection, so a front runs on over a dry bed), and loses some to bed friction: a part
-///     proportional to the velocity (less on deep water) and a fixed part that stops slow flows and
+///     proportional to the velocity (less on deep, fast water) and a fixed part that stops slow flows and
 ///     thin films (never past 0). Its volume is its velocity x the upwind depth x dt, plus its
 ///     fraction;
 ///  4. columns (limit_column): a column whose outflow over its four faces exceeds its depth scales
@@ -75,8 +75,9 @@ inline constexpr std::int64_t kGravity = kVelocity * 2 / kIterations;
 /// grid, so that no product overflows.
 inline constexpr std::int32_t kMaxSpeed = 1 << 30;
 /// The proportional friction: 1/kFrictionDivisor of the velocity an iteration, divided by depth /
-/// kFrictionDepth (cells) beyond that depth.
-inline constexpr std::int64_t kFrictionDivisor = 256, kFrictionDepth = 16;
+/// kFrictionDepth (cells) beyond that depth for a flow of kSlowFlow or faster (a slow flow in deep
+/// water keeps the whole friction, so a deep pool's last waves die out).
+inline constexpr std::int64_t kFrictionDivisor = 256, kFrictionDepth = 16, kSlowFlow = kVelocity / 2;
 /// The fixed friction: kCoulomb / depth^2 (depth in cells) velocity units an iteration, at least 1:
 /// it stops a thin film, and holds a surface step of at most 1 / depth^2 cell a face at rest.
 inline constexpr std::int64_t kCoulomb = 4096;
@@ -372,7 +373,8 @@ constexpr void update_face(const Plane& p, int x, int y, int axis) {
   }
   // Friction: proportional (less on deep water), then fixed, never past 0.
   const std::int64_t cells = h / kVolume > 1 ? h / kVolume : 1;
-  u -= u * kFrictionDepth / (kFrictionDivisor * (cells > kFrictionDepth ? cells : kFrictionDepth));
+  const std::int64_t damped = magnitude(u) < kSlowFlow || cells < kFrictionDepth ? kFrictionDepth : cells;
+  u -= u * kFrictionDepth / (kFrictionDivisor * damped);
   const std::int64_t coulomb = kCoulomb / (cells * cells) > 1 ? kCoulomb / (cells * cells) : 1;
   u = magnitude(u) <= coulomb ? 0 : (u > 0 ? u - coulomb : u + coulomb);
   if (u > kMaxSpeed) u = kMaxSpeed;
