@@ -67,8 +67,8 @@ struct ShallowFlags {
   unsigned done;       ///< an iteration changed nothing: the pass is over
 };
 
-/// One step of an iteration over every column: 0 surface_of, 1 head_of, 2 update_face (both axes),
-/// 3 limit_column, 4 split_face (both axes; a change of a face sets flags->iteration).
+/// One step of an iteration over every column: 0 surface_of, 1 update_face (both axes), 2
+/// limit_column, 3 split_face (both axes; a change of a face sets flags->iteration).
 static __global__ void shallow_step_kernel(shallow::Plane p, int step, ShallowFlags* flags) {
   if (flags->done != 0) return;
   const std::uint64_t columns = std::uint64_t(p.nx) * std::uint64_t(p.ny);
@@ -78,10 +78,8 @@ static __global__ void shallow_step_kernel(shallow::Plane p, int step, ShallowFl
     if (step == 0) {
       shallow::surface_of(p, x, y);
     } else if (step == 1) {
-      shallow::head_of(p, x, y);
-    } else if (step == 2) {
       for (int a = 0; a < shallow::kAxes; ++a) shallow::update_face(p, x, y, a);
-    } else if (step == 3) {
+    } else if (step == 2) {
       shallow::limit_column(p, x, y);
     } else {
       bool any = false;

@@ -49,7 +49,7 @@ std::vector<std::uint32_t> CpuShallowPass::run(std::uint8_t* cells, const StepMa
   const shallow::Plane p = plane();
   const int nx = size_.x, ny = size_.y;
   const std::size_t layer = columns_;
-  // Rows of columns per task. A pass is 290 parallel loops a tick, so a grid of fewer columns than
+  // Rows of columns per task. A pass is 258 parallel loops a tick, so a grid of fewer columns than
   // kParallelColumns runs them on the calling thread, where a hand-off would outweigh a loop.
   constexpr std::size_t kParallelColumns = 32768;
   const int chunks = columns_ < kParallelColumns ? 1 : std::max(1, std::min(ny, tasks.thread_count() * 4));
@@ -78,9 +78,6 @@ std::vector<std::uint32_t> CpuShallowPass::run(std::uint8_t* cells, const StepMa
     std::atomic<bool> changed{false};
     rows([&](int y) {
       for (int x = 0; x < nx; ++x) shallow::surface_of(p, x, y);
-    });
-    rows([&](int y) {
-      for (int x = 0; x < nx; ++x) shallow::head_of(p, x, y);
     });
     rows([&](int y) {
       for (int x = 0; x < nx; ++x)
