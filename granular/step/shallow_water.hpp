@@ -27,8 +27,7 @@
 ///     carry out, so the surfaces the faces see are level to a fraction of a cell; a pipe's surface
 ///     is its head instead (level_of): liquid cannot gather in a full pipe, so its steady head falls
 ///     from one end of the pipe to the other in proportion to the resistance of the faces between
-///     (line_head, along x and along y, the mean of the two), less the room the pipe has left, so a
-///     pipe fills before it passes liquid on;
+///     (line_head, along x and along y, the mean of the two);
 ///  2. faces (update_face): a face *passes* liquid when the surface of one of its columns stands
 ///     above the higher ground (under a cover, counting up to the opening's top only). One that
 ///     does not stops. Its velocity accelerates down the surface step (g = 2 cells a tick^2), takes
@@ -293,9 +292,7 @@ constexpr std::int64_t line_head(const Plane& p, int x, int y, int axis) {
 
 /// The surface the faces see of column `c`: surface_of's, or for a pipe (a pressurized column) its
 /// head, the steady head of its pipe (liquid cannot gather in a full pipe, so what flows in flows
-/// out): along x and along y the line_head, and the mean of the two when both reach an end; less the
-/// room the pipe has left under its ceiling, so a pipe that passed a cell on draws the next one in
-/// from either side (and air trapped under a ceiling works its way out to a free surface); kNoHead
+/// out): along x and along y the line_head, and the mean of the two when both reach an end; kNoHead
 /// when neither line reaches an end. It reads surface_of's surfaces of columns that are not pipes
 /// only.
 constexpr std::int64_t level_of(const Plane& p, std::int64_t c) {
@@ -303,8 +300,7 @@ constexpr std::int64_t level_of(const Plane& p, std::int64_t c) {
   if (!col.pressurized()) return p.surface[c];
   const int x = int(c % p.nx), y = int(c / p.nx);
   const std::int64_t hx = line_head(p, x, y, 0), hy = line_head(p, x, y, 1);
-  const std::int64_t head = hx == kNoHead ? hy : hy == kNoHead ? hx : (hx + hy) / 2;
-  return head == kNoHead ? kNoHead : head - std::int64_t(col.ceiling - col.ground - col.depth) * kVolume;
+  return hx == kNoHead ? hy : hy == kNoHead ? hx : (hx + hy) / 2;
 }
 
 /// The depths (kVolume units) of the two columns of face `c` along `axis` above their higher ground.

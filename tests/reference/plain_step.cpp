@@ -953,8 +953,7 @@ void plain_shallow_pass(std::span<std::uint8_t> cells, Int3 n, const PlainRules&
     }
     // A pipe's level is its head: along each line, from the first columns that are not pipes on
     // either side (through faces that share room, at most 512 faces away), interpolated by the sum
-    // of 65536 / shared height over the faces to each; the mean of the two lines that find an end;
-    // less the pipe's room left.
+    // of 65536 / shared height over the faces to each; the mean of the two lines that find an end.
     for (std::size_t c = 0; c < columns; ++c) {
       head[c] = kNone;
       if (!pipe(c)) continue;
@@ -983,7 +982,7 @@ void plain_shallow_pass(std::span<std::uint8_t> cells, Int3 n, const PlainRules&
                              : kNone;
       }
       const std::int64_t h = line[0] == kNone ? line[1] : line[1] == kNone ? line[0] : (line[0] + line[1]) / 2;
-      head[c] = h == kNone ? kNone : h - std::int64_t(roof[c] - ground[c] - depth[c]) * kCell;
+      head[c] = h;
     }
     for (std::size_t c = 0; c < columns; ++c)
       if (pipe(c)) level[c] = head[c];
