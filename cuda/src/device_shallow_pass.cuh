@@ -61,11 +61,11 @@ class DeviceShallowPass {
     check(cudaMemsetAsync(flags_.data(), 0, flags_.bytes(), stream), "cudaMemsetAsync (shallow flags)");
     shallow_scan_kernel<<<blocks, kShallowThreads, 0, stream>>>(cells, size_, m, p);
     check_launch("shallow-water scan kernel launch");
-    shallow_settle_kernel<<<blocks, kShallowThreads, 0, stream>>>(p);
+    shallow_settle_kernel<<<blocks, kShallowThreads, 0, stream>>>(p, flags_.data());
     check_launch("shallow-water settle kernel launch");
     const DeviceShallowGrid grid{cells, columns_, lo_.data(), hi_.data()};
     for (int i = 0; i < shallow::kIterations; ++i) {
-      for (int step = 0; step < 4; ++step) {
+      for (int step = 0; step < 5; ++step) {
         shallow_step_kernel<<<blocks, kShallowThreads, 0, stream>>>(p, step, flags_.data());
         check_launch("shallow-water step kernel launch");
       }

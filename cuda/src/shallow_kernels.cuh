@@ -50,27 +50,33 @@ static __global__ void shallow_scan_kernel(const std::uint8_t* cells, Int3 size,
   }
 }
 
-/// shallow::settle_column on every column, one thread per column, after the scan.
-static __global__ void shallow_settle_kernel(shallow::Plane p) {
-  const std::uint64_t columns = std::uint64_t(p.nx) * std::uint64_t(p.ny);
-  for (std::uint64_t c = std::uint64_t(blockIdx.x) * blockDim.x + threadIdx.x; c < columns;
-       c += std::uint64_t(gridDim.x) * blockDim.x)
-    shallow::settle_column(p.columns, p.nx, p.ny, int(c % std::uint64_t(p.nx)), int(c / std::uint64_t(p.nx)));
-}
-
 /// The flags of a pass on the device: whether the current iteration changed a face or a cell,
-/// whether the pass did, and whether an iteration changed nothing, after which the rest of the
-/// tick's iterations would change nothing either and the kernels return at once.
+/// whether the pass did, whether an iteration changed nothing, after which the rest of the tick's
+/// iterations would change nothing either and the kernels return at once, and whether the grid has
+/// a covered column (else the heads' step returns at once).
 struct ShallowFlags {
   unsigned iteration;  ///< the current iteration changed something
   unsigned pass;       ///< the pass changed something
   unsigned done;       ///< an iteration changed nothing: the pass is over
+  unsigned covered;    ///< a column is covered (its room is under a static cell) this tick
 };
 
-/// One step of an iteration over every column: 0 surface_of, 1 update_face (both axes), 2
-/// limit_column, 3 split_face (both axes; a change of a face sets flags->iteration).
+/// shallow::settle_column on every column, one thread per column, after the scan; notes a covered
+/// column in flags->covered.
+static __global__ void shallow_settle_kernel(shallow::Plane p, ShallowFlags* flags) {
+  const std::uint64_t columns = std::uint64_t(p.nx) * std::uint64_t(p.ny);
+  for (std::uint64_t c = std::uint64_t(blockIdx.x) * blockDim.x + threadIdx.x; c < columns;
+       c += std::uint64_t(gridDim.x) * blockDim.x) {
+    shallow::settle_column(p.columns, p.nx, p.ny, int(c % std::uint64_t(p.nx)), int(c / std::uint64_t(p.nx)));
+    if (p.columns[c].covered() && flags->covered == 0) flags->covered = 1;  // every writer stores the same value
+  }
+}
+
+/// One step of an iteration over every column: 0 surface_of, 1 head_of (with a covered column), 2
+/// update_face (both axes), 3 limit_column, 4 split_face (both axes; a change of a face sets
+/// flags->iteration).
 static __global__ void shallow_step_kernel(shallow::Plane p, int step, ShallowFlags* flags) {
-  if (flags->done != 0) return;
+  if (flags->done != 0 || (step == 1 && flags->covered == 0)) return;
   const std::uint64_t columns = std::uint64_t(p.nx) * std::uint64_t(p.ny);
   for (std::uint64_t c = std::uint64_t(blockIdx.x) * blockDim.x + threadIdx.x; c < columns;
        c += std::uint64_t(gridDim.x) * blockDim.x) {
@@ -78,8 +84,10 @@ static __global__ void shallow_step_kernel(shallow::Plane p, int step, ShallowFl
     if (step == 0) {
       shallow::surface_of(p, x, y);
     } else if (step == 1) {
-      for (int a = 0; a < shallow::kAxes; ++a) shallow::update_face(p, x, y, a);
+      shallow::head_of(p, x, y);
     } else if (step == 2) {
+      for (int a = 0; a < shallow::kAxes; ++a) shallow::update_face(p, x, y, a);
+    } else if (step == 3) {
       shallow::limit_column(p, x, y);
     } else {
       bool any = false;

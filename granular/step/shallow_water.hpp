@@ -24,11 +24,12 @@
 ///
 /// One tick is kIterations iterations (each 1 / kIterations tick) of:
 ///  1. surfaces (surface_of): ground + depth, plus the fractions the faces carry in, less those they
-///     carry out, so the surfaces the faces see are level to a fraction of a cell; a pipe's surface
-///     is its head instead (level_of): liquid cannot gather in a full pipe, so its steady head falls
-///     from one end of the pipe to the other in proportion to the resistance of the faces between
-///     (line_head, along x and along y, the mean of the two);
-///  2. faces (update_face): a face *passes* liquid when the surface of one of its columns stands
+///     carry out, so the surfaces the faces see are level to a fraction of a cell;
+///  2. heads (head_of, in a grid with a covered column only): a pipe's surface is its head instead:
+///     liquid cannot gather in a full pipe, so its steady head falls from one end of the pipe to the
+///     other in proportion to the resistance of the faces between (line_head, along x and along y,
+///     the mean of the two);
+///  3. faces (update_face): a face *passes* liquid when the surface of one of its columns stands
 ///     above the higher ground (under a cover, counting up to the opening's top only). One that
 ///     does not stops. Its velocity accelerates down the surface step (g = 2 cells a tick^2), takes
 ///     its upstream face's velocity at the rate the flow replaces its liquid (a momentum-conserving
@@ -36,11 +37,11 @@
 ///     proportional to the velocity (less on deep, fast water) and a fixed part that stops slow flows and
 ///     thin films (never past 0). Its volume is its velocity x the upwind depth x dt, plus its
 ///     fraction;
-///  3. columns (limit_column): a column whose outflow over its four faces exceeds its depth scales
+///  4. columns (limit_column): a column whose outflow over its four faces exceeds its depth scales
 ///     its outflows down to it;
-///  4. faces (split_face): each face's volume to the nearest whole cell is to move (a half towards
+///  5. faces (split_face): each face's volume to the nearest whole cell is to move (a half towards
 ///     none), the rest, at most half a cell, is carried;
-///  5. moves, in four phases of disjoint column pairs (even x faces, odd x, even y, odd y;
+///  6. moves, in four phases of disjoint column pairs (even x faces, odd x, even y, odd y;
 ///     move_face): a move swaps the top of the donor's body with the void or gas just over the
 ///     receiver's body (or its ground), so every move is a permutation of the grid and every
 ///     material is conserved exactly; the receiver's body takes in the liquid in flight the move
@@ -100,7 +101,7 @@ struct Column {
   /// True when a static cell covers the body.
   constexpr bool covered() const { return ceiling != kOpenSky; }
   /// True when the body is covered and more than half fills the room under its cover: a pipe under
-  /// pressure, whose surface is the head its pipe's ends give (level_of), not its cells.
+  /// pressure, whose surface is the head its pipe's ends give (head_of), not its cells.
   constexpr bool pressurized() const { return covered() && 2 * depth > ceiling - ground; }
   /// The cell over the body's room: its ceiling, or `nz` under open sky.
   constexpr std::int32_t room_end(int nz) const { return ceiling < nz ? ceiling : nz; }
@@ -290,17 +291,16 @@ constexpr std::int64_t line_head(const Plane& p, int x, int y, int axis) {
   return kNoHead;
 }
 
-/// The surface the faces see of column `c`: surface_of's, or for a pipe (a pressurized column) its
-/// head, the steady head of its pipe (liquid cannot gather in a full pipe, so what flows in flows
-/// out): along x and along y the line_head, and the mean of the two when both reach an end; kNoHead
-/// when neither line reaches an end. It reads surface_of's surfaces of columns that are not pipes
-/// only.
-constexpr std::int64_t level_of(const Plane& p, std::int64_t c) {
-  const Column& col = p.columns[c];
-  if (!col.pressurized()) return p.surface[c];
-  const int x = int(c % p.nx), y = int(c / p.nx);
+/// Step 2 for column (x, y), in a grid with a covered column: a pipe's (a pressurized column's)
+/// surface is its head, the steady head of its pipe (liquid cannot gather in a full pipe, so what
+/// flows in flows out): along x and along y the line_head, and the mean of the two when both reach
+/// an end; kNoHead when neither does. It reads the surfaces of columns that are not pipes only,
+/// which surface_of wrote and this step does not write.
+constexpr void head_of(const Plane& p, int x, int y) {
+  const std::int64_t c = p.at(x, y);
+  if (!p.columns[c].pressurized()) return;
   const std::int64_t hx = line_head(p, x, y, 0), hy = line_head(p, x, y, 1);
-  return hx == kNoHead ? hy : hy == kNoHead ? hx : (hx + hy) / 2;
+  p.surface[c] = hx == kNoHead ? hy : hy == kNoHead ? hx : (hx + hy) / 2;
 }
 
 /// The depths (kVolume units) of the two columns of face `c` along `axis` above their higher ground.
@@ -325,9 +325,8 @@ constexpr FaceDepths depths_of(const Plane& p, std::int64_t c, int axis) {
   const std::int64_t floor = std::int64_t(g) * kVolume;
   if (!a.covered() && !b.covered()) return FaceDepths{p.surface[c] - floor, p.surface[n] - floor};
   const std::int64_t open = opening(a, b, p.nz);
-  if (open == 0) return FaceDepths{};
-  const std::int64_t lc = level_of(p, c), ln = level_of(p, n);
-  if (lc == kNoHead || ln == kNoHead) return FaceDepths{};
+  const std::int64_t lc = p.surface[c], ln = p.surface[n];
+  if (open == 0 || lc == kNoHead || ln == kNoHead) return FaceDepths{};
   const std::int64_t roof = floor + open * kVolume;
   return FaceDepths{(lc < roof ? lc : roof) - floor, (ln < roof ? ln : roof) - floor};
 }
@@ -335,7 +334,7 @@ constexpr FaceDepths depths_of(const Plane& p, std::int64_t c, int axis) {
 /// The absolute value of `v`.
 constexpr std::int64_t magnitude(std::int64_t v) { return v < 0 ? -v : v; }
 
-/// Step 2 for the face of column (x, y) along `axis`: its next velocity and the volume it carries
+/// Step 3 for the face of column (x, y) along `axis`: its next velocity and the volume it carries
 /// this iteration, from the surfaces and the current velocities. A wall (no next column) keeps 0.
 constexpr void update_face(const Plane& p, int x, int y, int axis) {
   const std::int64_t c = p.at(x, y);
@@ -348,7 +347,7 @@ constexpr void update_face(const Plane& p, int x, int y, int axis) {
   const std::int32_t u0 = p.u[axis][c];
   const std::int32_t f = p.fraction[axis][c];
   const FaceDepths d = depths_of(p, c, axis);
-  const std::int64_t step = level_of(p, c) - level_of(p, n);
+  const std::int64_t step = p.surface[c] - p.surface[n];
   // A face that passes no liquid stops and drops its fraction.
   if (!d.wet()) {
     p.next_u[axis][c] = 0;
@@ -394,7 +393,7 @@ constexpr std::int64_t outflow_of(const Plane& p, int x, int y) {
   return out;
 }
 
-/// Step 3 for column (x, y): when its outflow exceeds its depth, the scale (depth, outflow) its
+/// Step 4 for column (x, y): when its outflow exceeds its depth, the scale (depth, outflow) its
 /// outflows take; else (0, 0).
 constexpr void limit_column(const Plane& p, int x, int y) {
   const std::int64_t c = p.at(x, y);
@@ -404,7 +403,7 @@ constexpr void limit_column(const Plane& p, int x, int y) {
   p.limit[2 * c + 1] = out > depth ? out : 0;
 }
 
-/// Step 4 for the face of column (x, y) along `axis`: its donor's limit applied, its whole cells to
+/// Step 5 for the face of column (x, y) along `axis`: its donor's limit applied, its whole cells to
 /// move and its carried fraction; its velocity takes the value update_face computed.
 constexpr void split_face(const Plane& p, int x, int y, int axis) {
   const std::int64_t c = p.at(x, y);
@@ -426,7 +425,7 @@ constexpr int phase_axis(int phase) { return phase / 2; }
 /// True when the face of column (x, y) along phase_axis(phase) moves in `phase`.
 constexpr bool in_phase(int x, int y, int phase) { return ((phase_axis(phase) == 0 ? x : y) & 1) == phase % 2; }
 
-/// Step 5 for the face of column (x, y) along `axis` (in its phase): moves its whole cells, one
+/// Step 6 for the face of column (x, y) along `axis` (in its phase): moves its whole cells, one
 /// swap at a time. `grid` gives `std::uint8_t get(std::int64_t column, int z)` and `void
 /// set(std::int64_t column, int z, std::uint8_t byte)` (which notes the cell as changed). Both cells
 /// keep their material only: the liquid lands at rest (its motion is the face's), and the void or

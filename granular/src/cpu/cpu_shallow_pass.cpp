@@ -49,7 +49,7 @@ std::vector<std::uint32_t> CpuShallowPass::run(std::uint8_t* cells, const StepMa
   const shallow::Plane p = plane();
   const int nx = size_.x, ny = size_.y;
   const std::size_t layer = columns_;
-  // Rows of columns per task. A pass is 258 parallel loops a tick, so a grid of fewer columns than
+  // Rows of columns per task. A pass is up to 290 parallel loops a tick, so a grid of fewer columns than
   // kParallelColumns runs them on the calling thread, where a hand-off would outweigh a loop.
   constexpr std::size_t kParallelColumns = 32768;
   const int chunks = columns_ < kParallelColumns ? 1 : std::max(1, std::min(ny, tasks.thread_count() * 4));
@@ -72,6 +72,8 @@ std::vector<std::uint32_t> CpuShallowPass::run(std::uint8_t* cells, const StepMa
   rows([&](int y) {
     for (int x = 0; x < nx; ++x) shallow::settle_column(p.columns, nx, ny, x, y);
   });
+  // Pipes' heads, only in a grid with a covered column (whose columns are fixed for the tick).
+  const bool covered = std::any_of(column_.begin(), column_.end(), [](const shallow::Column& c) { return c.covered(); });
   bool changed_any = false;
   HostColumns grid{cells, layer, changed_lo_.data(), changed_hi_.data()};
   for (int i = 0; i < shallow::kIterations; ++i) {
@@ -79,6 +81,10 @@ std::vector<std::uint32_t> CpuShallowPass::run(std::uint8_t* cells, const StepMa
     rows([&](int y) {
       for (int x = 0; x < nx; ++x) shallow::surface_of(p, x, y);
     });
+    if (covered)
+      rows([&](int y) {
+        for (int x = 0; x < nx; ++x) shallow::head_of(p, x, y);
+      });
     rows([&](int y) {
       for (int x = 0; x < nx; ++x)
         for (int a = 0; a < shallow::kAxes; ++a) shallow::update_face(p, x, y, a);
