@@ -46,8 +46,9 @@
 ///     receiver's body (or its ground), so every move is a permutation of the grid and every
 ///     material is conserved exactly; the receiver's body takes in the liquid in flight the move
 ///     brought within kBodyGap. A move that finds no liquid or no room stops the face, except into
-///     a full pipe: that face keeps its velocity and moves again once the pipe has passed liquid on
-///     (a pipe's donor gives the cell under its ceiling, and the room left is filled from upstream).
+///     a full pipe: that face keeps half its velocity and moves again once the pipe has passed
+///     liquid on (a pipe's donor gives the cell under its ceiling, and the room left is filled from
+///     upstream).
 /// A pool comes to rest: once no face's velocity, rounded, carries anything and every fraction is
 /// held, an iteration changes nothing; the backends end the tick's iterations there, and skip a
 /// pass that changed nothing while no cell changes (sparse stepping).
@@ -444,9 +445,11 @@ constexpr int move_face(const Plane& p, Grid& grid, int x, int y, int axis, cons
     Column& receiver = p.columns[to];
     const int target = receiver.depth > 0 ? receiver.top + 1 : receiver.ground;
     if (donor.depth > 0 && target >= receiver.room_end(p.nz) && receiver.pressurized()) {
-      // A full pipe: it takes liquid as fast as it passes liquid on, so the face keeps its velocity
-      // and moves again once the pipe has room; what it could not move is dropped from its fraction.
+      // A full pipe: it takes liquid as fast as it passes liquid on, so the face keeps half its
+      // velocity (a pipe blocked for good stops it within a few iterations) and moves again once the
+      // pipe has room; what it could not move is dropped from its fraction.
       p.fraction[axis][c] = 0;
+      p.u[axis][c] /= 2;
       break;
     }
     if (donor.depth == 0 || target >= receiver.room_end(p.nz)) {

@@ -1073,8 +1073,9 @@ void plain_shallow_pass(std::span<std::uint8_t> cells, Int3 n, const PlainRules&
           const int top = body_of(to, ground[to], roof[to], count);
           const int target = top >= 0 ? top + 1 : ground[to];
           if (source >= 0 && target >= roof[to] && covered[to] && 2 * count > roof[to] - ground[to]) {
-            // Into a full pipe: the face keeps its velocity and drops what it could not move.
+            // Into a full pipe: the face keeps half its velocity and drops what it could not move.
             f[a][c] = 0;
+            u[a][c] /= 2;
             break;
           }
           if (source < 0 || target >= roof[to]) {
