@@ -65,7 +65,7 @@ class DeviceShallowPass {
     check_launch("shallow-water settle kernel launch");
     const DeviceShallowGrid grid{cells, columns_, lo_.data(), hi_.data()};
     for (int i = 0; i < shallow::kIterations; ++i) {
-      for (int step = 0; step < 5; ++step) {
+      for (int step = 0; step < 4; ++step) {
         shallow_step_kernel<<<blocks, kShallowThreads, 0, stream>>>(p, step, flags_.data());
         check_launch("shallow-water step kernel launch");
       }
@@ -74,7 +74,7 @@ class DeviceShallowPass {
                               0, stream>>>(p, grid, m, phase, flags_.data());
         check_launch("shallow-water move kernel launch");
       }
-      shallow_iteration_end_kernel<<<1, 1, 0, stream>>>(flags_.data());
+      shallow_iteration_end_kernel<<<blocks, kShallowThreads, 0, stream>>>(p, flags_.data());
       check_launch("shallow-water iteration end kernel launch");
     }
     const SparseParams s = sparse != nullptr ? *sparse : SparseParams{};

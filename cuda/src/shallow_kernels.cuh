@@ -61,33 +61,34 @@ struct ShallowFlags {
   unsigned covered;    ///< a column is covered (its room is under a static cell) this tick
 };
 
-/// shallow::settle_column on every column, one thread per column, after the scan; notes a covered
-/// column in flags->covered.
+/// shallow::settle_column on every column, one thread per column, after the scan, and the first
+/// iteration's surface_of (which reads the column's own settled column only); notes a covered column
+/// in flags->covered.
 static __global__ void shallow_settle_kernel(shallow::Plane p, ShallowFlags* flags) {
   const std::uint64_t columns = std::uint64_t(p.nx) * std::uint64_t(p.ny);
   for (std::uint64_t c = std::uint64_t(blockIdx.x) * blockDim.x + threadIdx.x; c < columns;
        c += std::uint64_t(gridDim.x) * blockDim.x) {
-    shallow::settle_column(p.columns, p.nx, p.ny, int(c % std::uint64_t(p.nx)), int(c / std::uint64_t(p.nx)));
+    const int x = int(c % std::uint64_t(p.nx)), y = int(c / std::uint64_t(p.nx));
+    shallow::settle_column(p.columns, p.nx, p.ny, x, y);
     if (p.columns[c].covered() && flags->covered == 0) flags->covered = 1;  // every writer stores the same value
+    shallow::surface_of(p, x, y);
   }
 }
 
-/// One step of an iteration over every column: 0 surface_of, 1 head_of (with a covered column), 2
-/// update_face (both axes), 3 limit_column, 4 split_face (both axes; a change of a face sets
-/// flags->iteration).
+/// One step of an iteration over every column (whose surfaces the launch before computed): 0 head_of
+/// (with a covered column), 1 update_face (both axes), 2 limit_column, 3 split_face (both axes; a
+/// change of a face sets flags->iteration).
 static __global__ void shallow_step_kernel(shallow::Plane p, int step, ShallowFlags* flags) {
-  if (flags->done != 0 || (step == 1 && flags->covered == 0)) return;
+  if (flags->done != 0 || (step == 0 && flags->covered == 0)) return;
   const std::uint64_t columns = std::uint64_t(p.nx) * std::uint64_t(p.ny);
   for (std::uint64_t c = std::uint64_t(blockIdx.x) * blockDim.x + threadIdx.x; c < columns;
        c += std::uint64_t(gridDim.x) * blockDim.x) {
     const int x = int(c % std::uint64_t(p.nx)), y = int(c / std::uint64_t(p.nx));
     if (step == 0) {
-      shallow::surface_of(p, x, y);
-    } else if (step == 1) {
       shallow::head_of(p, x, y);
-    } else if (step == 2) {
+    } else if (step == 1) {
       for (int a = 0; a < shallow::kAxes; ++a) shallow::update_face(p, x, y, a);
-    } else if (step == 3) {
+    } else if (step == 2) {
       shallow::limit_column(p, x, y);
     } else {
       bool any = false;
@@ -123,13 +124,19 @@ static __global__ void shallow_move_kernel(shallow::Plane p, DeviceShallowGrid g
   }
 }
 
-/// The end of an iteration (one thread): one that changed nothing ends the pass; one that changed
-/// something counts for the pass.
-static __global__ void shallow_iteration_end_kernel(ShallowFlags* flags) {
-  if (flags->done != 0) return;
-  if (flags->iteration == 0) flags->done = 1;
-  else flags->pass = 1;
-  flags->iteration = 0;
+/// The end of an iteration and the surfaces of the next: the first thread ends the pass after an
+/// iteration that changed nothing (else counts it for the pass) and clears the iteration's flag;
+/// every thread computes surface_of for its columns (unused after the pass's last iteration).
+static __global__ void shallow_iteration_end_kernel(shallow::Plane p, ShallowFlags* flags) {
+  if (blockIdx.x == 0 && threadIdx.x == 0 && flags->done == 0) {
+    if (flags->iteration == 0) flags->done = 1;
+    else flags->pass = 1;
+    flags->iteration = 0;
+  }
+  const std::uint64_t columns = std::uint64_t(p.nx) * std::uint64_t(p.ny);
+  for (std::uint64_t c = std::uint64_t(blockIdx.x) * blockDim.x + threadIdx.x; c < columns;
+       c += std::uint64_t(gridDim.x) * blockDim.x)
+    shallow::surface_of(p, int(c % std::uint64_t(p.nx)), int(c / std::uint64_t(p.nx)));
 }
 
 /// The bricks of the cells the pass changed: flagged in `flags` and in the sparse state's
