@@ -21,11 +21,13 @@
 #include "granular/world.hpp"
 #include "granular/world_snapshot.hpp"
 #include "reference/material_scenes.hpp"
+#include "quick_u_tube.hpp"
 #include "test_support.hpp"
 
 using namespace granular;
 using granular::test::test_def;
 using granular::test::with_sparse;
+using UTube = granular::test::QuickUTube;
 
 namespace {
 
@@ -77,20 +79,10 @@ TEST_CASE("momentum: a burst dam's front reaches 2 H0 within 24 ticks, as it doe
 }
 
 TEST_CASE("momentum: the legs of a U-tube still level within a cell, and the tube comes to rest and sleeps") {
-  const int leg = 8, wall = 8, channel_top = 5, head = 40;
-  const Int3 s{2 * leg + wall, leg, channel_top + head + 4};
-  Grid g(s);
-  g.fill(Box{{0, 0, 0}, {s.x, s.y, 1}}, Material::Solid);
-  g.fill(Box{{leg, 0, channel_top}, {leg + wall, s.y, s.z}}, Material::Solid);
-  g.fill(Box{{0, 0, 1}, {s.x, s.y, channel_top}}, Material::Liquid);
-  g.fill(Box{{0, 0, channel_top}, {leg, s.y, channel_top + head}}, Material::Liquid);
-  World w(test_def(s, "inertial-24-momentum", 2, 1), g);
+  const Grid g = UTube::build();
+  World w(test_def(g.size(), "inertial-24-momentum", 2, 1), g);
   w.step(480);
-  auto level = [&](int x0) {
-    const std::vector<std::uint8_t> cells = w.read_region(Box{{x0, 0, channel_top}, {x0 + leg, s.y, s.z}});
-    return double(std::count(cells.begin(), cells.end(), to_cell(Material::Liquid))) / double(leg * leg);
-  };
-  const double left = level(0), right = level(leg + wall);
+  const double left = UTube::level(w, 0), right = UTube::level(w, UTube::kRight);
   CAPTURE(left);
   CAPTURE(right);
   CHECK(std::abs(left - right) <= 1.0);

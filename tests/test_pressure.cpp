@@ -12,40 +12,13 @@
 #include <vector>
 
 #include "granular/world.hpp"
+#include "quick_u_tube.hpp"
 #include "test_support.hpp"
 
 using namespace granular;
 using granular::test::test_def;
 using granular::test::with_sparse;
-
-namespace {
-
-/// The accuracy suite's quick U-tube (communicating_vessels): legs of 8^2 cells parted by a wall 8
-/// thick over a channel 4 high, the channel and the left leg full of water 40 cells above it, the
-/// right leg empty.
-struct UTube {
-  static constexpr int kLeg = 8, kWall = 8, kChannelTop = 5, kHead = 40;
-  static Int3 size() { return {2 * kLeg + kWall, kLeg, kChannelTop + kHead + 4}; }
-  static Grid build() {
-    const Int3 s = size();
-    Grid g(s);
-    g.fill(Box{{0, 0, 0}, {s.x, s.y, 1}}, Material::Solid);
-    g.fill(Box{{kLeg, 0, kChannelTop}, {kLeg + kWall, s.y, s.z}}, Material::Solid);
-    g.fill(Box{{0, 0, 1}, {s.x, s.y, kChannelTop}}, Material::Liquid);
-    g.fill(Box{{0, 0, kChannelTop}, {kLeg, s.y, kChannelTop + kHead}}, Material::Liquid);
-    return g;
-  }
-  /// The mean water level above the channel of the leg starting at x0.
-  static double level(const World& w, int x0) {
-    const Int3 s = size();
-    const std::vector<std::uint8_t> cells = w.read_region(Box{{x0, 0, kChannelTop}, {x0 + kLeg, s.y, s.z}});
-    double n = 0;
-    for (std::uint8_t c : cells) n += c == to_cell(Material::Liquid);
-    return n / double(kLeg * kLeg);
-  }
-};
-
-}  // namespace
+using UTube = granular::test::QuickUTube;
 
 TEST_CASE("pressure: the legs of a U-tube level within a cell under the lever, and stay apart without it") {
   const Grid initial = UTube::build();
@@ -54,14 +27,14 @@ TEST_CASE("pressure: the legs of a U-tube level within a cell under the lever, a
   const MaterialCounts before = pressed.count();
   pressed.step(480);  // the accuracy suite's limit: 20 oscillation periods
   plain.step(480);
-  const double left = UTube::level(pressed, 0), right = UTube::level(pressed, UTube::kLeg + UTube::kWall);
+  const double left = UTube::level(pressed, 0), right = UTube::level(pressed, UTube::kRight);
   CAPTURE(left);
   CAPTURE(right);
   CHECK(std::abs(left - right) <= 1.0);
   CHECK(right >= 18.0);  // half the head, less a cell or two for the water in transit
   CHECK(pressed.count() == before);
   // Without the lever the right leg never fills: water has no way up.
-  CHECK(UTube::level(plain, UTube::kLeg + UTube::kWall) < 2.0);
+  CHECK(UTube::level(plain, UTube::kRight) < 2.0);
 }
 
 TEST_CASE("pressure: sparse = dense on 1 and 2 threads, and the U-tube comes to rest and sleeps") {

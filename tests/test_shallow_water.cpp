@@ -25,11 +25,13 @@
 #include "granular/scene.hpp"
 #include "granular/world.hpp"
 #include "granular/world_snapshot.hpp"
+#include "quick_u_tube.hpp"
 #include "test_support.hpp"
 
 using namespace granular;
 using granular::test::test_def;
 using granular::test::with_sparse;
+using UTube = granular::test::QuickUTube;
 
 namespace {
 
@@ -79,32 +81,6 @@ long rest_tick(World& w, int limit, int hold = 64) {
   return -1;
 }
 
-/// The accuracy suite's quick U-tube (communicating_vessels_test.cpp): a solid floor, a channel 4
-/// cells high full of liquid under a solid wall 8 thick that reaches the top of the grid, two legs
-/// of 8 x 8 cells, the left full 40 cells above the channel, the right empty.
-struct UTube {
-  static constexpr int kLeg = 8, kWall = 8, kChannelTop = 5, kHead = 40;
-  static Grid build() {
-    const Int3 s{2 * kLeg + kWall, kLeg, kChannelTop + kHead + 4};
-    Grid g(s);
-    g.fill(Box{{0, 0, 0}, {s.x, s.y, 1}}, Material::Solid);
-    g.fill(Box{{kLeg, 0, kChannelTop}, {kLeg + kWall, s.y, s.z}}, Material::Solid);
-    g.fill(Box{{0, 0, 1}, {s.x, s.y, kChannelTop}}, Material::Liquid);
-    g.fill(Box{{0, 0, kChannelTop}, {kLeg, s.y, kChannelTop + kHead}}, Material::Liquid);
-    return g;
-  }
-  /// The mean level of the leg from x0, in cells above the channel.
-  static double level(const World& w, int x0) {
-    const std::vector<std::uint8_t> cells = w.read_region(Box{{x0, 0, kChannelTop}, {x0 + kLeg, kLeg, w.size().z}});
-    return double(std::count(cells.begin(), cells.end(), to_cell(Material::Liquid))) / (kLeg * kLeg);
-  }
-  /// The liquid cells of the channel under the wall.
-  static long channel(const World& w) {
-    const std::vector<std::uint8_t> cells = w.read_region(Box{{kLeg, 0, 1}, {kLeg + kWall, kLeg, kChannelTop}});
-    return long(std::count(cells.begin(), cells.end(), to_cell(Material::Liquid)));
-  }
-};
-
 }  // namespace
 
 TEST_CASE("shallow water: a U-tube's legs level through the covered channel within one oscillation period, and come to rest") {
@@ -115,14 +91,13 @@ TEST_CASE("shallow water: a U-tube's legs level through the covered channel with
   World flow(test_def(g.size(), "inertial-24-flow", 2, 1), g);
   shallow.step(24);
   flow.step(24);
-  const double right = UTube::kLeg + UTube::kWall;
-  const double d_shallow = std::abs(UTube::level(shallow, 0) - UTube::level(shallow, int(right)));
-  const double d_flow = std::abs(UTube::level(flow, 0) - UTube::level(flow, int(right)));
+  const double d_shallow = std::abs(UTube::level(shallow, 0) - UTube::level(shallow, UTube::kRight));
+  const double d_flow = std::abs(UTube::level(flow, 0) - UTube::level(flow, UTube::kRight));
   CHECK_MESSAGE(d_shallow <= 1.0, "the legs stand " << d_shallow << " cells apart after 24 ticks");
   CHECK_MESSAGE(d_flow > 10.0, "the default rules levelled it too (" << d_flow << "): the test no longer tells them apart");
   const long rest = rest_tick(shallow, 600);
   CHECK_MESSAGE(rest >= 0, "still moving after 600 ticks");
-  CHECK(std::abs(UTube::level(shallow, 0) - UTube::level(shallow, int(right))) <= 1.0);
+  CHECK(std::abs(UTube::level(shallow, 0) - UTube::level(shallow, UTube::kRight)) <= 1.0);
   // Air the flow left under the wall stays there, as in a level pipe: at most a layer of it.
   CHECK(UTube::channel(shallow) >= long(UTube::kWall) * UTube::kLeg * (UTube::kChannelTop - 2));
   CHECK(shallow.count() == g.count());
