@@ -34,9 +34,9 @@
 ///     does not stops. Its velocity accelerates down the surface step (g = 2 cells a tick^2), takes
 ///     its upstream face's velocity at the rate the flow replaces its liquid (a momentum-conserving
 ///     upwind advection, so a front runs on over a dry bed), and loses some to bed friction: a part
-///     proportional to the velocity (less on deep, fast water) and a fixed part that stops slow flows and
-///     thin films (never past 0). Its volume is its velocity x the upwind depth x dt, plus its
-///     fraction;
+///     proportional to the velocity (less on deep, fast water) and a fixed part that stops slow
+///     flows and thin films (never past 0). Its volume is its velocity x the upwind depth x dt,
+///     plus its fraction;
 ///  4. columns (limit_column): a column whose outflow over its four faces exceeds its depth scales
 ///     its outflows down to it;
 ///  5. faces (split_face): each face's volume to the nearest whole cell is to move (a half towards

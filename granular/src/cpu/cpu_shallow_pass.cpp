@@ -49,8 +49,8 @@ std::vector<std::uint32_t> CpuShallowPass::run(std::uint8_t* cells, const StepMa
   const shallow::Plane p = plane();
   const int nx = size_.x, ny = size_.y;
   const std::size_t layer = columns_;
-  // Rows of columns per task. A pass is up to 290 parallel loops a tick, so a grid of fewer columns than
-  // kParallelColumns runs them on the calling thread, where a hand-off would outweigh a loop.
+  // Rows of columns per task. A pass is up to 290 parallel loops a tick, so a grid of fewer columns
+  // than kParallelColumns runs them on the calling thread, where a hand-off would outweigh a loop.
   constexpr std::size_t kParallelColumns = 32768;
   const int chunks = columns_ < kParallelColumns ? 1 : std::max(1, std::min(ny, tasks.thread_count() * 4));
   auto rows = [&](auto&& body) {
