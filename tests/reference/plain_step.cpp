@@ -933,7 +933,7 @@ void plain_shallow_pass(std::span<std::uint8_t> cells, Int3 n, const PlainRules&
     }
   }
   constexpr std::int64_t kNone = std::numeric_limits<std::int64_t>::min();
-  std::vector<std::int64_t> level(columns), head(columns);
+  std::vector<std::int64_t> level(columns);
   std::vector<std::int32_t> next_u[2] = {std::vector<std::int32_t>(columns), std::vector<std::int32_t>(columns)};
   std::vector<std::int64_t> volume[2] = {std::vector<std::int64_t>(columns), std::vector<std::int64_t>(columns)};
   // The height two columns' rooms share above the higher ground.
@@ -954,8 +954,8 @@ void plain_shallow_pass(std::span<std::uint8_t> cells, Int3 n, const PlainRules&
     // A pipe's level is its head: along each line, from the first columns that are not pipes on
     // either side (through faces that share room, at most 512 faces away), interpolated by the sum
     // of 65536 / shared height over the faces to each; the mean of the two lines that find an end.
+    // (An end is never a pipe, so the levels written here are never read here.)
     for (std::size_t c = 0; c < columns; ++c) {
-      head[c] = kNone;
       if (!pipe(c)) continue;
       std::int64_t line[2];
       for (int a = 0; a < 2; ++a) {
@@ -981,11 +981,8 @@ void plain_shallow_pass(std::span<std::uint8_t> cells, Int3 n, const PlainRules&
                   : found[1] ? end_level[1]
                              : kNone;
       }
-      const std::int64_t h = line[0] == kNone ? line[1] : line[1] == kNone ? line[0] : (line[0] + line[1]) / 2;
-      head[c] = h;
+      level[c] = line[0] == kNone ? line[1] : line[1] == kNone ? line[0] : (line[0] + line[1]) / 2;
     }
-    for (std::size_t c = 0; c < columns; ++c)
-      if (pipe(c)) level[c] = head[c];
     // The depths of face (c, a) above the higher ground: {its own column, the next}; under a cover
     // up to the shared room's top only, and none through a face without shared room or beside a
     // pipe without a head.
