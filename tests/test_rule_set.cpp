@@ -54,6 +54,8 @@ TEST_CASE("rule set: a preset is a value whose material table a game may change"
   const RuleSet columns = preset("inertial-24-columns");
   CHECK(columns.motion.columns);
   CHECK(columns.motion.substeps == 24);
+  CHECK(columns.materials[2].grain.flow_level == 1);  // the default's grain: a pile flows as under the default
+  CHECK(columns.materials[2].grain.entrain == 128);
   CHECK(inertial.materials[2].grain.entrain == 0);
   const RuleSet entrain = preset("inertial-24-entrain");
   CHECK(entrain.materials[2].grain.entrain == 128);

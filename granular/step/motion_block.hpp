@@ -29,7 +29,8 @@
 ///     from below loses 1 with chance roll_cost / 256 if it rolled, kStuckCost / 256 if its block
 ///     had no room. So a moving grain runs on down slopes steeper than the balance of gains and
 ///     costs and stops on shallower ones, whatever the pile's size: the friction lever. One that
-///     rolled or toppled keeps at most its material's GrainMotion::flow_level.
+///     rolled or toppled keeps at most its material's GrainMotion::flow_level, except under
+///     MotionParams::columns over a grain falling at kFallingBodyLevel or faster (in_falling_body).
 ///     A grain at rest in the top layer on a step edge is set moving (level 1) with chance
 ///     GrainMotion::entrain / 256 when a moving grain rolled or toppled in its block (entrain_step_edges).
 ///  4. On a block holding a liquid, a gas or two granular materials, the fluid pass
@@ -66,6 +67,17 @@ namespace granular::motion {
 /// Chance out of 256 that a moving grain blocked from below with no room to roll in its block
 /// loses a level (so a grain stuck in a pit comes to rest, and its brick can sleep).
 inline constexpr int kStuckCost = 64;
+
+/// The lowest motion level of a grain in a falling body (MotionParams::columns): a granular grain
+/// under a grain that rolls or topples, falling this fast, is no surface the grain flows over.
+inline constexpr int kFallingBodyLevel = 2;
+
+/// True when `under`, the cell under a top cell in its block before the move, is a granular grain
+/// falling at kFallingBodyLevel or faster: under MotionParams::columns the grain over it that rolls
+/// or topples is slipping past it inside a falling body, and keeps its level (no flow level).
+constexpr bool in_falling_body(const StepMaterials& mats, std::uint32_t under) {
+  return mats.is_granular(under & kMaterialMask) && int((under >> kMotionShift) & kMotionLevelMask) >= kFallingBodyLevel;
+}
 
 /// The motion model's block rule on a key of table codes (3 bits per cell, block.hpp order):
 /// the paper's gravity and flow (rules::paper_rule) with rollers moving as grains, then roll (a
@@ -473,7 +485,9 @@ constexpr std::uint64_t step_block_as(std::uint64_t bytes, const SubStep& m, int
       --level;
     }
     if (move >= kFell && level > max_level) level = max_level;
-    if ((move == kRolled || move == kToppled) && level > int(mats.flow_level[material])) level = mats.flow_level[material];
+    if ((move == kRolled || move == kToppled) && level > int(mats.flow_level[material]) &&
+        !(kColumns && in_falling_body(mats, std::uint32_t(bytes >> (8 * k)) & 0xFFu)))
+      level = mats.flow_level[material];
     // Under pressure a liquid that rolled or toppled moves over a surface: it joins its body at rest
     // (level 0), and the head moves it from there. One that falls out of its body (from a coarse cell
     // of a body into one outside any) leaves at least at the speed its head gives (Torricelli).

@@ -336,9 +336,13 @@ BlockCells motion_block(const PlainRules& r, BlockCells cells, const BlockAt& b,
       } else if (level > 0 && level_draw(i) < (to != i ? mat.roll_cost : kPlainStuckCost)) {
         --level;
       }
-      // A grain that rolled or toppled keeps at most its material's flow level (0: no limit).
+      // A grain that rolled or toppled keeps at most its material's flow level (0: no limit), unless
+      // under columns the grain under it in the block is granular and falls at level 2 or faster: then
+      // it slips past it inside a falling body.
       const bool rolled_or_toppled = to != i && !fell_straight(i);
-      if (rolled_or_toppled && mat.flow_level > 0 && level > mat.flow_level) level = mat.flow_level;
+      const bool in_falling_body = r.columns && behaviour_of(r, cells[i - 4]) == Behaviour::Granular &&
+                                   cell_motion(cells[i - 4]) >= kPlainFallingBodyLevel;
+      if (rolled_or_toppled && !in_falling_body && mat.flow_level > 0 && level > mat.flow_level) level = mat.flow_level;
       // Under pressure a liquid that rolled or toppled joins its body at rest; one that fell straight
       // down from a coarse cell inside a body into one outside any leaves at least at the speed the
       // head of its own coarse cell gives above the top of the cell it fell into.

@@ -32,9 +32,11 @@ struct MotionParams {
   /// down leaves is a *wake* for one sub-step (kWakeBit and the grain's level), and the faller above a
   /// wake falls after it in the next sub-step, whatever its window, taking the wake's level if it is
   /// higher; every grain that falls straight down in the first sub-step of its window accelerates,
-  /// whatever is beside it (without the lever, only a grain alone in its block's top layer does). So a
-  /// released block falls as a train of grains that all move as far per tick as its front, and grains
-  /// against a wall fall as fast as the rest.
+  /// whatever is beside it (without the lever, only a grain alone in its block's top layer does); and a
+  /// grain that rolls or topples over a granular grain falling at level 2 or faster keeps its level
+  /// (GrainMotion::flow_level caps a grain flowing over a surface, not one slipping past another inside
+  /// a falling body). So a released block falls as a train of grains that all move as far per tick as
+  /// its front, and grains against a wall fall as fast as the rest.
   bool columns = false;
   /// A falling body of grains stays whole (a lever of columns): a moving granular grain (level 1 or
   /// more) over a granular grain falling at least as fast waits for it instead of slipping around
@@ -96,7 +98,8 @@ struct GrainMotion {
                         ///< that rolls or topples in its block: a flowing layer erodes the slope it runs on
   int flow_level = 0;   ///< the highest motion level a grain keeps after it rolls or topples (1 ..
                         ///< kMotionLevelMask; 0: no limit): a grain flowing over a surface moves at most
-                        ///< motion_window(flow_level) cells a tick, whatever speed it landed with
+                        ///< motion_window(flow_level) cells a tick, whatever speed it landed with (under
+                        ///< MotionParams::columns, not over a grain falling at level 2 or faster)
 };
 
 /// The bit that, on a void cell (material 0), marks a wake (MotionParams::columns): the void a grain

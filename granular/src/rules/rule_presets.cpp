@@ -85,10 +85,6 @@ constexpr std::array<PresetEntry, 11> kPresets = {{
     {"inertial-24",
      "inertial with 24 sub-steps per tick: a top speed of 23 cells per tick instead of 15, for 1.5 times the cost", 1,
      true, true, 24},
-    {"inertial-24-columns",
-     "inertial-24 with grains in free fall falling as columns, in trains that close their gaps every tick: a "
-     "released block falls as a block, in free-fall time",
-     3, true, true, 24, true, kInertialGrain, false, false, true},
     {"inertial-24-entrain",
      "inertial-24 with avalanches: a rolling or toppling grain sets the grains at rest on step edges of its block "
      "moving, so a tilted slope fails near 38 degrees and its avalanche stops near 34",
@@ -97,6 +93,10 @@ constexpr std::array<PresetEntry, 11> kPresets = {{
      "inertial-24-entrain with grains that flow over a surface one cell a tick: a grain that rolls or topples keeps "
      "at most level 1, so a poured pile's angle no longer depends on the height its grains fell from",
      1, true, true, 24, false, kFlowGrain},
+    {"inertial-24-columns",
+     "inertial-24-flow with grains in free fall falling as columns, in trains that close their gaps every tick: a "
+     "released block falls as a block, in free-fall time, and a pile still flows one cell a tick",
+     4, true, true, 24, true, kFlowGrain, false, false, true},
     {"inertial-24-pressure",
      "inertial-24-flow with liquids under the head of their body: connected vessels level, a water column pours out "
      "from every row, and a liquid under a higher surface of its body rises",
