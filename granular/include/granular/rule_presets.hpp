@@ -34,10 +34,11 @@ MaterialTable default_materials(GrainMotion grain = {});
 /// and offset cycle), "isotropic" (the same table under a random horizontal symmetry per block and
 /// tick, and a random offset order per 8-tick cycle, so heaps come out round), "d4" (the random
 /// symmetry alone, on the paper's cycle), "inertial" (isotropic plus the motion model: 16 sub-steps
-/// per tick, inertia and rolling), "inertial-24" (24 sub-steps), "inertial-24-columns" (grains in free
-/// fall fall as columns), "inertial-24-entrain" (rolling grains set the grains at rest on step edges
-/// moving, so slopes avalanche) and "inertial-24-flow" (the default: inertial-24-entrain with grains
-/// that roll or topple moving at most one cell a tick, so a pile's angle does not depend on its size).
+/// per tick, inertia and rolling), "inertial-24" (24 sub-steps), "inertial-24-entrain" (rolling grains
+/// set the grains at rest on step edges moving, so slopes avalanche), "inertial-24-flow" (the default:
+/// inertial-24-entrain with grains that roll or topple moving at most one cell a tick, so a pile's
+/// angle does not depend on its size) and "inertial-24-columns" (inertial-24-flow with grains in free
+/// fall falling as columns, so a released block falls as a block).
 /// Throws InvalidArgument naming the valid presets for an
 /// unknown name.
 RuleSet preset(std::string_view name);
