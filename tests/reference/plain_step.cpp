@@ -812,7 +812,10 @@ PlainRules plain_rules(const RuleSet& rules, const Lut& lut, std::uint64_t seed)
 
 /// Trains, after a tick: in every column, bottom up, the granular grains moving at one level L, each
 /// with only void below it down to the one before and at most motion_window(L) cells of it, are packed
-/// down onto the lowest of them, in order; the voids that were between them go above them.
+/// down onto the lowest of them, in order; the voids that were between them go above them. A train
+/// whose lowest grain is at level 2 or more with at least motion_window(L) voids right under it (down
+/// to the floor at most) is airborne: moving grains of any level join it, each at most
+/// motion_window of the faster of the two levels above the one before, and take level L.
 void plain_close_trains(std::span<std::uint8_t> cells, Int3 n, const PlainRules& r) {
   auto granular_moving = [&](std::uint8_t c) {
     return behaviour_of(r, c) == Behaviour::Granular && cell_motion(c) >= 1;
@@ -830,20 +833,25 @@ void plain_close_trains(std::span<std::uint8_t> cells, Int3 n, const PlainRules&
         }
         // A train from z: its grains' old places, as long as each next one qualifies.
         const int level = cell_motion(at(z));
+        int under = 0;
+        while (z - under - 1 >= 0 && behaviour_of(r, at(z - under - 1)) == Behaviour::Void) ++under;
+        const bool airborne = level >= 2 && under >= motion_window(level);
         std::vector<int> grains{z};
         while (true) {
           int k = grains.back() + 1;
           while (k < n.z && behaviour_of(r, at(k)) == Behaviour::Void) ++k;
-          if (k >= n.z || !granular_moving(at(k)) || cell_motion(at(k)) != level ||
-              k - grains.back() - 1 > motion_window(level))
-            break;
+          if (k >= n.z || !granular_moving(at(k))) break;
+          const int next = cell_motion(at(k));
+          if ((next != level && !airborne) || k - grains.back() - 1 > motion_window(std::max(level, next))) break;
           grains.push_back(k);
         }
-        // Pack: in order, each grain after the first trades places with the cell just above the
-        // grains packed so far (a void: everything between the train's grains is), and that void
-        // loses its wake bit.
+        // Pack: in order, each grain after the first takes the train's level and trades places with
+        // the cell just above the grains packed so far (a void: everything between the train's grains
+        // is), and that void loses its wake bit.
         for (std::size_t i = 1; i < grains.size(); ++i) {
           const int to = z + int(i);
+          std::uint8_t& grain = at(grains[i]);
+          grain = std::uint8_t((grain & ~(kMotionLevelMask << kMotionShift)) | (level << kMotionShift));
           if (to == grains[i]) continue;
           std::swap(at(to), at(grains[i]));
           at(grains[i]) = std::uint8_t(at(grains[i]) & kMaterialMask);
