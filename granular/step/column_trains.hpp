@@ -15,7 +15,7 @@
 /// travel of void) is a body in free fall, whose grains all fall alike: a grain of any moving level
 /// joins it (its gap at most one tick's travel at the faster of the two levels) and takes its level.
 /// Otherwise the sub-steps' windows split a falling column into trains of neighbouring levels whose
-/// gaps never close (a 32- to 64-cell block kept 0.56 to 0.68 of its packing; docs/accuracy/
+/// gaps never close (a 32- to 64-cell block kept 0.63 to 0.68 of its packing; docs/accuracy/
 /// columns-default.md).
 
 #include <cstdint>

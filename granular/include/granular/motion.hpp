@@ -42,8 +42,9 @@ struct MotionParams {
   /// more) over a granular grain falling at least as fast waits for it instead of slipping around
   /// it, and after the last sub-step of every tick each column closes the gaps of its *trains* (grains
   /// of one level, each at most one tick's travel of that level above the one below it, only void
-  /// between them): every grain steps down onto the one below it and the voids go to the train's top
-  /// (granular/step/column_trains.hpp). So a released block falls as a block, past the packing of
+  /// between them; a train falling at level 2 or more over a tick's travel of void takes in moving
+  /// grains of every level, at its own): every grain steps down onto the one below it and the voids
+  /// go to the train's top (granular/step/column_trains.hpp). So a released block falls as a block, past the packing of
   /// 1 / (1 + v) that one-cell moves allow a column falling v cells a sub-step. A DistributedWorld
   /// refuses it (a train may cross a slab).
   bool trains = false;
