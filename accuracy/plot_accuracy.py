@@ -175,7 +175,7 @@ LIMITS = [
     "  falling block, and a falling volume's cost for its physics; a game that drops large blocks",
     "  chooses it per world. The silo's pack takes the speed of the grains leaving the orifice and",
     "  falls as a mass, so its rate grows with the fill; docs/accuracy/columns-default.md lists the",
-    "  29 variants tried.",
+    "  variants tried and their figures.",
     "* **Lever kept: entrain (`inertial-24-entrain`, and under the default rules; `GrainMotion::entrain`,",
     "  docs/design/motion-model.md, \"Motion model\").** A grain that rolls or topples sets the grains at rest",
     "  on step edges of its block moving (level 1) with chance entrain / 256: a flowing layer erodes the",

@@ -96,7 +96,8 @@ struct TrainWalk {
   }
 };
 
-/// Closes the trains of one column, cells z_begin .. z_end - 1 (TrainWalk), and returns what changed.
+/// Closes the trains of one column, cells z_begin .. z_end - 1 (TrainWalk: z_begin is the column's
+/// floor, 0, for the void under a train to count alike everywhere), and returns what changed.
 template <class Column>
 constexpr ChangedSpan close_column(Column& column, int z_begin, int z_end, const StepMaterials& m) {
   TrainWalk walk;

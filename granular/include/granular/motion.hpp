@@ -44,9 +44,9 @@ struct MotionParams {
   /// of one level, each at most one tick's travel of that level above the one below it, only void
   /// between them; a train falling at level 2 or more over a tick's travel of void takes in moving
   /// grains of every level, at its own): every grain steps down onto the one below it and the voids
-  /// go to the train's top (granular/step/column_trains.hpp). So a released block falls as a block, past the packing of
-  /// 1 / (1 + v) that one-cell moves allow a column falling v cells a sub-step. A DistributedWorld
-  /// refuses it (a train may cross a slab).
+  /// go to the train's top (granular/step/column_trains.hpp). So a released block falls as a block,
+  /// past the packing of 1 / (1 + v) that one-cell moves allow a column falling v cells a sub-step.
+  /// A DistributedWorld refuses it (a train may cross a slab).
   bool trains = false;
   /// Liquids feel the head of their body (a motion model's lever): each tick the backend computes a
   /// hydraulic head per coarse cell of 2 x 2 x 2 cells, the highest free surface of the liquid body
