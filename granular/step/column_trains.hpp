@@ -11,7 +11,7 @@
 /// between them. Closing it moves each gap's void to the train's top (every grain steps down onto the
 /// one below it, in order), so the body falls on as one. It is a permutation of the column: every
 /// material is conserved exactly, and a grain moves down by the gaps below it in its train only.
-/// An *airborne* train (its first grain at level kAirborneLevel or more, over at least one tick's
+/// An *airborne* train (its first grain at level kFallingLevel or more, over at least one tick's
 /// travel of void) is a body in free fall, whose grains all fall alike: a grain of any moving level
 /// joins it (its gap at most one tick's travel at the faster of the two levels) and takes its level.
 /// Otherwise the sub-steps' windows split a falling column into trains of neighbouring levels whose
@@ -27,8 +27,6 @@ namespace granular::trains {
 
 /// The lowest motion level of a train's grains: they are moving.
 inline constexpr int kMemberLevel = 1;
-/// The lowest level of an airborne train's first grain: it falls, it does not flow.
-inline constexpr int kAirborneLevel = 2;
 
 /// The cells [lo, hi] of a column that a close_column call changed (lo > hi: none).
 struct ChangedSpan {
@@ -38,7 +36,7 @@ struct ChangedSpan {
 };
 
 /// One column's walk, bottom up: the train it is in and what it changed. A train starts at a granular
-/// grain at motion level L >= kMemberLevel; it is airborne when L >= kAirborneLevel and at least
+/// grain at motion level L >= kMemberLevel; it is airborne when L >= kFallingLevel and at least
 /// motion_window(L) void cells lie right under that grain (down to the grid's floor at most). The
 /// next grain above joins it when it is granular and moving, only void lies between them, that gap is
 /// at most motion_window of the faster of the two levels (the distance it falls in a tick), and its
@@ -77,7 +75,7 @@ struct TrainWalk {
     if (top < 0 || (cell_level != level && !airborne) || z - last - 1 > reach) {
       top = last = z;
       level = cell_level;
-      airborne = level >= kAirborneLevel && under >= motion_window(level);
+      airborne = level >= kFallingLevel && under >= motion_window(level);
       return;
     }
     const int to = top + 1;

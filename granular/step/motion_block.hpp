@@ -30,7 +30,7 @@
 ///     had no room. So a moving grain runs on down slopes steeper than the balance of gains and
 ///     costs and stops on shallower ones, whatever the pile's size: the friction lever. One that
 ///     rolled or toppled keeps at most its material's GrainMotion::flow_level, except under
-///     MotionParams::columns over a grain falling at kFallingBodyLevel or faster (in_falling_body).
+///     MotionParams::columns over a grain falling at kFallingLevel or faster (in_falling_body).
 ///     A grain at rest in the top layer on a step edge is set moving (level 1) with chance
 ///     GrainMotion::entrain / 256 when a moving grain rolled or toppled in its block (entrain_step_edges).
 ///  4. On a block holding a liquid, a gas or two granular materials, the fluid pass
@@ -68,15 +68,11 @@ namespace granular::motion {
 /// loses a level (so a grain stuck in a pit comes to rest, and its brick can sleep).
 inline constexpr int kStuckCost = 64;
 
-/// The lowest motion level of a grain in a falling body (MotionParams::columns): a granular grain
-/// under a grain that rolls or topples, falling this fast, is no surface the grain flows over.
-inline constexpr int kFallingBodyLevel = 2;
-
 /// True when `under`, the cell under a top cell in its block before the move, is a granular grain
-/// falling at kFallingBodyLevel or faster: under MotionParams::columns the grain over it that rolls
+/// falling at kFallingLevel or faster: under MotionParams::columns the grain over it that rolls
 /// or topples is slipping past it inside a falling body, and keeps its level (no flow level).
 constexpr bool in_falling_body(const StepMaterials& mats, std::uint32_t under) {
-  return mats.is_granular(under & kMaterialMask) && int((under >> kMotionShift) & kMotionLevelMask) >= kFallingBodyLevel;
+  return mats.is_granular(under & kMaterialMask) && int((under >> kMotionShift) & kMotionLevelMask) >= kFallingLevel;
 }
 
 /// The motion model's block rule on a key of table codes (3 bits per cell, block.hpp order):

@@ -835,7 +835,7 @@ void plain_close_trains(std::span<std::uint8_t> cells, Int3 n, const PlainRules&
         const int level = cell_motion(at(z));
         int under = 0;
         while (z - under - 1 >= 0 && behaviour_of(r, at(z - under - 1)) == Behaviour::Void) ++under;
-        const bool airborne = level >= 2 && under >= motion_window(level);
+        const bool airborne = level >= kPlainFallingBodyLevel && under >= motion_window(level);
         std::vector<int> grains{z};
         while (true) {
           int k = grains.back() + 1;

@@ -88,8 +88,9 @@ PlainRules plain_rules(const RuleSet& rules, const Lut& lut, std::uint64_t seed)
 /// level (the motion model's cost of being stuck).
 inline constexpr int kPlainStuckCost = 64;
 
-/// The lowest level of a granular grain in a falling body under columns: a grain that rolls or
-/// toppled over one this fast keeps its level (no flow level).
+/// The lowest level of a granular grain that falls rather than flows under columns: a grain that
+/// rolls or topples over one this fast keeps its level (no flow level), and a train whose first grain
+/// is this fast over a tick's travel of void is airborne.
 inline constexpr int kPlainFallingBodyLevel = 2;
 
 /// Salt of the fluid pass's draws: block_random(seed ^ salt, step, x0, y0, z0) (fluid::kDrawSalt,

@@ -103,6 +103,12 @@ struct GrainMotion {
                         ///< MotionParams::columns, not over a grain falling at level 2 or faster)
 };
 
+/// The lowest motion level of a grain that falls rather than flows (MotionParams::columns): a grain
+/// that rolls or topples over a granular grain this fast is inside a falling body, not on a surface
+/// (it keeps its level), and a train whose first grain is this fast over a tick's travel of void is
+/// airborne (granular/step/column_trains.hpp). A flowing grain keeps at most flow_level 1.
+inline constexpr int kFallingLevel = 2;
+
 /// The bit that, on a void cell (material 0), marks a wake (MotionParams::columns): the void a grain
 /// falling straight down left in the last sub-step, with that grain's level in the motion level bits.
 inline constexpr std::uint8_t kWakeBit = 0x80;
