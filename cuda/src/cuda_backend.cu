@@ -559,7 +559,8 @@ class CudaBackend final : public Backend {
   /// stepping (`sp`), whose changed bricks then wake.
   void close_trains(const cuda::SparseParams& sp, cudaStream_t s) {
     if (!step_rules_.motion.trains) return;
-    cuda::launch_close_trains(cells_, size_, step_rules_.materials, sparse_ ? &sp : nullptr, train_flags_.data(), s);
+    cuda::launch_close_trains(cells_, size_, step_rules_.materials, step_rules_.motion.max_level(), sparse_ ? &sp : nullptr,
+                              train_flags_.data(), s);
   }
 
   /// Enqueues the shallow-water pass after a tick (MotionParams::shallow; nothing without it): with

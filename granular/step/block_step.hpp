@@ -25,6 +25,7 @@
 #include "granular/geometry.hpp"
 #include "granular/motion.hpp"
 #include "step/block_bytes.hpp"
+#include "step/carried_cells.hpp"
 #include "step/fluid_block.hpp"
 #include "step/head_field.hpp"
 #include "step/inert_keys.hpp"
@@ -145,9 +146,22 @@ struct MotionRule {
   /// A block of 8 equal faller bytes (granular or liquid) may change (sub-step 0 sets the phases of its
   /// two layers apart), and so may one of wakes (they are cleared); one of any other material never
   /// does (a gas has no denser fluid to pass).
+  /// Under MotionParams::trains a block of 8 carried grains never changes (the block step reads them
+  /// as a static material) and one of 8 swept voids is stepped, which keeps its brick awake
+  /// (carried_cells.hpp).
   constexpr bool steps_uniform(std::uint32_t byte) const {
+    if (hides()) {
+      if (carried::is_carried(sub.materials, std::uint8_t(byte))) return false;
+      if (carried::is_swept(sub.materials, std::uint8_t(byte))) return true;
+    }
     return sub.materials.is_faller(byte & kMaterialMask) || (kColumns && is_wake(std::uint8_t(byte)));
   }
+
+  /// True when carried trains may hide cells from the block step (MotionParams::trains).
+  constexpr bool hides() const { return kColumns && sub.trains; }
+
+  /// 0xFF in each byte of `bytes` the block step reads as a static material (carried_cells.hpp).
+  constexpr std::uint64_t hidden(std::uint64_t bytes) const { return hides() ? carried::hidden_mask(bytes) : 0u; }
 
   /// Bricks keep a reach (brick_reach.hpp): a sub-step leaves out a brick near which nothing can move.
   static constexpr bool kReach = true;
@@ -159,6 +173,7 @@ struct MotionRule {
   /// every sub-step, so the bricks around them never idle.
   constexpr std::uint32_t reach_added(std::uint64_t before, std::uint64_t after) const {
     if (sub.substep >= 2 && before == after) return 0u;
+    if (const std::uint64_t mask = hidden(after); mask != 0) after = carried::hide(after, mask, sub.materials);
     // Under pressure a liquid at rest may move in any sub-step: its brick and their neighbours step in all.
     if (kPressure && (present_materials<ByteOpsOf<Platform>>(after) & sub.materials.liquids) != 0) return 31u;
     return motion::reach_of(after, kColumns);
@@ -182,8 +197,17 @@ struct MotionRule {
     return step(bytes, none, x0, y0, z0);
   }
 
-  /// The block's bytes after the sub-step, and (kSide) its side bytes `side` with them.
+  /// The block's bytes after the sub-step, and (kSide) its side bytes `side` with them. Hidden cells
+  /// (carried_cells.hpp) are stepped as a static material (carried::hide_for_step) and keep their bytes.
   constexpr std::uint64_t step(std::uint64_t bytes, std::uint64_t& side, int x0, int y0, int z0) const {
+    const std::uint64_t mask = hidden(bytes);
+    if (mask == 0) return step_seen(bytes, side, x0, y0, z0);
+    const std::uint64_t after = step_seen(carried::hide_for_step(bytes, mask, sub.materials), side, x0, y0, z0);
+    return (after & ~mask) | (bytes & mask);
+  }
+
+  /// step() of a block whose hidden cells read as a static material.
+  constexpr std::uint64_t step_seen(std::uint64_t bytes, std::uint64_t& side, int x0, int y0, int z0) const {
     if (sub.substep >= 2 && ((bytes >> 32) & 0x70707070u) == 0 &&
         (!kColumns || motion::wake_bytes(bytes & 0xFFFFFFFFull) == 0) &&
         (!kPressure || (present_materials<ByteOpsOf<Platform>>(bytes) & sub.materials.liquids) == 0))
@@ -216,6 +240,10 @@ struct MotionRule {
   constexpr bool quiet(std::uint64_t before, std::uint64_t after) const {
     if (before != after) return false;
     if (before == resting_grains) return true;  // the inside of a heap: the commonest quiet block
+    if (const std::uint64_t mask = hidden(before); mask != 0) {
+      if (carried::carried_unsettled(before, mask, sub.materials)) return false;
+      before = carried::hide(before, mask, sub.materials);
+    }
     bool at_rest = false;
     const BlockKey key = motion::rest_key(before, offset.z, sub.materials, at_rest);
     if (!at_rest || !is_inert(inert, key)) return false;

@@ -17,10 +17,17 @@
 /// Otherwise the sub-steps' windows split a falling column into trains of neighbouring levels whose
 /// gaps never close (a 32- to 64-cell block kept 0.63 to 0.68 of its packing; docs/accuracy/
 /// columns-default.md).
+/// An airborne train with a tick's travel at its next level of void under it is *carried*
+/// (carried_cells.hpp): its grains are hidden from the block step, the cells it will fall through are
+/// swept, and at the next tick's end it falls through its sweep in one move and gains a level, as
+/// long as the void under it allows the next tick's travel; when it does not, the train lands: its
+/// grains take its level again and the block step moves them. So a body in free fall costs one walk
+/// of its columns a tick instead of a block step of each of its bricks in every sub-step.
 
 #include <cstdint>
 
 #include "granular/motion.hpp"
+#include "step/carried_cells.hpp"
 #include "step/step_materials.hpp"
 
 namespace granular::trains {
@@ -28,79 +35,217 @@ namespace granular::trains {
 /// The lowest motion level of a train's grains: they are moving.
 inline constexpr int kMemberLevel = 1;
 
-/// The cells [lo, hi] of a column that a close_column call changed (lo > hi: none).
-struct ChangedSpan {
-  int lo = 1, hi = 0;
-  /// True when the call changed a cell.
-  constexpr bool any() const { return lo <= hi; }
-};
-
-/// One column's walk, bottom up: the train it is in and what it changed. A train starts at a granular
-/// grain at motion level L >= kMemberLevel; it is airborne when L >= kFallingLevel and at least
-/// motion_window(L) void cells lie right under that grain (down to the grid's floor at most). The
-/// next grain above joins it when it is granular and moving, only void lies between them, that gap is
-/// at most motion_window of the faster of the two levels (the distance it falls in a tick), and its
-/// level is L or the train is airborne; anything else ends the train, and a grain that does not join
-/// starts the next. A joining grain takes level L (its phase bit kept) and moves down to the cell
-/// above the train's top; that cell's void moves up to where the grain was, its wake bit cleared (it
-/// no longer lies under the grain that left it). `column` gives `std::uint8_t get(int z)` and `void
-/// set(int z, std::uint8_t byte)`. Only grains and voids move, whose side bytes (momentum.hpp) are 0,
-/// so a side plane needs no change. The walk must start at the column's floor (z = 0), so that the
-/// void under a train is counted alike on every backend and stepping mode.
+/// One column's walk, bottom up. A train starts at a granular grain at motion level L >= kMemberLevel;
+/// it is airborne when L >= kFallingLevel and at least motion_window(L) plain void cells lie right
+/// under that grain (down to the grid's floor at most). The next grain above joins it when it is
+/// granular and moving, only void lies between them, that gap is at most motion_window of the faster
+/// of the two levels (the distance it falls in a tick), and its level is L or the train is airborne;
+/// anything else ends the train, and a grain that does not join starts the next. A joining grain
+/// takes level L (its phase bit kept) and moves down to the cell above the train's top; that cell's
+/// void moves up to where the grain was, its level and wake bits cleared. A granular grain at rest
+/// over an airborne train joins it too when the void between them is at most the train's travel in
+/// the next tick, motion_window(min(L + 1, max_level)): it falls with it, as the block step's faller
+/// over a wake follows it.
+///
+/// Carried trains (carried_cells.hpp): an airborne train with at least motion_window(N) plain voids
+/// under it, N = min(L + 1, max_level), is carried: its grains (and those that join it) are carried
+/// grains, and the N-window cells under it are swept. A carried grain over a sweep is the lowest of a
+/// carried train: it falls through the sweep (at the level its length gives, sweep_level), its
+/// grains follow, and the train sweeps the next tick's travel under it again or, without room for
+/// it, lands (its grains at the train's level, still airborne, the block step moves them on); but
+/// when the void between its sweep and an airborne train under it is less than that travel, it has
+/// caught that train, and its grains join it instead (a faster body catching a slower one). A sweep
+/// with no carried grain right above it, and a carried grain with neither a sweep nor a carried
+/// train under it, are what a tool or a file left: the sweep's cells become plain voids, the grain a
+/// grain at kFallingLevel.
+///
+/// `column` gives `std::uint8_t get(int z)`, `void set(int z, std::uint8_t byte)` and `void
+/// changed(int z, bool seen)`, called once for each cell whose byte the walk changed, once no later
+/// visit can write it; `seen` is false when the cell held a carried grain before the walk and holds
+/// one after it (inside a carried train, whose grains pass through void on their way down: the
+/// block step reads both as the same static material, and neither is the lowest of its train, so no
+/// block's step or quiet test changes, and the bricks need not wake). Only grains and voids change,
+/// whose side bytes (momentum.hpp) are 0, so a side plane needs no change. The walk must start at the
+/// column's floor (z = 0), so that the void under a train is counted alike on every backend and
+/// stepping mode.
 struct TrainWalk {
   int top = -1;           ///< where the train's highest grain now is (-1: no train)
   int last = -1;          ///< where that grain was before it moved
   int level = 0;          ///< the train's level
   bool airborne = false;  ///< the train is airborne: grains of any moving level join it
-  int voids = 0;          ///< void cells right under the next cell visited, as the walk left them
-  ChangedSpan changed;    ///< the cells the walk changed so far
+  bool carried = false;   ///< the train is carried: its grains are carried grains
+  int voids = 0;          ///< plain void cells right under the next cell visited (or under its sweep)
+  int swept = 0;          ///< swept cells right under the next cell visited
+  int at = 0;             ///< the cell being visited
 
-  /// Visits cell z of `column`; a walk visits z = 0, 1, ... in order.
+  /// Cells below the one visited whose change may still be undone: a cell's byte before the walk
+  /// (slot z % kPending) and whether the walk wrote it (bit z % kPending). A cell kPending below the
+  /// visited one is reported (a valid train moves a grain at most two tick's travels down; a write
+  /// farther down, which only a tool or a file can cause, is reported as seen at once).
+  static constexpr int kPending = 64;
+  std::uint8_t before[kPending] = {};
+  std::uint64_t written = 0;
+
+  /// Ends the walk of a column whose cells end below z_end: a sweep at its top is released.
   template <class Column>
-  constexpr void visit(Column& column, int z, const StepMaterials& m) {
-    const std::uint8_t cell = column.get(z);
+  constexpr void finish(Column& column, int z_end, const StepMaterials& m) {
+    at = z_end;
+    release_sweep(column, z_end, m);
+    for (int k = z_end - kPending > 0 ? z_end - kPending : 0; k < z_end; ++k) report(column, k, m);
+  }
+
+  /// Visits cell z of `column`, in a rule set whose highest motion level is `max_level`; a walk visits
+  /// z = 0, 1, ... in order.
+  template <class Column>
+  constexpr void visit(Column& column, int z, const StepMaterials& m, int max_level) {
+    if (z >= kPending) report(column, z - kPending, m);
+    std::uint8_t cell = column.get(z);
+    at = z;
+    before[z % kPending] = cell;
+    written &= ~(std::uint64_t(1) << (z % kPending));
     const std::uint32_t material = cell & kMaterialMask;
+    if (carried::is_swept(m, cell)) {
+      ++swept;
+      return;
+    }
+    const bool carried_cell = carried::is_carried(m, cell);
+    // A carried grain over its sweep falls through it, unless it then catches the airborne train under
+    // it, whose grains it joins.
+    bool caught = false;
+    if (carried_cell && swept > 0) {
+      const int sweep_level = carried::sweep_level(swept) < max_level ? carried::sweep_level(swept) : max_level;
+      caught = top >= 0 && airborne && voids < motion_window(sweep_level < max_level ? sweep_level + 1 : max_level);
+      if (!caught) {
+        fall_through_sweep(column, z, m, max_level);
+        return;
+      }
+    }
+    release_sweep(column, z, m);
     if (m.is_void(material)) {
       ++voids;
       return;
     }
     const int under = voids;
     voids = 0;
-    const int cell_level = cell_motion(cell);
-    if (!m.is_granular(material) || cell_level < kMemberLevel) {
-      top = -1;
-      return;
+    const bool granular = m.is_granular(material);
+    const int space = z - last - 1;  // void between it and the train's highest grain, as they were
+    const int next = level < max_level ? level + 1 : max_level;
+    // What joins the train under it: a carried grain, when that train is airborne (carried, or landed
+    // in this walk) and it lies within one tick's travel of it or caught it; a grain at rest, when that
+    // train is airborne and it lies within the train's travel in the next tick (it falls with it, as
+    // the block step's faller over a wake follows it); a moving grain, within one tick's travel at the
+    // faster of the two levels, when it moves at the train's level or the train is airborne.
+    bool joins = false;
+    if (top >= 0 && granular) {
+      const int own = cell_motion(cell);
+      if (carried_cell)
+        joins = airborne && (caught || space <= motion_window(level));
+      else if (own == 0)
+        joins = airborne && space <= motion_window(next);
+      else
+        joins = (own == level || airborne) && space <= motion_window(level > own ? level : own);
     }
-    const int reach = motion_window(level > cell_level ? level : cell_level);
-    if (top < 0 || (cell_level != level && !airborne) || z - last - 1 > reach) {
+    if (!joins) {
+      if (carried_cell) {
+        cell = carried::at_level(cell, kFallingLevel);  // a carried grain with no train under it
+        write(column, z, cell, m);
+      }
+      const int own = cell_motion(cell);
+      if (!granular || own < kMemberLevel) {
+        top = -1;
+        return;
+      }
+      // The first grain of a train.
       top = last = z;
-      level = cell_level;
+      level = own;
       airborne = level >= kFallingLevel && under >= motion_window(level);
+      const int next_level = level < max_level ? level + 1 : max_level;
+      carried = airborne && under >= motion_window(next_level);
+      if (carried) {
+        write(column, z, carried::carried_grain(cell), m);
+        sweep(column, z, next_level, m);
+      }
       return;
     }
     const int to = top + 1;
-    const std::uint8_t joined =
-        std::uint8_t((cell & ~(kMotionLevelMask << kMotionShift)) | (std::uint32_t(level) << kMotionShift));
-    if (to != z || joined != cell) {
+    const std::uint8_t joined = carried ? carried::carried_grain(cell) : carried::at_level(cell, level);
+    if (to != z) {
       const std::uint8_t gap = column.get(to);
-      column.set(to, joined);
-      if (to != z) column.set(z, std::uint8_t(gap & kMaterialMask));
-      if (!changed.any()) changed.lo = to;
-      changed.hi = z;
+      write(column, to, joined, m);
+      write(column, z, std::uint8_t(gap & kMaterialMask), m);
+    } else {
+      write(column, z, joined, m);
     }
     voids = z - to;  // the cells over the grain's new place, up to its old one, are void now
     top = to;
     last = z;
   }
+
+ private:
+  /// Writes `byte` to cell z (at most the cell visited); its change is reported later (report).
+  template <class Column>
+  constexpr void write(Column& column, int z, std::uint8_t byte, const StepMaterials&) {
+    if (column.get(z) == byte) return;
+    column.set(z, byte);
+    if (z > at - kPending)
+      written |= std::uint64_t(1) << (z % kPending);
+    else
+      column.changed(z, true);
+  }
+
+  /// Reports cell z's change, if the walk changed it.
+  template <class Column>
+  constexpr void report(Column& column, int z, const StepMaterials& m) {
+    if (((written >> (z % kPending)) & 1u) == 0) return;
+    written &= ~(std::uint64_t(1) << (z % kPending));
+    const std::uint8_t old = before[z % kPending], now = column.get(z);
+    if (old != now) column.changed(z, !carried::is_carried(m, old) || !carried::is_carried(m, now));
+  }
+
+  /// Sweeps the motion_window(level) cells under cell z (plain voids): a train falling at `level`.
+  template <class Column>
+  constexpr void sweep(Column& column, int z, int level, const StepMaterials& m) {
+    for (int k = z - motion_window(level); k < z; ++k) write(column, k, carried::swept_void(column.get(k)), m);
+  }
+
+  /// The cells of a sweep under cell z with no carried grain over it become plain voids.
+  template <class Column>
+  constexpr void release_sweep(Column& column, int z, const StepMaterials& m) {
+    for (int k = z - swept; k < z; ++k) write(column, k, std::uint8_t(column.get(k) & kMaterialMask), m);
+    voids += swept;
+    swept = 0;
+  }
+
+  /// The carried grain at z, the lowest of its train, falls through the sweep under it and starts the
+  /// walk's train there: carried on if the plain voids under the sweep allow the next tick's travel,
+  /// else landed.
+  template <class Column>
+  constexpr void fall_through_sweep(Column& column, int z, const StepMaterials& m, int max_level) {
+    const int to = z - swept;
+    level = carried::sweep_level(swept) < max_level ? carried::sweep_level(swept) : max_level;
+    const int next = level < max_level ? level + 1 : max_level;
+    carried = voids >= motion_window(next);
+    const std::uint8_t cell = column.get(z), gap = column.get(to);
+    write(column, to, carried ? cell : carried::at_level(cell, level), m);
+    for (int k = to + 1; k < z; ++k) write(column, k, std::uint8_t(column.get(k) & kMaterialMask), m);
+    write(column, z, std::uint8_t(gap & kMaterialMask), m);
+    if (carried) sweep(column, to, next, m);
+    airborne = true;
+    top = to;
+    last = z;
+    voids = z - to;
+    swept = 0;
+  }
 };
 
 /// Closes the trains of one column, cells z_begin .. z_end - 1 (TrainWalk: z_begin is the column's
-/// floor, 0, for the void under a train to count alike everywhere), and returns what changed.
+/// floor, 0, for the void under a train to count alike everywhere), in a rule set whose highest motion
+/// level is `max_level`.
 template <class Column>
-constexpr ChangedSpan close_column(Column& column, int z_begin, int z_end, const StepMaterials& m) {
+constexpr void close_column(Column& column, int z_begin, int z_end, const StepMaterials& m, int max_level) {
   TrainWalk walk;
-  for (int z = z_begin; z < z_end; ++z) walk.visit(column, z, m);
-  return walk.changed;
+  for (int z = z_begin; z < z_end; ++z) walk.visit(column, z, m, max_level);
+  walk.finish(column, z_end, m);
 }
 
 }  // namespace granular::trains

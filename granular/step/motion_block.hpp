@@ -69,10 +69,12 @@ namespace granular::motion {
 inline constexpr int kStuckCost = 64;
 
 /// True when `under`, the cell under a top cell in its block before the move, is a granular grain
-/// falling at kFallingLevel or faster: under MotionParams::columns the grain over it that rolls
-/// or topples is slipping past it inside a falling body, and keeps its level (no flow level).
+/// falling at kFallingLevel or faster, or a carried grain (a static material at a motion level:
+/// carried::falling_static): under MotionParams::columns the grain over it that rolls or topples is
+/// slipping past it inside a falling body, and keeps its level (no flow level).
 constexpr bool in_falling_body(const StepMaterials& mats, std::uint32_t under) {
-  return mats.is_granular(under & kMaterialMask) && int((under >> kMotionShift) & kMotionLevelMask) >= kFallingLevel;
+  return (mats.is_granular(under & kMaterialMask) || mats.code(under & kMaterialMask) == kCodeObstacle) &&
+         int((under >> kMotionShift) & kMotionLevelMask) >= kFallingLevel;
 }
 
 /// The motion model's block rule on a key of table codes (3 bits per cell, block.hpp order):

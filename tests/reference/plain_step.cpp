@@ -203,6 +203,17 @@ BlockCells one_step_block(const PlainRules& r, const BlockCells& cells, const Bl
   return one_step_fluid(r, flowed, s);
 }
 
+/// Trains: a granular grain whose level bits are all set is carried (moved by the trains pass, a
+/// solid to the block step).
+bool plain_carried(const PlainRules& r, std::uint8_t cell) {
+  return behaviour_of(r, cell) == Behaviour::Granular && cell_motion(cell) == kMotionLevelMask;
+}
+
+/// Trains: a void whose level bits are all set is swept (a carried train falls through it in the tick).
+bool plain_swept(const PlainRules& r, std::uint8_t cell) {
+  return behaviour_of(r, cell) == Behaviour::Void && cell_motion(cell) == kMotionLevelMask;
+}
+
 /// A top-layer cell i has only void beside it in the top layer (a gas is void to the first pass).
 bool alone_in_top_layer(const PlainRules& r, const BlockCells& cells, int i) {
   for (int j = 4; j < 8; ++j)
@@ -215,7 +226,8 @@ bool alone_in_top_layer(const PlainRules& r, const BlockCells& cells, int i) {
 /// (heads_of_block), else it is null; under momentum `side` holds the cells' side bytes, which the
 /// sub-step moves and updates with them, else it is null.
 BlockCells motion_block(const PlainRules& r, BlockCells cells, const BlockAt& b,
-                        const std::array<std::int32_t, 8>* heads, BlockCells* side = nullptr) {
+                        const std::array<std::int32_t, 8>* heads, BlockCells* side = nullptr,
+                        const std::array<bool, 8>& carried = {}) {
   const int s = b.substep;
   // Columns: a wake (a void with the wake bit) under a faller makes it a follower at the wake's level
   // if that is higher; every wake is cleared.
@@ -340,8 +352,8 @@ BlockCells motion_block(const PlainRules& r, BlockCells cells, const BlockAt& b,
       // under columns the grain under it in the block is granular and falls at level 2 or faster: then
       // it slips past it inside a falling body.
       const bool rolled_or_toppled = to != i && !fell_straight(i);
-      const bool in_falling_body = r.columns && behaviour_of(r, cells[i - 4]) == Behaviour::Granular &&
-                                   cell_motion(cells[i - 4]) >= kPlainFallingBodyLevel;
+      const bool in_falling_body = r.columns && (carried[i - 4] || (behaviour_of(r, cells[i - 4]) == Behaviour::Granular &&
+                                                                    cell_motion(cells[i - 4]) >= kPlainFallingBodyLevel));
       if (rolled_or_toppled && !in_falling_body && mat.flow_level > 0 && level > mat.flow_level) level = mat.flow_level;
       // Under pressure a liquid that rolled or toppled joins its body at rest; one that fell straight
       // down from a coarse cell inside a body into one outside any leaves at least at the speed the
@@ -471,7 +483,22 @@ void plain_layer(std::span<std::uint8_t> grid, Int3 n, const PlainRules& r, Bloc
       }
       std::array<std::int32_t, 8> block_heads{};
       if (heads != nullptr) block_heads = heads_of_block(*heads, n, g, at);
-      scatter(grid, g, motion_block(r, g.cells, at, heads != nullptr ? &block_heads : nullptr, side.empty() ? nullptr : &g.side));
+      // Trains: carried grains and swept voids are stepped as a solid cell and keep their bytes; a
+      // grain slipping over a carried grain slips past a falling body.
+      const BlockCells kept = g.cells;
+      bool hidden[8] = {};
+      std::array<bool, 8> carried{};
+      for (int i = 0; i < 8; ++i)
+        if (r.trains && (plain_carried(r, kept[i]) || plain_swept(r, kept[i]))) {
+          hidden[i] = true;
+          carried[std::size_t(i)] = plain_carried(r, kept[i]);
+          g.cells[i] = kOutsideCell;
+        }
+      BlockCells out = motion_block(r, g.cells, at, heads != nullptr ? &block_heads : nullptr, side.empty() ? nullptr : &g.side,
+                                    carried);
+      for (int i = 0; i < 8; ++i)
+        if (hidden[i]) out[i] = kept[i];
+      scatter(grid, g, out);
       if (!side.empty()) scatter(side, g, g.side);
     }
   }
@@ -810,53 +837,126 @@ PlainRules plain_rules(const RuleSet& rules, const Lut& lut, std::uint64_t seed)
   return plain;
 }
 
-/// Trains, after a tick: in every column, bottom up, the granular grains moving at one level L, each
-/// with only void below it down to the one before and at most motion_window(L) cells of it, are packed
-/// down onto the lowest of them, in order; the voids that were between them go above them. A train
-/// whose lowest grain is at level 2 or more with at least motion_window(L) voids right under it (down
-/// to the floor at most) is airborne: moving grains of any level join it, each at most
-/// motion_window of the faster of the two levels above the one before, and take level L.
+/// Trains, after a tick, in every column bottom up. A train starts at a granular grain moving at a
+/// level L; it is airborne when L >= 2 with at least motion_window(L) voids right under it. The next
+/// moving granular grain above, with only void between, joins it when that gap is at most
+/// motion_window of the faster of the two levels and it moves at L or the train is airborne: it
+/// takes level L and swaps places with the cell right above the train's top, which becomes a plain
+/// void. Carried trains: an airborne train with motion_window(min(L + 1, highest)) voids right under
+/// it is carried (its grains' level bits all set and phase bit clear, and the level bits of that many
+/// voids under it set: its sweep).
+/// A carried grain right over a sweep falls through it with the grains of its train, at the level
+/// whose window is the sweep's length, and it is carried on (a new sweep under it) if the voids under
+/// the old sweep give the next tick's travel, else it lands (level L, still airborne). A sweep with
+/// anything but a carried grain on it becomes plain voids; a carried grain that no airborne train
+/// takes in becomes a grain at level 2. A grain at rest over an airborne train joins it when the void
+/// between them is at most motion_window(min(L + 1, highest)). A carried train whose sweep ends less
+/// than its next travel above an airborne train has caught it: its grains join that train.
 void plain_close_trains(std::span<std::uint8_t> cells, Int3 n, const PlainRules& r) {
-  auto granular_moving = [&](std::uint8_t c) {
-    return behaviour_of(r, c) == Behaviour::Granular && cell_motion(c) >= 1;
-  };
+  const int highest = std::min(r.substeps / 2, int(kMotionLevelMask));
+  auto granular = [&](std::uint8_t c) { return behaviour_of(r, c) == Behaviour::Granular; };
+  auto plain_void = [&](std::uint8_t c) { return behaviour_of(r, c) == Behaviour::Void && !plain_swept(r, c); };
+  auto with_level = [](std::uint8_t c, int level) { return std::uint8_t((c & ~kLevelBits) | (level << kMotionShift)); };
+  auto next_level = [&](int level) { return std::min(level + 1, highest); };
   for (int y = 0; y < n.y; ++y)
     for (int x = 0; x < n.x; ++x) {
       auto at = [&](int z) -> std::uint8_t& {
         return cells[std::size_t(x) + std::size_t(n.x) * (std::size_t(y) + std::size_t(n.y) * std::size_t(z))];
       };
-      int z = 0;
-      while (z < n.z) {
-        if (!granular_moving(at(z))) {
+      // Sweeps without a carried grain right above them are released first.
+      for (int z = 0; z < n.z;) {
+        if (!plain_swept(r, at(z))) {
           ++z;
           continue;
         }
-        // A train from z: its grains' old places, as long as each next one qualifies.
-        const int level = cell_motion(at(z));
-        int under = 0;
-        while (z - under - 1 >= 0 && behaviour_of(r, at(z - under - 1)) == Behaviour::Void) ++under;
-        const bool airborne = level >= kPlainFallingBodyLevel && under >= motion_window(level);
-        std::vector<int> grains{z};
-        while (true) {
-          int k = grains.back() + 1;
-          while (k < n.z && behaviour_of(r, at(k)) == Behaviour::Void) ++k;
-          if (k >= n.z || !granular_moving(at(k))) break;
-          const int next = cell_motion(at(k));
-          if ((next != level && !airborne) || k - grains.back() - 1 > motion_window(std::max(level, next))) break;
-          grains.push_back(k);
+        int k = z;
+        while (k < n.z && plain_swept(r, at(k))) ++k;
+        if (k == n.z || !plain_carried(r, at(k)))
+          for (int j = z; j < k; ++j) at(j) = std::uint8_t(at(j) & kMaterialMask);
+        z = k;
+      }
+      // The trains, bottom up: `top` is the highest grain of the current train (-1: none), `from`
+      // where it was before it moved, `under` the plain voids right under the next cell.
+      int top = -1, from = -1, level = 0, under = 0;
+      bool airborne = false, carried = false;
+      for (int z = 0; z < n.z; ++z) {
+        bool caught = false;
+        if (plain_swept(r, at(z))) {
+          // A carried train over its sweep [z, k): its lowest grain falls to z, unless the voids under
+          // the sweep are fewer than its next travel and an airborne train lies under them: then it
+          // has caught that train, the sweep is void again and its grains join that train.
+          int k = z;
+          while (plain_swept(r, at(k))) ++k;
+          const int sweep_level = std::min((k - z + 1) / 2, highest);
+          if (top >= 0 && airborne && under < motion_window(next_level(sweep_level))) {
+            for (int j = z; j < k; ++j) at(j) = std::uint8_t(at(j) & kMaterialMask);
+            under += k - z;
+            z = k;
+            caught = true;
+          } else {
+            level = sweep_level;
+            const int next = next_level(level);
+            carried = under >= motion_window(next);
+            const std::uint8_t grain = at(k), gap = at(z);
+            for (int j = z; j < k; ++j) at(j) = std::uint8_t(at(j) & kMaterialMask);
+            at(z) = carried ? grain : with_level(grain, level);
+            at(k) = std::uint8_t(gap & kMaterialMask);
+            if (carried)
+              for (int j = z - motion_window(next); j < z; ++j) at(j) = std::uint8_t((at(j) & kMaterialMask) | kLevelBits);
+            airborne = true;
+            top = z;
+            from = k;
+            under = k - z;
+            z = k;
+            continue;
+          }
         }
-        // Pack: in order, each grain after the first takes the train's level and trades places with
-        // the cell just above the grains packed so far (a void: everything between the train's grains
-        // is), and that void loses its wake bit.
-        for (std::size_t i = 1; i < grains.size(); ++i) {
-          const int to = z + int(i);
-          std::uint8_t& grain = at(grains[i]);
-          grain = std::uint8_t((grain & ~(kMotionLevelMask << kMotionShift)) | (level << kMotionShift));
-          if (to == grains[i]) continue;
-          std::swap(at(to), at(grains[i]));
-          at(grains[i]) = std::uint8_t(at(grains[i]) & kMaterialMask);
+        if (plain_void(at(z))) {
+          ++under;
+          continue;
         }
-        z = grains.back() + 1;
+        const int below = under;
+        under = 0;
+        const bool is_granular = granular(at(z));
+        const int space = z - from - 1;  // void between it and the train's highest grain, as they were
+        // Does it join the train under it?
+        bool joins = false;
+        if (top >= 0 && is_granular) {
+          const int own = cell_motion(at(z));
+          if (plain_carried(r, at(z)))
+            joins = airborne && (caught || space <= motion_window(level));  // it rides on that train
+          else if (own == 0)
+            joins = airborne && space <= motion_window(next_level(level));  // at rest, within its next travel
+          else
+            joins = (own == level || airborne) && space <= motion_window(std::max(level, own));
+        }
+        if (!joins) {
+          if (plain_carried(r, at(z))) at(z) = with_level(at(z), kPlainFallingBodyLevel);  // no train carries it
+          if (!is_granular || cell_motion(at(z)) < 1) {
+            top = -1;
+            continue;
+          }
+          // The first grain of a train.
+          top = from = z;
+          level = cell_motion(at(z));
+          airborne = level >= kPlainFallingBodyLevel && below >= motion_window(level);
+          carried = airborne && below >= motion_window(next_level(level));
+          if (carried) {
+            at(z) = std::uint8_t((at(z) & kMaterialMask) | kLevelBits);  // carried: no phase
+            for (int j = z - motion_window(next_level(level)); j < z; ++j)
+              at(j) = std::uint8_t((at(j) & kMaterialMask) | kLevelBits);
+          }
+          continue;
+        }
+        // It joins: it trades places with the cell right above the train's top.
+        const int to = top + 1;
+        const std::uint8_t joined = carried ? std::uint8_t((at(z) & kMaterialMask) | kLevelBits) : with_level(at(z), level);
+        const std::uint8_t gap = at(to);
+        at(z) = std::uint8_t(gap & kMaterialMask);
+        at(to) = joined;
+        under = z - to;
+        top = to;
+        from = z;
       }
     }
 }

@@ -3,7 +3,10 @@
 /// The motion model: inertia and rolling for grains, carried in each cell's high bits.
 ///
 /// A cell is one byte: bits 0..2 hold its material; for a grain, bits 3..6 hold its motion level and
-/// bit 7 its phase (0 for every other material, but for a void that is a wake: kWakeBit). The level
+/// bit 7 its phase (0 for every other material, but for a void that is a wake: kWakeBit). Under
+/// MotionParams::trains a granular grain whose level bits hold kCarriedLevel is *carried* (a body in
+/// free fall that the trains pass moves), and a void with level bits but no wake bit is *swept* (the
+/// cells that body falls through in the tick). The level
 /// is a fall speed: a grain at level v may move in a window of motion_window(v) of the tick's
 /// Margolus sub-steps, so it falls up to that many cells per tick; the phase says whether that window
 /// starts at sub-step 0 or 1 (the grain's layer in its block at sub-step 0, noted then).
@@ -46,7 +49,11 @@ struct MotionParams {
   /// grains of every level, at its own): every grain steps down onto the one below it and the voids
   /// go to the train's top (granular/step/column_trains.hpp). So a released block falls as a block,
   /// past the packing of 1 / (1 + v) that one-cell moves allow a column falling v cells a sub-step.
-  /// A DistributedWorld refuses it (a train may cross a slab).
+  /// An airborne train with a tick's travel of void under it is *carried*: the pass moves it that far
+  /// each tick as one body and the block step reads it as a static material (granular/step/
+  /// carried_cells.hpp), so a body in free fall costs a walk of its columns a tick, its inside sleeps,
+  /// and it lands where the void under it ends. Needs substeps <= 24 (a carried grain's level bits
+  /// hold kCarriedLevel). A DistributedWorld refuses it (a train may cross a slab).
   bool trains = false;
   /// Liquids feel the head of their body (a motion model's lever): each tick the backend computes a
   /// hydraulic head per coarse cell of 2 x 2 x 2 cells, the highest free surface of the liquid body
@@ -112,6 +119,10 @@ inline constexpr int kFallingLevel = 2;
 /// The bit that, on a void cell (material 0), marks a wake (MotionParams::columns): the void a grain
 /// falling straight down left in the last sub-step, with that grain's level in the motion level bits.
 inline constexpr std::uint8_t kWakeBit = 0x80;
+
+/// The level bits of a carried grain (MotionParams::trains; granular/step/carried_cells.hpp): above
+/// every motion level of a rule set with trains (MotionParams::max_level() < kCarriedLevel).
+inline constexpr int kCarriedLevel = kMotionLevelMask;
 
 /// True when `cell` is a wake (MotionParams::columns).
 constexpr bool is_wake(std::uint8_t cell) { return (cell & kMaterialMask) == 0 && (cell & kWakeBit) != 0; }

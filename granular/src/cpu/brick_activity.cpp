@@ -78,6 +78,10 @@ void BrickActivity::wake(std::span<const std::uint32_t> bricks) {
   rebuild_active();
 }
 
+void BrickActivity::mark_changed(std::span<const std::uint32_t> bricks) {
+  for (const std::uint32_t b : bricks) changed_[b] = 1;
+}
+
 void BrickActivity::take_changed(std::span<std::uint8_t> flags) {
   for (std::size_t i = 0; i < changed_.size(); ++i) flags[i] |= changed_[i];
   std::fill(changed_.begin(), changed_.end(), 0);

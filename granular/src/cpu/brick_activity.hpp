@@ -44,6 +44,9 @@ class BrickActivity {
   /// they and their neighbours are awake from the next tick on, and they count as changed in the
   /// next pass.
   void wake(std::span<const std::uint32_t> bricks);
+  /// Cells of `bricks` changed in a way that needs no wake (inside a carried train): they count as
+  /// changed for take_changed.
+  void mark_changed(std::span<const std::uint32_t> bricks);
   /// Sets flags[i] = 1 for every brick whose cells changed since the last call; clears the record.
   void take_changed(std::span<std::uint8_t> flags);
   /// The last pass started (next_pass); 0 before the first and right after the count wraps.

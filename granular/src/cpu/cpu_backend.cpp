@@ -122,11 +122,14 @@ void CpuBackend::step(std::uint64_t first_tick, int ticks) {
 
 void CpuBackend::close_tick_trains() {
   // After the tick's last sub-step, which ended a sparse cycle: the awake bricks are those of the next
-  // cycle, and every brick holding a moving grain is among them. The bricks a train changed wake as
-  // a tool's write wakes them.
-  const std::vector<std::uint32_t> changed =
-      close_trains(grid_.cells().data(), grid_.size(), step_rules_.materials, sparse_ ? &activity_.active() : nullptr, pool_);
-  if (sparse_ && !changed.empty()) activity_.wake(changed);
+  // cycle, and every brick holding a moving grain or a carried train's sweep is among them. The
+  // bricks where the block step sees a change wake as a tool's write wakes them; every brick a train
+  // changed (inside a carried train too) counts as changed for the host.
+  const TrainChanges changes = close_trains(grid_.cells().data(), grid_.size(), step_rules_.materials,
+                                            step_rules_.motion.max_level(), sparse_ ? &activity_.active() : nullptr, pool_);
+  if (!sparse_) return;
+  activity_.wake(changes.seen);
+  activity_.mark_changed(changes.changed);
 }
 
 void CpuBackend::run_shallow_pass() {

@@ -136,6 +136,10 @@ void validate_rule_set(const RuleSet& rules) {
   if (rules.motion.trains && !rules.motion.columns)
     throw RuleError(who + "RuleSet::motion.trains = true with motion.columns = false; trains are a lever of columns "
                           "(a train is what falling as columns leaves of a body): set columns to true, or trains to false");
+  if (rules.motion.trains && rules.motion.max_level() >= kCarriedLevel)
+    throw RuleError(who + "RuleSet::motion.trains = true with motion.substeps = " + std::to_string(rules.motion.substeps) +
+                    "; a carried train's grains are marked by motion level " + std::to_string(kCarriedLevel) +
+                    ", which those sub-steps give a moving grain: set substeps to 24 or fewer, or trains to false");
 }
 
 std::uint64_t rule_fingerprint(const RuleSet& rules) {

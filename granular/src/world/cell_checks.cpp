@@ -4,6 +4,7 @@
 #include "granular/material.hpp"
 #include "granular/motion.hpp"
 #include "granular/rule_set.hpp"
+#include "step/carried_cells.hpp"
 #include "step/shallow_water.hpp"
 #include "step/step_materials.hpp"
 
@@ -29,6 +30,10 @@ std::array<std::string, 256> cell_byte_problems(const RuleSet& rules) {
     const std::uint8_t m = cell_material(std::uint8_t(b));
     if ((b >> kMotionShift) == 0) continue;
     if (rules.motion.columns && is_wake(std::uint8_t(b)) && cell_motion(std::uint8_t(b)) <= rules.motion.max_level())
+      continue;
+    // Under trains: a carried grain, and a swept void (carried_cells.hpp).
+    if (rules.motion.trains && (carried::is_carried(mats, std::uint8_t(b)) ||
+                                (carried::is_swept(mats, std::uint8_t(b)) && (b & kWakeBit) == 0)))
       continue;
     if (!rules.motion.enabled())
       problems[b] = "a motion state, but rules '" + rules.name + "' have no motion model";
