@@ -78,8 +78,8 @@ struct TrainWalk {
   int swept = 0;          ///< swept cells right under the next cell visited
   int at = 0;             ///< the cell being visited
 
-  /// Cells below the one visited whose change may still be undone: a cell's byte before the walk
-  /// (slot z % kPending) and whether the walk wrote it (bit z % kPending). A cell kPending below the
+  /// Cells below the one visited whose change may still be undone: whether the walk wrote cell z (bit
+  /// z % kPending) and then its byte before the walk (slot z % kPending). A cell kPending below the
   /// visited one is reported (a valid train moves a grain at most two tick's travels down; a write
   /// farther down, which only a tool or a file can cause, is reported as seen at once).
   static constexpr int kPending = 64;
@@ -98,12 +98,14 @@ struct TrainWalk {
   /// z = 0, 1, ... in order.
   template <class Column>
   constexpr void visit(Column& column, int z, const StepMaterials& m, int max_level) {
-    if (z >= kPending) report(column, z - kPending, m);
-    std::uint8_t cell = column.get(z);
+    if (z >= kPending && written != 0) report(column, z - kPending, m);
     at = z;
-    before[z % kPending] = cell;
-    written &= ~(std::uint64_t(1) << (z % kPending));
+    std::uint8_t cell = column.get(z);
     const std::uint32_t material = cell & kMaterialMask;
+    if (swept == 0 && m.is_void(material) && !carried::is_hidden(cell)) {  // the commonest cell: air
+      ++voids;
+      return;
+    }
     if (carried::is_swept(m, cell)) {
       ++swept;
       return;
@@ -182,15 +184,20 @@ struct TrainWalk {
   }
 
  private:
-  /// Writes `byte` to cell z (at most the cell visited); its change is reported later (report).
+  /// Writes `byte` to cell z (at most the cell visited); its change is reported later (report), from
+  /// its byte before the walk, kept at its first write.
   template <class Column>
   constexpr void write(Column& column, int z, std::uint8_t byte, const StepMaterials&) {
-    if (column.get(z) == byte) return;
+    const std::uint8_t old = column.get(z);
+    if (old == byte) return;
     column.set(z, byte);
-    if (z > at - kPending)
-      written |= std::uint64_t(1) << (z % kPending);
-    else
+    const std::uint64_t bit = std::uint64_t(1) << (z % kPending);
+    if (z <= at - kPending) {
       column.changed(z, true);
+    } else if ((written & bit) == 0) {
+      before[z % kPending] = old;
+      written |= bit;
+    }
   }
 
   /// Reports cell z's change, if the walk changed it.
