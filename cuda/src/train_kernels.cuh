@@ -66,8 +66,9 @@ static __global__ void close_trains_kernel(std::uint8_t* cells, Int3 size, StepM
 
 /// Enqueues the closing of the trains of the grid `cells` of `size`, in a rule set whose highest motion
 /// level is `max_level`; with `sparse` (not null) only the columns of awake brick columns, and the
-/// bricks where the block step sees a change wake as a tool's write wakes them (dirty, their neighbourhoods awake, the awake list rebuilt), `flags` being one zeroed byte
-/// per brick that the wake leaves zeroed.
+/// bricks where the block step sees a change wake as a tool's write wakes them (dirty, their
+/// neighbourhoods awake, the awake list rebuilt), `flags` being one zeroed byte per brick that the
+/// wake leaves zeroed.
 static inline void launch_close_trains(std::uint8_t* cells, Int3 size, const StepMaterials& m, int max_level,
                                        const SparseParams* sparse, std::uint8_t* flags, cudaStream_t stream) {
   const std::uint64_t columns = std::uint64_t(size.x) * std::uint64_t(size.y);
