@@ -2,9 +2,11 @@
 /// The motion model's columns lever and its trains (MotionParams::columns and ::trains, preset
 /// inertial-24-columns): a released block falls in free-fall time and stays a block, past the packing
 /// one-cell moves allow, its grains against a wall keeping up with the rest and none slowed to the
-/// flow level by slipping past another, wakes never outlive their sub-step, a settled world under the levers sleeps,
-/// and worlds, snapshots and rule sets hold or refuse wake bytes as the lever says. (The plain loop and the golden pins cover the lever cell for cell: test_plain_step.cpp,
-/// test_golden.cpp.)
+/// flow level by slipping past another; a body in free fall is carried, falling g t^2 / 2 a tick with
+/// its inside asleep, and tools, snapshots and landing lose nothing of it; wakes never outlive their
+/// sub-step, a settled world under the levers sleeps, and worlds, snapshots and rule sets hold or
+/// refuse wake bytes as the lever says. (The plain loop and the golden pins cover the lever cell for
+/// cell: test_plain_step.cpp, test_golden.cpp.)
 
 #include <doctest/doctest.h>
 
