@@ -37,20 +37,13 @@ constexpr bool is_carried(const StepMaterials& m, std::uint8_t cell) {
 /// True when `cell` is a swept void.
 constexpr bool is_swept(const StepMaterials& m, std::uint8_t cell) { return is_hidden(cell) && m.is_void(cell & kMaterialMask); }
 
-/// `cell`, a granular grain, carried: its level bits kCarriedLevel and its phase bit clear (a carried
-/// grain takes part in no sub-step, and sub-step 0 notes a grain's phase anew once it lands), so a
-/// train of one material moved down is the same bytes but at its ends.
-constexpr std::uint8_t carried_grain(std::uint8_t cell) {
+/// `cell` hidden: its material with kCarriedLevel in its level bits and no phase bit; a granular
+/// grain carried, a void swept. A carried grain takes part in no sub-step and sub-step 0 notes a
+/// grain's phase anew once it lands, so its phase is dropped, and a train of one material moved down
+/// is the same bytes but at its ends.
+constexpr std::uint8_t hidden_cell(std::uint8_t cell) {
   return std::uint8_t((cell & kMaterialMask) | (kCarriedLevel << kMotionShift));
 }
-
-/// `cell`, a granular grain, at motion level `level` (its phase bit kept).
-constexpr std::uint8_t at_level(std::uint8_t cell, int level) {
-  return std::uint8_t((cell & ~(kMotionLevelMask << kMotionShift)) | (std::uint32_t(level) << kMotionShift));
-}
-
-/// `cell`, a void, swept.
-constexpr std::uint8_t swept_void(std::uint8_t cell) { return std::uint8_t((cell & kMaterialMask) | (kCarriedLevel << kMotionShift)); }
 
 /// The level of a train whose sweep is `length` cells long: the level L with motion_window(L) =
 /// length (the longest such level when a tool shortened the sweep).

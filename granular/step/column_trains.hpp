@@ -35,6 +35,14 @@ namespace granular::trains {
 /// The lowest motion level of a train's grains: they are moving.
 inline constexpr int kMemberLevel = 1;
 
+/// The level a train at `level` falls at in the next tick (one more, at most `max_level`).
+constexpr int next_level(int level, int max_level) { return level < max_level ? level + 1 : max_level; }
+
+/// The level of a train whose sweep is `swept` cells long (carried::sweep_level), at most `max_level`.
+constexpr int sweep_level_of(int swept, int max_level) {
+  return carried::sweep_level(swept) < max_level ? carried::sweep_level(swept) : max_level;
+}
+
 /// One column's walk, bottom up. A train starts at a granular grain at motion level L >= kMemberLevel;
 /// it is airborne when L >= kFallingLevel and at least motion_window(L) plain void cells lie right
 /// under that grain (down to the grid's floor at most). The next grain above joins it when it is
@@ -90,7 +98,7 @@ struct TrainWalk {
   template <class Column>
   constexpr void finish(Column& column, int z_end, const StepMaterials& m) {
     at = z_end;
-    release_sweep(column, z_end, m);
+    release_sweep(column, z_end);
     for (int k = z_end - kPending > 0 ? z_end - kPending : 0; k < z_end; ++k) report(column, k, m);
   }
 
@@ -115,14 +123,13 @@ struct TrainWalk {
     // it, whose grains it joins.
     bool caught = false;
     if (carried_cell && swept > 0) {
-      const int sweep_level = carried::sweep_level(swept) < max_level ? carried::sweep_level(swept) : max_level;
-      caught = top >= 0 && airborne && voids < motion_window(sweep_level < max_level ? sweep_level + 1 : max_level);
+      caught = top >= 0 && airborne && voids < motion_window(next_level(sweep_level_of(swept, max_level), max_level));
       if (!caught) {
-        fall_through_sweep(column, z, m, max_level);
+        fall_through_sweep(column, z, max_level);
         return;
       }
     }
-    release_sweep(column, z, m);
+    release_sweep(column, z);
     if (m.is_void(material)) {
       ++voids;
       return;
@@ -131,7 +138,7 @@ struct TrainWalk {
     voids = 0;
     const bool granular = m.is_granular(material);
     const int space = z - last - 1;  // void between it and the train's highest grain, as they were
-    const int next = level < max_level ? level + 1 : max_level;
+    const int next = next_level(level, max_level);
     // What joins the train under it: a carried grain, when that train is airborne (carried, or landed
     // in this walk) and it lies within one tick's travel of it or caught it; a grain at rest, when that
     // train is airborne and it lies within the train's travel in the next tick (it falls with it, as
@@ -149,8 +156,8 @@ struct TrainWalk {
     }
     if (!joins) {
       if (carried_cell) {
-        cell = carried::at_level(cell, kFallingLevel);  // a carried grain with no train under it
-        write(column, z, cell, m);
+        cell = with_motion(cell, kFallingLevel);  // a carried grain with no train under it
+        write(column, z, cell);
       }
       const int own = cell_motion(cell);
       if (!granular || own < kMemberLevel) {
@@ -161,22 +168,22 @@ struct TrainWalk {
       top = last = z;
       level = own;
       airborne = level >= kFallingLevel && under >= motion_window(level);
-      const int next_level = level < max_level ? level + 1 : max_level;
-      carried = airborne && under >= motion_window(next_level);
+      const int next_travel_level = next_level(level, max_level);
+      carried = airborne && under >= motion_window(next_travel_level);
       if (carried) {
-        write(column, z, carried::carried_grain(cell), m);
-        sweep(column, z, next_level, m);
+        write(column, z, carried::hidden_cell(cell));
+        sweep(column, z, next_travel_level);
       }
       return;
     }
     const int to = top + 1;
-    const std::uint8_t joined = carried ? carried::carried_grain(cell) : carried::at_level(cell, level);
+    const std::uint8_t joined = carried ? carried::hidden_cell(cell) : with_motion(cell, level);
     if (to != z) {
       const std::uint8_t gap = column.get(to);
-      write(column, to, joined, m);
-      write(column, z, std::uint8_t(gap & kMaterialMask), m);
+      write(column, to, joined);
+      write(column, z, std::uint8_t(gap & kMaterialMask));
     } else {
-      write(column, z, joined, m);
+      write(column, z, joined);
     }
     voids = z - to;  // the cells over the grain's new place, up to its old one, are void now
     top = to;
@@ -187,7 +194,7 @@ struct TrainWalk {
   /// Writes `byte` to cell z (at most the cell visited); its change is reported later (report), from
   /// its byte before the walk, kept at its first write.
   template <class Column>
-  constexpr void write(Column& column, int z, std::uint8_t byte, const StepMaterials&) {
+  constexpr void write(Column& column, int z, std::uint8_t byte) {
     const std::uint8_t old = column.get(z);
     if (old == byte) return;
     column.set(z, byte);
@@ -211,14 +218,14 @@ struct TrainWalk {
 
   /// Sweeps the motion_window(level) cells under cell z (plain voids): a train falling at `level`.
   template <class Column>
-  constexpr void sweep(Column& column, int z, int level, const StepMaterials& m) {
-    for (int k = z - motion_window(level); k < z; ++k) write(column, k, carried::swept_void(column.get(k)), m);
+  constexpr void sweep(Column& column, int z, int level) {
+    for (int k = z - motion_window(level); k < z; ++k) write(column, k, carried::hidden_cell(column.get(k)));
   }
 
   /// The cells of a sweep under cell z with no carried grain over it become plain voids.
   template <class Column>
-  constexpr void release_sweep(Column& column, int z, const StepMaterials& m) {
-    for (int k = z - swept; k < z; ++k) write(column, k, std::uint8_t(column.get(k) & kMaterialMask), m);
+  constexpr void release_sweep(Column& column, int z) {
+    for (int k = z - swept; k < z; ++k) write(column, k, std::uint8_t(column.get(k) & kMaterialMask));
     voids += swept;
     swept = 0;
   }
@@ -227,16 +234,16 @@ struct TrainWalk {
   /// walk's train there: carried on if the plain voids under the sweep allow the next tick's travel,
   /// else landed.
   template <class Column>
-  constexpr void fall_through_sweep(Column& column, int z, const StepMaterials& m, int max_level) {
+  constexpr void fall_through_sweep(Column& column, int z, int max_level) {
     const int to = z - swept;
-    level = carried::sweep_level(swept) < max_level ? carried::sweep_level(swept) : max_level;
-    const int next = level < max_level ? level + 1 : max_level;
+    level = sweep_level_of(swept, max_level);
+    const int next = next_level(level, max_level);
     carried = voids >= motion_window(next);
     const std::uint8_t cell = column.get(z), gap = column.get(to);
-    write(column, to, carried ? cell : carried::at_level(cell, level), m);
-    for (int k = to + 1; k < z; ++k) write(column, k, std::uint8_t(column.get(k) & kMaterialMask), m);
-    write(column, z, std::uint8_t(gap & kMaterialMask), m);
-    if (carried) sweep(column, to, next, m);
+    write(column, to, carried ? cell : with_motion(cell, level));
+    for (int k = to + 1; k < z; ++k) write(column, k, std::uint8_t(column.get(k) & kMaterialMask));
+    write(column, z, std::uint8_t(gap & kMaterialMask));
+    if (carried) sweep(column, to, next);
     airborne = true;
     top = to;
     last = z;

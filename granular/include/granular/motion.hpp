@@ -5,8 +5,8 @@
 /// A cell is one byte: bits 0..2 hold its material; for a grain, bits 3..6 hold its motion level and
 /// bit 7 its phase (0 for every other material, but for a void that is a wake: kWakeBit). Under
 /// MotionParams::trains a granular grain whose level bits hold kCarriedLevel is *carried* (a body in
-/// free fall that the trains pass moves), and a void with level bits but no wake bit is *swept* (the
-/// cells that body falls through in the tick). The level
+/// free fall that the trains pass moves), and a void whose level bits hold it is *swept* (the cells
+/// that body falls through in the tick). The level
 /// is a fall speed: a grain at level v may move in a window of motion_window(v) of the tick's
 /// Margolus sub-steps, so it falls up to that many cells per tick; the phase says whether that window
 /// starts at sub-step 0 or 1 (the grain's layer in its block at sub-step 0, noted then).
@@ -137,5 +137,10 @@ constexpr std::uint8_t cell_material(std::uint8_t cell) { return cell & kMateria
 
 /// The motion level of a cell byte.
 constexpr int cell_motion(std::uint8_t cell) { return (cell >> kMotionShift) & kMotionLevelMask; }
+
+/// `cell` with motion level `level` (0 .. kMotionLevelMask), its material and phase bit kept.
+constexpr std::uint8_t with_motion(std::uint8_t cell, int level) {
+  return std::uint8_t((cell & ~(kMotionLevelMask << kMotionShift)) | (std::uint32_t(level) << kMotionShift));
+}
 
 }  // namespace granular

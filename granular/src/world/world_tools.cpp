@@ -77,7 +77,7 @@ ChangeReport World::shake(const Sphere& sphere, int level) {
     for (int x = first; x < last; ++x) {
       const std::uint8_t cell = edit.byte(row.cell(x));
       if (!mats.is_faller(cell_material(cell))) continue;
-      const auto shaken = std::uint8_t((cell & ~(kMotionLevelMask << kMotionShift)) | (level << kMotionShift));
+      const std::uint8_t shaken = with_motion(cell, level);
       if (shaken != cell) edit.set_motion(row.cell(x), row.flag(x), shaken);
     }
   }, edit.origin());
