@@ -25,7 +25,6 @@ namespace granular {
 namespace {
 
 using scene_detail::JsonFields;
-using scene_detail::number_text;
 
 /// Largest N a scene accepts (far beyond any grid that fits in memory).
 constexpr std::int64_t kMaxN = 1 << 24;

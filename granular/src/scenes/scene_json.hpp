@@ -4,7 +4,6 @@
 /// name the source, the field path ("shapes[2].radius") and the offending value.
 
 #include <array>
-#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <initializer_list>
@@ -17,6 +16,7 @@
 
 #include "granular/errors.hpp"
 #include "granular/material.hpp"
+#include "util/number_text.hpp"
 
 namespace granular::scene_detail {
 
@@ -27,13 +27,6 @@ inline constexpr double kMaxFraction = 1000.0;
 /// The valid material names, for messages.
 inline constexpr const char* kMaterialNames =
     "void, solid, granular (or sand), liquid (or water), gas, gravel, state6, state7";
-
-/// The shortest text that reads back as `v` ("0.1", "863", "1e+30"), for messages.
-inline std::string number_text(double v) {
-  char buffer[32];
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, v);
-  return std::string(buffer, result.ptr);
-}
 
 /// Longest excerpt of a file's content that a message quotes, in bytes.
 inline constexpr std::size_t kMaxExcerpt = 60;
