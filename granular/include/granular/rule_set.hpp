@@ -27,6 +27,16 @@ enum class Behaviour : std::uint8_t {
 /// The lower-case name of a behaviour ("void", "static", "granular", "liquid", "gas").
 const char* behaviour_name(Behaviour b) noexcept;
 
+/// How a material acts on the bodies in it (body.hpp; docs/design/bodies.md, "Forces"). No effect on
+/// the step, and not part of the rule set's fingerprint.
+struct BodyCoupling {
+  double bulk_density = 0;  ///< kg/m^3 of a cell of it (grains and the voids between them): the buoyancy
+                            ///< it gives a body submerged in it (0: none, as void and walls)
+  double drag = 0;          ///< drag coefficient of a body face moving against it (0 .. 100)
+  double push = 0;          ///< fraction of the momentum of the cells a body pushes out of its way that the
+                            ///< body loses (0 .. 1)
+};
+
 /// One row of the material table: one cell state.
 struct MaterialDef {
   std::string name;                         ///< lower-case name, unique in the table ("sand")
@@ -40,6 +50,7 @@ struct MaterialDef {
                     ///< lighter fluid beside it when it takes part in a step; gases the same under gas
                     ///< (0: never spreads; unused by the other behaviours)
   std::uint32_t colour = 0x808080;  ///< display colour 0xRRGGBB for viewers and tools (no effect on the step)
+  BodyCoupling body;                ///< what it does to bodies (no effect on the step)
 };
 
 /// The material table: row m describes cell state m.

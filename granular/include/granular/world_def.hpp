@@ -49,6 +49,11 @@ struct WorldDef {
   bool sparse = true;           ///< step only bricks where something may move (same result as dense;
                                 ///< false steps every block every tick, for comparison)
   CudaOptions cuda;             ///< settings only the CUDA backend reads (cuda_options.hpp)
+  double cell_metres = 0.005;   ///< the edge of a cell in metres: the scale of the forces bodies feel
+                                ///< (body.hpp) with ticks of tick_seconds(rules, cell_metres); > 0
+  Material body_material = Material::State7;  ///< the state a body's cells hold in the grid (body.hpp):
+                                              ///< a static material of the rule set, which no tool or rule
+                                              ///< uses for anything else
   Int3 domain_origin{};         ///< where this world's cell (0, 0, 0) lies when it is one part of a
                                 ///< larger world (a DistributedWorld's slab, distributed_world.hpp):
                                 ///< the rules' random draws and pour's choice of cells then are the

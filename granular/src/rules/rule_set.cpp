@@ -9,6 +9,7 @@
 #include "io/file_names.hpp"
 #include "rules/block_rule_call.hpp"
 #include "step/step_materials.hpp"
+#include "util/number_text.hpp"
 
 namespace granular {
 
@@ -103,6 +104,14 @@ void validate_rule_set(const RuleSet& rules) {
       throw RuleError(who + field + ".spread = " + std::to_string(d.spread) + "; chances are out of 256 (0..256)");
     if (d.colour > 0xFFFFFFu)
       throw RuleError(who + field + ".colour = " + std::to_string(d.colour) + "; a colour is 0xRRGGBB (0..16777215)");
+    auto coupling = [&](double v, double most, const char* what) {
+      if (!(v >= 0 && v <= most))
+        throw RuleError(who + field + ".body." + what + " = " + number_text(v) + "; it must be 0 .. " +
+                        number_text(most));
+    };
+    coupling(d.body.bulk_density, 1e5, "bulk_density");
+    coupling(d.body.drag, 100, "drag");
+    coupling(d.body.push, 1, "push");
     if (d.density < -64 || d.density > 64)
       throw RuleError(who + field + ".density = " + std::to_string(d.density) + "; densities are -64..64");
     const bool mobile = d.behaviour == Behaviour::Granular || d.behaviour == Behaviour::Liquid;

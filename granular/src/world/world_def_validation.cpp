@@ -8,6 +8,7 @@
 #include "granular/extend/threads.hpp"
 #include "granular/grid.hpp"
 #include "granular/task_system.hpp"
+#include "util/number_text.hpp"
 
 namespace granular {
 
@@ -27,6 +28,12 @@ int validate_world_def(const WorldDef& def, Int3 size) {
     if (!(value >= 0.0 && value <= 1.0))
       throw InvalidArgument(std::string("WorldDef::cuda.") + field + " = " + std::to_string(value) +
                             "; use a fraction of the bricks in 0..1 (0: always dense-recording, 1: never)");
+  if (!(def.cell_metres > 0 && def.cell_metres <= 1e3))
+    throw InvalidArgument("WorldDef::cell_metres = " + number_text(def.cell_metres) +
+                          "; a cell's edge is a length in metres above 0 and at most 1000");
+  if (!is_valid_material_value(to_cell(def.body_material)))
+    throw InvalidArgument("WorldDef::body_material = " + std::to_string(unsigned(to_cell(def.body_material))) +
+                          " is not a state (0..7)");
   for (const auto& [axis, origin, extent] : {std::tuple{"x", def.domain_origin.x, size.x},
                                             std::tuple{"y", def.domain_origin.y, size.y},
                                             std::tuple{"z", def.domain_origin.z, size.z}})
