@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "granular/body.hpp"
 #include "granular/bricks.hpp"
 #include "granular/external_memory.hpp"
 #include "granular/geometry.hpp"
@@ -103,6 +104,28 @@ class World {
   ChangeReport paint(const Box& box, Material material);
   /// Sets every cell whose centre lies in `sphere` to `material` (the brush form of paint).
   ChangeReport paint(const Sphere& sphere, Material material);
+
+  /// Adds a rigid body (body.hpp; docs/design/bodies.md) and returns its handle. From the next tick
+  /// on, each tick starts by writing every body into the grid at its pose as cells of
+  /// WorldDef::body_material: the cells it left become void, and the grains, liquid and gas in its new
+  /// cells are pushed out to free cells near it, every material conserved. Its pose then moves by its
+  /// velocity. Throws InvalidArgument naming the field for a shape, size, density or pose out of
+  /// range (sizes 0 < s <= kMaxBodyHalfSize, density 0 < d <= 1e5 kg/m^3, finite poses, speeds up to
+  /// kMaxBodySpeed), for a body_material that is not static in the rule set, and past kMaxBodies
+  /// bodies; StateError on a DistributedWorld's slab.
+  BodyId add_body(const BodyDef& def);
+  /// Removes a body: its cells become void at once. Throws InvalidArgument for an unknown id.
+  void remove_body(BodyId id);
+  /// Sets where a body is written at the next tick and how it moves after (the game's or its physics
+  /// engine's pose each tick). Throws InvalidArgument as add_body does for a pose, or an unknown id.
+  void set_body_pose(BodyId id, const BodyPose& pose);
+  /// Where a body will be written at the next tick. Throws InvalidArgument for an unknown id.
+  BodyPose body_pose(BodyId id) const;
+  /// What the sand did with a body and to it at the start of the last tick (tick 0 and no cells
+  /// before its first). Throws InvalidArgument for an unknown id.
+  const BodySand& body_sand(BodyId id) const;
+  /// The bodies' handles, in the order they were added.
+  std::vector<BodyId> body_ids() const;
 
   /// Cells per material.
   MaterialCounts count() const;
@@ -249,6 +272,12 @@ class World {
   void gather_bricks(std::span<const std::uint32_t> bricks, std::span<std::uint8_t> out, const char* what,
                      Read&& read) const;
   void take_step_changes() const;
+  // Writes every body into the grid at its pose (stamp_body) and fills its BodySand.
+  void stamp_bodies();
+  // Moves every body's pose on by its velocity: after a tick.
+  void advance_bodies();
+  // The bodies (world_bodies.cpp).
+  struct Bodies;
 
   WorldDef def_;
   Int3 size_{};
@@ -261,6 +290,7 @@ class World {
   std::shared_ptr<const Lut> lut_;
   std::unique_ptr<Backend> backend_;
   std::unique_ptr<Scratch> scratch_;
+  std::unique_ptr<Bodies> bodies_;  ///< null until the first add_body
   std::vector<std::string> notices_;
   std::optional<SlabTools> slab_tools_;  ///< set for a DistributedWorld's slab
   double lut_seconds_ = 0;

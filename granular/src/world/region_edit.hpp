@@ -79,6 +79,12 @@ class RegionEdit {
     ++report_.cells_shaken;
     flags_[flag] = 1;
   }
+  /// Sets the byte of the cell at index `cell` (in the brick of flag `flag`) to `byte` and flags the
+  /// brick, counting nothing: a body moving cells (bodies/body_stamp.hpp), which reports its own.
+  void put(std::size_t cell, std::size_t flag, std::uint8_t byte) {
+    cells_[cell] = byte;
+    flags_[flag] = 1;
+  }
   /// Each cell of the region whose material m is not to[m] gets material to[m], at rest, counted
   /// in the report, its brick flagged.
   void map_materials(const MaterialMap& to);

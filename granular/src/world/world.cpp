@@ -5,6 +5,7 @@
 #include <mutex>
 #include <new>
 
+#include "bodies/body_set.hpp"
 #include "granular/extend/backend.hpp"
 #include "granular/extend/backend_factory.hpp"
 #include "granular/extend/backend_registry.hpp"
@@ -191,8 +192,17 @@ void World::step(int ticks) {
   if (std::uint64_t(ticks) > std::numeric_limits<std::uint64_t>::max() - tick_)
     throw StateError("World::step: ticks = " + std::to_string(ticks) + " from tick " + std::to_string(tick_) +
                      " would wrap the 64-bit tick counter");
-  live().step(tick_, ticks);
-  tick_ += std::uint64_t(ticks);
+  if (bodies_ && !bodies_->list.empty()) {
+    for (int t = 0; t < ticks; ++t) {
+      stamp_bodies();
+      live().step(tick_, 1);
+      ++tick_;
+      advance_bodies();
+    }
+  } else {
+    live().step(tick_, ticks);
+    tick_ += std::uint64_t(ticks);
+  }
   activity_pending_ = true;
   step_changes_pending_ = true;
 }

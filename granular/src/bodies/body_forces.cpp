@@ -1,0 +1,163 @@
+#include "bodies/body_forces.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cstddef>
+#include <cmath>
+
+#include "bodies/body_shape.hpp"
+#include "granular/motion.hpp"
+#include "world/region_edit.hpp"
+
+namespace granular {
+
+namespace {
+
+Vec3 operator+(const Vec3& a, const Vec3& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+Vec3 operator-(const Vec3& a, const Vec3& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+Vec3 operator*(const Vec3& a, double k) { return {a.x * k, a.y * k, a.z * k}; }
+double dot(const Vec3& a, const Vec3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+Vec3 cross(const Vec3& a, const Vec3& b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
+double length(const Vec3& a) { return std::sqrt(dot(a, a)); }
+
+/// The drag of a face moving along itself, as a share of the drag of one moving across: skin
+/// friction against form drag.
+constexpr double kSkinFriction = 0.1;
+
+/// One layer of the body: its cells, their centroid's sums, and the materials beside it.
+struct Layer {
+  std::int64_t cells = 0;
+  double sum_x = 0, sum_y = 0;
+  MaterialCounts beside{};
+  std::int64_t beside_total = 0;  ///< non-static cells beside it
+};
+
+}  // namespace
+
+void sand_forces(const RegionEdit& edit, Int3 grid, const std::vector<std::uint64_t>& owned,
+                 const MaterialTable& materials, const BodyPose& pose, double mass, double moment,
+                 const BodyScale& scale,
+                 BodySand& sand, ForceScratch& s) {
+  const Box box = edit.region();
+  const Int3 e = box.extent();
+  const std::size_t volume = std::size_t(e.x) * std::size_t(e.y) * std::size_t(e.z);
+  auto inside = [&](Int3 c) {
+    return c.x >= box.min.x && c.y >= box.min.y && c.z >= box.min.z && c.x < box.max.x && c.y < box.max.y &&
+           c.z < box.max.z;
+  };
+  auto local = [&](Int3 c) {
+    return (std::size_t(c.z - box.min.z) * std::size_t(e.y) + std::size_t(c.y - box.min.y)) * std::size_t(e.x) +
+           std::size_t(c.x - box.min.x);
+  };
+  // A cell outside the region lies outside the grid (the region holds the body and a margin where the
+  // grid has one), and reads as static there, as it does to the rules.
+  constexpr std::uint8_t kOutside = to_cell(Material::Solid);
+  auto material_at = [&](Int3 c) { return inside(c) ? std::uint8_t(edit.byte(local(c)) & kMaterialMask) : kOutside; };
+  auto is_static = [&](std::uint8_t m) { return m == kOutside || materials[m].behaviour == Behaviour::Static; };
+
+  s.owned.assign(volume, 0);
+  s.ring.assign(volume, 0);
+  for (const std::uint64_t g : owned) s.owned[local(grid_cell(grid, g))] = 1;
+  auto held = [&](Int3 c) { return inside(c) && s.owned[local(c)] != 0; };
+
+  const double cell_volume = scale.cell_m * scale.cell_m * scale.cell_m;
+  const double face_area = scale.cell_m * scale.cell_m;
+  const Vec3 velocity = pose.velocity * (scale.cell_m / scale.tick_s);      // m/s
+  const Vec3 spin = pose.angular_velocity * (1.0 / scale.tick_s);            // rad/s
+  constexpr std::array<Int3, 6> kFaces{Int3{1, 0, 0}, Int3{-1, 0, 0}, Int3{0, 1, 0},
+                                       Int3{0, -1, 0}, Int3{0, 0, 1},  Int3{0, 0, -1}};
+
+  std::vector<Layer> layers(std::size_t(e.z));
+  sand.cells = std::int64_t(owned.size());
+  sand.below = {};
+  sand.submerged = {};
+  Vec3 drag{}, drag_torque{};
+  for (const std::uint64_t g : owned) {
+    const Int3 c = grid_cell(grid, g);
+    Layer& layer = layers[std::size_t(c.z - box.min.z)];
+    ++layer.cells;
+    layer.sum_x += c.x + 0.5;
+    layer.sum_y += c.y + 0.5;
+    for (int f = 0; f < 4; ++f) {  // the horizontal faces: the layer's surroundings
+      const Int3 n{c.x + kFaces[f].x, c.y + kFaces[f].y, c.z};
+      if (!inside(n) || s.owned[local(n)] || s.ring[local(n)]) continue;
+      s.ring[local(n)] = 1;
+      const std::uint8_t m = material_at(n);
+      if (is_static(m)) continue;
+      ++layer.beside[m];
+      ++layer.beside_total;
+    }
+    if (!held({c.x, c.y, c.z - 1})) ++sand.below[material_at({c.x, c.y, c.z - 1})];
+    for (const Int3& f : kFaces) {  // the drag of the faces against a material
+      const Int3 n{c.x + f.x, c.y + f.y, c.z + f.z};
+      if (held(n)) continue;
+      const std::uint8_t m = material_at(n);
+      if (is_static(m)) continue;
+      const BodyCoupling& k = materials[m].body;
+      if (k.bulk_density <= 0 || k.drag <= 0) continue;
+      const Vec3 normal{double(f.x), double(f.y), double(f.z)};
+      const Vec3 r = (Vec3{c.x + 0.5, c.y + 0.5, c.z + 0.5} + normal * 0.5 - pose.position) * scale.cell_m;
+      const Vec3 v = velocity + cross(spin, r);
+      const double u = dot(v, normal);
+      const Vec3 along = v - normal * u;
+      const Vec3 push = (normal * (std::abs(u) * u) + along * (kSkinFriction * length(along))) *
+                        (-0.5 * k.drag * k.bulk_density * face_area);
+      drag = drag + push;
+      drag_torque = drag_torque + cross(r, push);
+    }
+  }
+
+  // Buoyancy, layer by layer, at the layers' centroids. The cells stand for the shape to the nearest
+  // cell, so each layer reads its surroundings `shift` cells up, between its own and the next
+  // layer's (the shape's centre above the centroid of its cells), and the lift changes smoothly with
+  // the pose instead of by whole layers.
+  double sum_z = 0;
+  for (const std::uint64_t g : owned) sum_z += grid_cell(grid, g).z + 0.5;
+  const double shift = owned.empty() ? 0.0 : std::clamp(pose.position.z - sum_z / double(owned.size()), -0.5, 0.5);
+  // The share of material m beside layer z, reading the nearest layer with surroundings past the ends.
+  auto share = [&](std::ptrdiff_t z, int m) {
+    z = std::clamp<std::ptrdiff_t>(z, 0, std::ptrdiff_t(layers.size()) - 1);
+    const Layer& layer = layers[std::size_t(z)];
+    return layer.beside_total == 0 ? 0.0 : double(layer.beside[std::size_t(m)]) / double(layer.beside_total);
+  };
+  const std::ptrdiff_t toward = shift >= 0 ? 1 : -1;
+  const double weight = std::abs(shift);
+  double lift = 0;
+  Vec3 lift_torque{};
+  for (std::size_t z = 0; z < layers.size(); ++z) {
+    const Layer& layer = layers[z];
+    if (layer.cells == 0) continue;
+    std::ptrdiff_t beside_z = std::ptrdiff_t(z) + toward;
+    if (beside_z < 0 || beside_z >= std::ptrdiff_t(layers.size()) || layers[std::size_t(beside_z)].cells == 0)
+      beside_z = std::ptrdiff_t(z);  // past the body's ends: its own layer's surroundings
+    double density = 0;
+    for (int m = 0; m < kMaterialCount; ++m) {
+      const double part = (1 - weight) * share(std::ptrdiff_t(z), m) + weight * share(beside_z, m);
+      if (part == 0) continue;
+      sand.submerged[std::size_t(m)] += double(layer.cells) * part;
+      density += part * materials[std::size_t(m)].body.bulk_density;
+    }
+    const double f = scale.gravity * cell_volume * double(layer.cells) * density;
+    lift += f;
+    const Vec3 at{layer.sum_x / double(layer.cells), layer.sum_y / double(layer.cells), box.min.z + double(z) + 0.5};
+    lift_torque = lift_torque + cross((at - pose.position) * scale.cell_m, Vec3{0, 0, f});
+  }
+  sand.buoyancy = {0, 0, lift};
+
+  // The momentum of what it pushed, then the clamp.
+  double pushed_mass = 0;
+  for (int m = 0; m < kMaterialCount; ++m)
+    pushed_mass += materials[std::size_t(m)].body.push * materials[std::size_t(m)].body.bulk_density * cell_volume *
+                   double(sand.displaced[std::size_t(m)]);
+  drag = drag - velocity * (pushed_mass / scale.tick_s);
+  const double most = mass * length(velocity) / scale.tick_s, got = length(drag);
+  if (got > most && got > 0) drag = drag * (most / got);
+  const double most_torque = moment * length(spin) / scale.tick_s, got_torque = length(drag_torque);
+  if (got_torque > most_torque && got_torque > 0) drag_torque = drag_torque * (most_torque / got_torque);
+  sand.drag = drag;
+  sand.force = sand.buoyancy + drag;
+  sand.torque = lift_torque + drag_torque;
+  sand.mass = mass;
+}
+
+}  // namespace granular

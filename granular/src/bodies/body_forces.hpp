@@ -1,0 +1,45 @@
+#pragma once
+/// @file body_forces.hpp
+/// What the sand does to a body it holds cells of: what it is submerged in and rests on, and the
+/// buoyancy and drag of its surroundings (docs/design/bodies.md, "Forces").
+
+#include <cstdint>
+#include <vector>
+
+#include "granular/body.hpp"
+#include "granular/rule_set.hpp"
+
+namespace granular {
+
+class RegionEdit;
+
+/// The physical scale of cells and ticks.
+struct BodyScale {
+  double cell_m = 0.005;   ///< a cell's edge, metres
+  double tick_s = 0.0319;  ///< a tick, seconds
+  double gravity = 9.81;   ///< m/s^2
+};
+
+/// The scratch of sand_forces, reused from body to body.
+struct ForceScratch {
+  std::vector<std::uint8_t> owned;  ///< per cell of the region: held by the body
+  std::vector<std::uint8_t> ring;   ///< per cell: counted in its layer's surroundings
+};
+
+/// Fills `sand`'s cells, submerged, below, buoyancy, drag, force and torque for a body holding the
+/// cells `owned` (grid indices, ascending, of a grid of `grid`) of `edit`'s region, at `pose`, of
+/// mass `mass` kg and moment of inertia `moment` kg m^2, having pushed `sand.displaced` out of its
+/// way this tick:
+/// - each layer of the body is submerged in the materials of the non-static cells beside it in that
+///   layer, in their proportions, and is buoyed by their bulk density (MaterialDef::body);
+/// - each face of it against a material, moving at normal speed u and speed w along itself, feels a
+///   pressure 1/2 drag rho u^2 against u (ahead of the body and, as suction, behind it) and a shear
+///   of a tenth of that for w, and the cells it pushed take `push` of their momentum at the body's
+///   speed;
+/// - the drag's force and torque are clamped to stop the body's motion and spin within one tick at most.
+void sand_forces(const RegionEdit& edit, Int3 grid, const std::vector<std::uint64_t>& owned,
+                 const MaterialTable& materials, const BodyPose& pose, double mass, double moment,
+                 const BodyScale& scale,
+                 BodySand& sand, ForceScratch& scratch);
+
+}  // namespace granular

@@ -1,0 +1,59 @@
+#pragma once
+/// @file body_stamp.hpp
+/// Writing a body into the grid for one tick: the cells it left become void, the cells of its shape
+/// become its material, and the grains, liquid and gas in their way are pushed out along paths to the
+/// nearest free cells, each cell of a path moving one cell on (docs/design/bodies.md, "Displacement").
+
+#include <cstdint>
+#include <vector>
+
+#include "granular/geometry.hpp"
+#include "granular/material.hpp"
+#include "granular/rule_set.hpp"
+
+namespace granular {
+
+class RegionEdit;
+
+/// Cells around a body's bounds that its pushes may pass through and end in.
+inline constexpr int kBodyReach = 4;
+
+/// What stamp_body did.
+struct StampResult {
+  std::int64_t blocked = 0;     ///< cells of the shape not taken (static, or no free cell within reach)
+  MaterialCounts displaced{};   ///< cells pushed out of the shape, per material
+  MaterialCounts filled{};      ///< cells of the wake filled, per material
+};
+
+/// The scratch of stamp_body, reused from body to body.
+struct StampScratch {
+  std::vector<std::uint8_t> in_shape;   ///< per cell of the region: outside the shape, in it, or the body's
+  std::vector<std::int32_t> distance;   ///< per cell: steps to the nearest void through mobile cells
+  std::vector<std::uint32_t> queue;     ///< the search's frontier
+  std::vector<std::uint64_t> push;      ///< grid indices of the shape's cells to empty
+  std::vector<std::uint64_t> taken;     ///< grid indices of the cells the body holds after the stamp
+  std::vector<std::uint32_t> path;      ///< one push's cells, local indices
+  std::vector<std::uint32_t> left;      ///< local indices of the cells the body left
+  std::vector<std::uint32_t> parent;    ///< per cell: where the wake's search reached it from
+};
+
+/// Writes a body into `edit`, whose region (inside a grid of `grid`) holds every cell of `owned` and
+/// `shape` (grid indices, ascending) and kBodyReach cells around them where the grid has them:
+/// - a cell of `owned` outside `shape` that still holds `body_material` becomes void;
+/// - a cell of `shape` that is void, or is in `owned` and holds `body_material`, becomes (stays) the body's;
+/// - a cell of `shape` holding a mobile material (granular, liquid, gas in `materials`) is emptied
+///   along the shortest path of mobile cells not yet the body's to a void outside the shape in the
+///   region, every cell of the path moving one cell towards that void (at rest), then becomes the
+///   body's; the front of the body goes first, and ties go to the direction of `motion` (cells), then
+///   up, then sideways in an order drawn per cell from `salt` (no side is favoured);
+/// - every other cell of `shape` (static, or with no such path) is blocked and left as it is;
+/// - each cell the body left is filled, lowest first, from the nearest surface higher than it (a
+///   grain or liquid outside the shape with void or gas over it) along a path of grains and liquid,
+///   each moving one cell on, so the medium closes behind a moving body and its surface drops.
+/// `owned` becomes the cells the body holds, ascending. Mass is conserved: every path shifts cells
+/// by one, into a void or out of the cell that becomes void.
+StampResult stamp_body(RegionEdit& edit, Int3 grid, const std::vector<std::uint64_t>& shape,
+                       std::vector<std::uint64_t>& owned, std::uint8_t body_material, const MaterialTable& materials,
+                       const Vec3& motion, std::uint64_t salt, StampScratch& scratch);
+
+}  // namespace granular

