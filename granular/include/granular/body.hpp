@@ -49,10 +49,17 @@ struct BodyDef {
 
 /// The largest half size (BodyDef::half_extents, radius, half_length), in cells.
 inline constexpr double kMaxBodyHalfSize = 64;
-/// The largest speed of a body's centre, in cells per tick.
-inline constexpr double kMaxBodySpeed = 32;
+/// The largest speed of a body's centre, in cells per tick (a body that moves farther than its reach
+/// in a tick leaves its old cells and is written anew where it lands).
+inline constexpr double kMaxBodySpeed = 4096;
+/// The largest spin of a body, in radians per tick.
+inline constexpr double kMaxBodySpin = 64;
 /// The most bodies one World holds.
 inline constexpr std::size_t kMaxBodies = 4096;
+
+/// The volume of `def`'s shape, in cells^3 (its mass is that times WorldDef::cell_metres^3 times
+/// BodyDef::density).
+double shape_volume(const BodyDef& def);
 
 /// A body's handle, given by World::add_body; never reused by one World.
 using BodyId = std::uint32_t;

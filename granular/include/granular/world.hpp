@@ -110,9 +110,9 @@ class World {
   /// WorldDef::body_material: the cells it left become void, and the grains, liquid and gas in its new
   /// cells are pushed out to free cells near it, every material conserved. Its pose then moves by its
   /// velocity. Throws InvalidArgument naming the field for a shape, size, density or pose out of
-  /// range (sizes 0 < s <= kMaxBodyHalfSize, density 0 < d <= 1e5 kg/m^3, finite poses, speeds up to
-  /// kMaxBodySpeed), for a body_material that is not static in the rule set, and past kMaxBodies
-  /// bodies; StateError on a DistributedWorld's slab.
+  /// range (sizes 0 < s <= kMaxBodyHalfSize, density 0 < d <= 1e5 kg/m^3, finite poses, speeds up
+  /// to kMaxBodySpeed and spins up to kMaxBodySpin), for a body_material that is not static in the
+  /// rule set, and past kMaxBodies bodies; StateError on a DistributedWorld's slab.
   BodyId add_body(const BodyDef& def);
   /// Removes a body: its cells become void at once. Throws InvalidArgument for an unknown id.
   void remove_body(BodyId id);
@@ -276,6 +276,9 @@ class World {
   void stamp_bodies();
   // Moves every body's pose on by its velocity: after a tick.
   void advance_bodies();
+  // Turns the cells of `owned` (grid indices) that still hold WorldDef::body_material void, and
+  // clears it.
+  void release_body_cells(std::vector<std::uint64_t>& owned);
   // The bodies (world_bodies.cpp).
   struct Bodies;
 

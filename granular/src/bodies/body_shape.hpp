@@ -43,9 +43,6 @@ class PlacedShape {
   Rotation rotation_;
 };
 
-/// The volume of `def`'s shape in cells^3.
-double shape_volume(const BodyDef& def);
-
 /// The grid index of cell (x, y, z) in a grid of `size`.
 constexpr std::uint64_t grid_index(Int3 size, int x, int y, int z) {
   return std::uint64_t(x) + std::uint64_t(size.x) * (std::uint64_t(y) + std::uint64_t(size.y) * std::uint64_t(z));

@@ -24,7 +24,6 @@ namespace granular {
 namespace {
 
 constexpr double kMaxCoordinate = 1 << 23;  ///< cells: far past any grid, still exact in a double
-constexpr double kMaxSpin = 1.0;            ///< radians per tick
 
 bool finite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 double length(const Vec3& v) { return std::sqrt(v.x * v.x + v.y * v.y + v.z * v.z); }
@@ -43,9 +42,9 @@ void check_pose(const BodyPose& p, const std::string& who) {
   if (!finite(p.velocity) || length(p.velocity) > kMaxBodySpeed)
     throw InvalidArgument(who + ".velocity = " + vec_text(p.velocity) + " cells per tick; its length must be at most " +
                           number_text(kMaxBodySpeed));
-  if (!finite(p.angular_velocity) || length(p.angular_velocity) > kMaxSpin)
+  if (!finite(p.angular_velocity) || length(p.angular_velocity) > kMaxBodySpin)
     throw InvalidArgument(who + ".angular_velocity = " + vec_text(p.angular_velocity) +
-                          " radians per tick; its length must be at most " + number_text(kMaxSpin));
+                          " radians per tick; its length must be at most " + number_text(kMaxBodySpin));
 }
 
 void check_def(const BodyDef& def) {
@@ -131,24 +130,49 @@ void World::remove_body(BodyId id) {
   live();
   if (!bodies_) throw InvalidArgument("World::remove_body: no body " + std::to_string(id) + " in this world");
   BodyRecord& body = find_body(bodies_->list, id, "World::remove_body");
-  if (!body.owned.empty()) {
-    Box bounds{grid_cell(size_, body.owned.front()), grid_cell(size_, body.owned.front())};
-    for (const std::uint64_t g : body.owned) {
-      const Int3 c = grid_cell(size_, g);
-      bounds.min = {std::min(bounds.min.x, c.x), std::min(bounds.min.y, c.y), std::min(bounds.min.z, c.z)};
-      bounds.max = {std::max(bounds.max.x, c.x), std::max(bounds.max.y, c.y), std::max(bounds.max.z, c.z)};
-    }
-    bounds.max = {bounds.max.x + 1, bounds.max.y + 1, bounds.max.z + 1};
-    RegionEdit& edit = begin_edit(bounds);
-    const std::uint8_t m = to_cell(def_.body_material);
-    for (const std::uint64_t g : body.owned) {
-      const Int3 c = grid_cell(size_, g);
-      const RegionEdit::Row row = edit.row(c.y, c.z);
-      if ((edit.byte(row.cell(c.x)) & kMaterialMask) == m) edit.put(row.cell(c.x), row.flag(c.x), 0);
-    }
-    write_edit();
-  }
+  release_body_cells(body.owned);
   bodies_->list.erase(bodies_->list.begin() + (&body - bodies_->list.data()));
+}
+
+namespace {
+
+/// The box of the cells `cells` (grid indices of a grid of `size`); empty for none.
+Box bounds_of(const std::vector<std::uint64_t>& cells, Int3 size) {
+  if (cells.empty()) return {};
+  Box b{grid_cell(size, cells.front()), grid_cell(size, cells.front())};
+  for (const std::uint64_t g : cells) {
+    const Int3 c = grid_cell(size, g);
+    b.min = {std::min(b.min.x, c.x), std::min(b.min.y, c.y), std::min(b.min.z, c.z)};
+    b.max = {std::max(b.max.x, c.x), std::max(b.max.y, c.y), std::max(b.max.z, c.z)};
+  }
+  b.max = {b.max.x + 1, b.max.y + 1, b.max.z + 1};
+  return b;
+}
+
+/// `b` grown by `d` cells on every side.
+Box grown(const Box& b, int d) { return {{b.min.x - d, b.min.y - d, b.min.z - d}, {b.max.x + d, b.max.y + d, b.max.z + d}}; }
+
+/// The smallest box holding `a` and `b` (either may be empty).
+Box joined(const Box& a, const Box& b) {
+  if (a.empty()) return b;
+  if (b.empty()) return a;
+  return {{std::min(a.min.x, b.min.x), std::min(a.min.y, b.min.y), std::min(a.min.z, b.min.z)},
+          {std::max(a.max.x, b.max.x), std::max(a.max.y, b.max.y), std::max(a.max.z, b.max.z)}};
+}
+
+}  // namespace
+
+void World::release_body_cells(std::vector<std::uint64_t>& owned) {
+  if (owned.empty()) return;
+  RegionEdit& edit = begin_edit(bounds_of(owned, size_));
+  const std::uint8_t m = to_cell(def_.body_material);
+  for (const std::uint64_t g : owned) {
+    const Int3 c = grid_cell(size_, g);
+    const RegionEdit::Row row = edit.row(c.y, c.z);
+    if ((edit.byte(row.cell(c.x)) & kMaterialMask) == m) edit.put(row.cell(c.x), row.flag(c.x), 0);
+  }
+  write_edit();
+  owned.clear();
 }
 
 void World::set_body_pose(BodyId id, const BodyPose& pose) {
@@ -188,22 +212,15 @@ void World::stamp_bodies() {
     body.sand.tick = tick_;
     body.sand.mass = body.mass;
     if (all.shape.empty() && body.owned.empty()) continue;  // wholly outside the grid
-    // The region: the old and new cells and the reach of the pushes around them.
-    Box region{{size_.x, size_.y, size_.z}, {0, 0, 0}};
-    auto grow = [&](std::uint64_t g) {
-      const Int3 c = grid_cell(size_, g);
-      region.min = {std::min(region.min.x, c.x), std::min(region.min.y, c.y), std::min(region.min.z, c.z)};
-      region.max = {std::max(region.max.x, c.x + 1), std::max(region.max.y, c.y + 1), std::max(region.max.z, c.z + 1)};
-    };
-    if (!all.shape.empty()) {
-      const Box b = PlacedShape(body.def, body.pose).bounds(size_);
-      region.min = {std::min(region.min.x, b.min.x), std::min(region.min.y, b.min.y), std::min(region.min.z, b.min.z)};
-      region.max = {std::max(region.max.x, b.max.x), std::max(region.max.y, b.max.y), std::max(region.max.z, b.max.z)};
-    }
-    for (const std::uint64_t g : body.owned) grow(g);
-    region = intersect(Box{{region.min.x - kBodyReach, region.min.y - kBodyReach, region.min.z - kBodyReach},
-                           {region.max.x + kBodyReach, region.max.y + kBodyReach, region.max.z + kBodyReach}},
-                       Box{{0, 0, 0}, size_});
+    // The region: the old and new cells and the reach of the pushes around them; a body that jumped
+    // farther than that leaves its old cells first, so the region stays the size of the body.
+    const Box old_cells = bounds_of(body.owned, size_);
+    const Box new_cells = all.shape.empty() ? Box{} : PlacedShape(body.def, body.pose).bounds(size_);
+    if (!old_cells.empty() && !new_cells.empty() &&
+        intersect(grown(old_cells, kBodyReach), grown(new_cells, kBodyReach)).empty())
+      release_body_cells(body.owned);
+    if (all.shape.empty() && body.owned.empty()) continue;
+    const Box region = intersect(grown(joined(bounds_of(body.owned, size_), new_cells), kBodyReach), Box{{0, 0, 0}, size_});
     RegionEdit& edit = begin_edit(region);
     const StampResult stamped =
         stamp_body(edit, size_, all.shape, body.owned, body_material, rules_->materials, body.pose.velocity,
