@@ -79,8 +79,8 @@ struct BodySand {
                                                    ///< material around it (fractions per layer)
   MaterialCounts below{};   ///< the cells right under the body's lowest cells, per material
   Vec3 buoyancy;            ///< the bulk density of what surrounds each of its layers, times g and the layer's volume (N)
-  Vec3 drag;                ///< pressure drag of its advancing faces and the momentum of what it pushed (N),
-                            ///< clamped so that it stops the body within a tick at most
+  Vec3 drag;                ///< drag of its faces and the momentum of what it pushed (N), as an implicit
+                            ///< step over the tick gives it: it slows the body and never turns it back
   Vec3 force;               ///< buoyancy + drag (N)
   Vec3 torque;              ///< of buoyancy and drag about the position (N m)
   double mass = 0;          ///< the body's mass, density times its shape's volume (kg)

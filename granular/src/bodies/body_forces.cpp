@@ -150,10 +150,13 @@ void sand_forces(const RegionEdit& edit, Int3 grid, const std::vector<std::uint6
     pushed_mass += materials[std::size_t(m)].body.push * materials[std::size_t(m)].body.bulk_density * cell_volume *
                    double(sand.displaced[std::size_t(m)]);
   drag = drag - velocity * (pushed_mass / scale.tick_s);
-  const double most = mass * length(velocity) / scale.tick_s, got = length(drag);
-  if (got > most && got > 0) drag = drag * (most / got);
-  const double most_torque = moment * length(spin) / scale.tick_s, got_torque = length(drag_torque);
-  if (got_torque > most_torque && got_torque > 0) drag_torque = drag_torque * (most_torque / got_torque);
+  // The drag a tick's explicit step can take: for a drag D against momentum p, D / (1 + D dt / p),
+  // what an implicit step of the tick gives (the body keeps p / (1 + D dt / p)), never more than
+  // stops it, and D itself where the drag changes the motion little.
+  const double momentum = mass * length(velocity), got = length(drag) * scale.tick_s;
+  if (got > 0) drag = drag * (momentum / (momentum + got));
+  const double spin_momentum = moment * length(spin), got_torque = length(drag_torque) * scale.tick_s;
+  if (got_torque > 0) drag_torque = drag_torque * (spin_momentum / (spin_momentum + got_torque));
   sand.drag = drag;
   sand.force = sand.buoyancy + drag;
   sand.torque = lift_torque + drag_torque;

@@ -36,7 +36,9 @@ struct ForceScratch {
 ///   pressure 1/2 drag rho u^2 against u (ahead of the body and, as suction, behind it) and a shear
 ///   of a tenth of that for w, and the cells it pushed take `push` of their momentum at the body's
 ///   speed;
-/// - the drag's force and torque are clamped to stop the body's motion and spin within one tick at most.
+/// - the drag D against momentum p is given as D / (1 + D dt / p) (likewise the torque), the change
+///   of an implicit step over the tick dt: an engine stepping it explicitly slows the body as the
+///   drag would, and never turns it back.
 void sand_forces(const RegionEdit& edit, Int3 grid, const std::vector<std::uint64_t>& owned,
                  const MaterialTable& materials, const BodyPose& pose, double mass, double moment,
                  const BodyScale& scale,

@@ -170,11 +170,11 @@ MaterialTable default_materials(GrainMotion grain) {
   row(Material::Gravel, Behaviour::Granular, kGravelDensity, 0x6E6A64).grain = gravel_motion(grain);
   row(Material::State6, Behaviour::Static, 0, 0xA0522D);
   row(Material::State7, Behaviour::Static, 0, 0x7A4FA0);
-  // What bodies feel (docs/design/bodies.md, "Forces"): dry sand's and gravel's bulk densities, with
-  // ten times a bluff body's drag (a granular medium resists being sheared); water's, with a bluff
-  // body's.
-  t[to_cell(Material::Granular)].body = {1600, 20.0, 1.0};
-  t[to_cell(Material::Gravel)].body = {1750, 20.0, 1.0};
+  // What bodies feel (docs/design/bodies.md, "Forces"): dry sand's and gravel's bulk densities with
+  // twice a bluff body's drag (a granular medium resists being sheared), water's with a bluff body's;
+  // a body loses all the momentum of the grains and water it pushes.
+  t[to_cell(Material::Granular)].body = {1600, 4.0, 1.0};
+  t[to_cell(Material::Gravel)].body = {1750, 4.0, 1.0};
   t[to_cell(Material::Liquid)].body = {1000, 2.0, 1.0};
   t[to_cell(Material::Gas)].body = {1.2, 1.0, 0.0};
   return t;
