@@ -277,7 +277,7 @@ TEST_CASE("World::add_body and set_body_pose refuse bad input, naming the field 
 }
 
 TEST_CASE("a ball rolled across a bed leaves a groove, and stops sooner in deeper sand") {
-  // A ball of 1,000 kg/m^3 settles into a bed of sand and is launched at 1 m/s along x; OwnPhysics
+  // A ball of 1,400 kg/m^3 settles into a bed of sand and is launched at 1 m/s along x; OwnPhysics
   // moves it. Over a bed shallower than it sinks, it rests on the floor and ploughs less sand.
   auto roll = [](int depth, double speed, double& groove) {
     World w(test_def({96, 32, 32}, kRules));
@@ -287,6 +287,7 @@ TEST_CASE("a ball rolled across a bed leaves a groove, and stops sooner in deepe
     BodyDef def;
     def.shape = BodyShape::Sphere;
     def.radius = 4;
+    def.density = 1400;
     def.pose.position = {10, 16, depth + 4.0};
     OwnPhysics ball(w, w.add_body(def), 4);
     for (int t = 0; t < 60; ++t) ball.tick();  // it settles into the bed

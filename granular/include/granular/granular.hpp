@@ -11,6 +11,7 @@
 /// - <granular/distributed/...>: a world split into slabs over ranks (DistributedWorld, the
 ///   Communicator interface, in-process ranks).
 
+#include "granular/body.hpp"
 #include "granular/bricks.hpp"
 #include "granular/change_report.hpp"
 #include "granular/cuda_options.hpp"

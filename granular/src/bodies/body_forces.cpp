@@ -64,6 +64,9 @@ void sand_forces(const RegionEdit& edit, Int3 grid, const std::vector<std::uint6
   const double face_area = scale.cell_m * scale.cell_m;
   const Vec3 velocity = pose.velocity * (scale.cell_m / scale.tick_s);      // m/s
   const Vec3 spin = pose.angular_velocity * (1.0 / scale.tick_s);            // rad/s
+  // Below the speed of a gravity wave a cell deep the drag grows with the speed, not its square, so
+  // that a floating body's small swings die out (as waves carry their energy away).
+  const double slow = std::sqrt(scale.gravity * scale.cell_m);  // m/s
   constexpr std::array<Int3, 6> kFaces{Int3{1, 0, 0}, Int3{-1, 0, 0}, Int3{0, 1, 0},
                                        Int3{0, -1, 0}, Int3{0, 0, 1},  Int3{0, 0, -1}};
 
@@ -78,15 +81,20 @@ void sand_forces(const RegionEdit& edit, Int3 grid, const std::vector<std::uint6
     ++layer.cells;
     layer.sum_x += c.x + 0.5;
     layer.sum_y += c.y + 0.5;
-    for (int f = 0; f < 4; ++f) {  // the horizontal faces: the layer's surroundings
-      const Int3 n{c.x + kFaces[f].x, c.y + kFaces[f].y, c.z};
-      if (!inside(n) || s.owned[local(n)] || s.ring[local(n)]) continue;
-      s.ring[local(n)] = 1;
-      const std::uint8_t m = material_at(n);
-      if (is_static(m)) continue;
-      ++layer.beside[m];
-      ++layer.beside_total;
-    }
+    // The layer's surroundings: the cells of the layer within kRingWidth cells (in x and y) of a
+    // cell of it on its edge, so that a grain toppling beside the body changes them by little.
+    const bool edge = !held({c.x + 1, c.y, c.z}) || !held({c.x - 1, c.y, c.z}) || !held({c.x, c.y + 1, c.z}) ||
+                      !held({c.x, c.y - 1, c.z});
+    for (int dy = -kRingWidth; edge && dy <= kRingWidth; ++dy)
+      for (int dx = -kRingWidth; dx <= kRingWidth; ++dx) {
+        const Int3 n{c.x + dx, c.y + dy, c.z};
+        if (!inside(n) || s.owned[local(n)] || s.ring[local(n)]) continue;
+        s.ring[local(n)] = 1;
+        const std::uint8_t m = material_at(n);
+        if (is_static(m)) continue;
+        ++layer.beside[m];
+        ++layer.beside_total;
+      }
     if (!held({c.x, c.y, c.z - 1})) ++sand.below[material_at({c.x, c.y, c.z - 1})];
     for (const Int3& f : kFaces) {  // the drag of the faces against a material
       const Int3 n{c.x + f.x, c.y + f.y, c.z + f.z};
@@ -100,7 +108,7 @@ void sand_forces(const RegionEdit& edit, Int3 grid, const std::vector<std::uint6
       const Vec3 v = velocity + cross(spin, r);
       const double u = dot(v, normal);
       const Vec3 along = v - normal * u;
-      const Vec3 push = (normal * (std::abs(u) * u) + along * (kSkinFriction * length(along))) *
+      const Vec3 push = (normal * ((std::abs(u) + slow) * u) + along * (kSkinFriction * (length(along) + slow))) *
                         (-0.5 * k.drag * k.bulk_density * face_area);
       drag = drag + push;
       drag_torque = drag_torque + cross(r, push);
@@ -122,7 +130,7 @@ void sand_forces(const RegionEdit& edit, Int3 grid, const std::vector<std::uint6
   };
   const std::ptrdiff_t toward = shift >= 0 ? 1 : -1;
   const double weight = std::abs(shift);
-  double lift = 0;
+  double lift = 0, stiffness = 0;  // N, and N/m the lift falls by as the body rises
   Vec3 lift_torque{};
   for (std::size_t z = 0; z < layers.size(); ++z) {
     const Layer& layer = layers[z];
@@ -130,17 +138,30 @@ void sand_forces(const RegionEdit& edit, Int3 grid, const std::vector<std::uint6
     std::ptrdiff_t beside_z = std::ptrdiff_t(z) + toward;
     if (beside_z < 0 || beside_z >= std::ptrdiff_t(layers.size()) || layers[std::size_t(beside_z)].cells == 0)
       beside_z = std::ptrdiff_t(z);  // past the body's ends: its own layer's surroundings
-    double density = 0;
+    double density = 0, own = 0, beside = 0;
     for (int m = 0; m < kMaterialCount; ++m) {
+      const double bulk = materials[std::size_t(m)].body.bulk_density;
+      own += share(std::ptrdiff_t(z), m) * bulk;
+      beside += share(beside_z, m) * bulk;
       const double part = (1 - weight) * share(std::ptrdiff_t(z), m) + weight * share(beside_z, m);
       if (part == 0) continue;
       sand.submerged[std::size_t(m)] += double(layer.cells) * part;
-      density += part * materials[std::size_t(m)].body.bulk_density;
+      density += part * bulk;
     }
+    stiffness -= scale.gravity * cell_volume / scale.cell_m * double(layer.cells) * double(toward) * (beside - own);
     const double f = scale.gravity * cell_volume * double(layer.cells) * density;
     lift += f;
     const Vec3 at{layer.sum_x / double(layer.cells), layer.sum_y / double(layer.cells), box.min.z + double(z) + 0.5};
     lift_torque = lift_torque + cross((at - pose.position) * scale.cell_m, Vec3{0, 0, f});
+  }
+  // The lift as an implicit step over the tick gives it, the body's weight m g down: a light body
+  // whose lift changes steeply with its height (a cork ball in sand) would otherwise swing further
+  // each tick, its force a tick late.
+  if (stiffness > 0 && mass > 0) {
+    const double weight_n = mass * scale.gravity, dt = scale.tick_s;
+    const double implicit = weight_n + (lift - weight_n - stiffness * dt * velocity.z) / (1 + stiffness * dt * dt / mass);
+    if (lift > 0) lift_torque = lift_torque * (implicit / lift);
+    lift = implicit;
   }
   sand.buoyancy = {0, 0, lift};
 

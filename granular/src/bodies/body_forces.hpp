@@ -13,6 +13,9 @@ namespace granular {
 
 class RegionEdit;
 
+/// How far beside a layer of a body its surroundings reach, in cells (x and y).
+inline constexpr int kRingWidth = 2;
+
 /// The physical scale of cells and ticks.
 struct BodyScale {
   double cell_m = 0.005;   ///< a cell's edge, metres
@@ -30,12 +33,16 @@ struct ForceScratch {
 /// cells `owned` (grid indices, ascending, of a grid of `grid`) of `edit`'s region, at `pose`, of
 /// mass `mass` kg and moment of inertia `moment` kg m^2, having pushed `sand.displaced` out of its
 /// way this tick:
-/// - each layer of the body is submerged in the materials of the non-static cells beside it in that
-///   layer, in their proportions, and is buoyed by their bulk density (MaterialDef::body);
+/// - each layer of the body is submerged in the materials of the non-static cells within
+///   kRingWidth cells beside it in that layer, in their proportions, and is buoyed by their bulk density
+///   (MaterialDef::body); the lift is given as an implicit step over the tick gives it, for a body whose
+///   weight m g pulls it down, so that a light body whose lift changes steeply with its height settles
+///   instead of swinging further each tick;
 /// - each face of it against a material, moving at normal speed u and speed w along itself, feels a
-///   pressure 1/2 drag rho u^2 against u (ahead of the body and, as suction, behind it) and a shear
-///   of a tenth of that for w, and the cells it pushed take `push` of their momentum at the body's
-///   speed;
+///   pressure 1/2 drag rho (|u| + c) u against u (ahead of the body and, as suction, behind it) and a
+///   shear of a tenth of that for w, where c = sqrt(g cell) is the speed of a gravity wave a cell
+///   deep (so slow swings are damped), and the cells it pushed take `push` of their momentum at the
+///   body's speed;
 /// - the drag D against momentum p is given as D / (1 + D dt / p) (likewise the torque), the change
 ///   of an implicit step over the tick dt: an engine stepping it explicitly slows the body as the
 ///   drag would, and never turns it back.

@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 
+#include "bodies/body_forces.hpp"
 #include "bodies/body_shape.hpp"
 #include "granular/grid.hpp"
 #include "granular/motion.hpp"
@@ -81,16 +82,31 @@ StampResult stamp_body(RegionEdit& edit, Int3 grid, const std::vector<std::uint6
     return b == Behaviour::Granular || b == Behaviour::Liquid || b == Behaviour::Gas;
   };
 
-  // Per cell of the region: 0 outside the shape, kShape inside it, kTaken once the body holds it.
-  constexpr std::uint8_t kShape = 1, kTaken = 2;
+  // Per cell of the region: 0 outside the shape, kShape inside it, kTaken once the body holds it,
+  // kNear outside it but within kRingWidth cells beside a cell of it in the same layer (the
+  // surroundings its buoyancy reads, sand_forces).
+  constexpr std::uint8_t kShape = 1, kTaken = 2, kNear = 3;
   s.in_shape.assign(region.volume(), 0);
   for (const std::uint64_t g : shape) s.in_shape[region.local(grid_cell(grid, g))] = kShape;
+  auto in_shape_at = [&](Int3 c) { return region.inside(c) && s.in_shape[region.local(c)] != 0 && s.in_shape[region.local(c)] != kNear; };
+  for (const std::uint64_t g : shape) {
+    const Int3 c = grid_cell(grid, g);
+    if (in_shape_at({c.x + 1, c.y, c.z}) && in_shape_at({c.x - 1, c.y, c.z}) && in_shape_at({c.x, c.y + 1, c.z}) &&
+        in_shape_at({c.x, c.y - 1, c.z}))
+      continue;  // inside its layer
+    for (int dy = -kRingWidth; dy <= kRingWidth; ++dy)
+      for (int dx = -kRingWidth; dx <= kRingWidth; ++dx) {
+        const Int3 n{c.x + dx, c.y + dy, c.z};
+        if (region.inside(n) && s.in_shape[region.local(n)] == 0) s.in_shape[region.local(n)] = kNear;
+      }
+  }
+  auto outside = [&](std::uint32_t i) { return s.in_shape[i] == 0 || s.in_shape[i] == kNear; };
 
   // The cells the body left.
   s.left.clear();
   for (const std::uint64_t g : owned) {
     const std::uint32_t i = region.local(grid_cell(grid, g));
-    if (!s.in_shape[i] && material(i) == body_material) {
+    if (outside(i) && material(i) == body_material) {
       put(i, 0);
       s.left.push_back(i);
     }
@@ -119,146 +135,124 @@ StampResult stamp_body(RegionEdit& edit, Int3 grid, const std::vector<std::uint6
     }
   }
 
+  // The breadth-first search both the pushes and the wake's fill make: from `from`, through cells
+  // `through` lets pass, trying neighbours in `order`, to the nearest cell `target` calls kFar (away
+  // from the body's surroundings), else the nearest it calls kNearby, or with `nearby_will_do` the
+  // nearest of either; s.parent then leads back from the cell found to `from`. Returns the cell, or -1
+  // for none within the region. A search that finds none marks the cells it reached `s.dead`: targets
+  // are only used up while the body is written, so a later search from one of them finds none either.
+  enum Target { kNot, kNearby, kFar };
+  s.parent.assign(region.volume(), kUnseen);
+  s.dead.assign(region.volume(), 0);
+  s.queue.clear();
+  auto nearest = [&](std::uint32_t from, const std::array<Int3, 6>& order, bool nearby_will_do, auto&& through,
+                     auto&& target) -> std::int64_t {
+    for (const std::uint32_t i : s.queue) s.parent[i] = kUnseen;  // the last search's marks
+    s.queue.assign(1, from);
+    s.parent[from] = from;
+    if (s.dead[from]) return -1;
+    std::int64_t nearby = -1;
+    for (std::size_t head = 0; head < s.queue.size(); ++head) {
+      const Int3 c = region.cell(s.queue[head]);
+      for (const Int3& d : order) {
+        const Int3 n{c.x + d.x, c.y + d.y, c.z + d.z};
+        if (!region.inside(n)) continue;
+        const std::uint32_t j = region.local(n);
+        if (s.parent[j] != kUnseen || !through(j)) continue;
+        s.parent[j] = s.queue[head];
+        s.queue.push_back(j);
+        const Target t = target(j, n);
+        if (t == kFar || (t == kNearby && nearby_will_do)) return j;
+        if (t == kNearby && nearby < 0) nearby = j;
+      }
+    }
+    if (nearby < 0)
+      for (const std::uint32_t i : s.queue) s.dead[i] = 1;
+    return nearby;
+  };
+  // Shifts the path s.parent gives from `end` back to `from` by one cell towards `end`: each cell
+  // takes the material of the one before it on the path, `from` takes `first`, at rest.
+  auto shift = [&](std::uint32_t from, std::uint32_t end, std::uint8_t first) {
+    for (std::uint32_t at = end; at != from; at = s.parent[at]) put(at, material(s.parent[at]));
+    put(from, first);
+  };
+  // Shifts that path by one cell towards `from` instead: each cell takes the material of the one
+  // after it, `end` becomes void.
+  auto pull = [&](std::uint32_t from, std::uint32_t end) {
+    std::uint8_t carried = 0;
+    for (std::uint32_t at = end;; at = s.parent[at]) {
+      const std::uint8_t here = material(at);
+      put(at, carried);
+      carried = here;
+      if (at == from) break;
+    }
+  };
+
   if (!s.push.empty()) {
     const Int3 lead = lead_of(motion);
-    const std::array<Int3, 6> search_order = directions({}, 0);
     // The front of the body first: the cells farthest along its motion.
     auto ahead = [&](std::uint64_t g) {
       const Int3 c = grid_cell(grid, g);
       return c.x * motion.x + c.y * motion.y + c.z * motion.z;
     };
     std::stable_sort(s.push.begin(), s.push.end(), [&](std::uint64_t a, std::uint64_t b) { return ahead(a) > ahead(b); });
-
-    // A push passes through mobile cells and ends in a void outside the shape; it may cross cells of
-    // the shape that wait for their own push (it moves what they hold on by one cell).
-    auto passable = [&](std::uint32_t i) { return s.in_shape[i] != kTaken && (material(i) == 0 || mobile(material(i))); };
-    auto search = [&] {
-      s.distance.assign(region.volume(), -1);
-      s.queue.clear();
-      for (std::uint32_t i = 0; i < region.volume(); ++i)
-        if (!s.in_shape[i] && material(i) == 0) {
-          s.distance[i] = 0;
-          s.queue.push_back(i);
-        }
-      for (std::size_t head = 0; head < s.queue.size(); ++head) {
-        const std::uint32_t i = s.queue[head];
-        const Int3 c = region.cell(i);
-        for (const Int3& d : search_order) {
-          const Int3 n{c.x + d.x, c.y + d.y, c.z + d.z};
-          if (!region.inside(n)) continue;
-          const std::uint32_t j = region.local(n);
-          if (s.distance[j] >= 0 || !passable(j)) continue;
-          s.distance[j] = s.distance[i] + 1;
-          s.queue.push_back(j);
-        }
-      }
+    // A push passes through mobile cells and voids, crossing cells of the shape that wait for their
+    // own push (it moves what they hold on by one cell), and ends in a void outside the shape: away
+    // from the body's surroundings where there is one within reach (so that its buoyancy does not
+    // jump with what it pushed), else in them.
+    auto through = [&](std::uint32_t i) { return s.in_shape[i] != kTaken && (material(i) == 0 || mobile(material(i))); };
+    auto to_void = [&](std::uint32_t i, Int3) {
+      if (material(i) != 0 || !outside(i)) return kNot;
+      return s.in_shape[i] == 0 ? kFar : kNearby;
     };
-    // The neighbour of local cell i with the smallest distance below `below` (-1: none); ties go to
-    // the first in directions(lead, turn of the cell).
-    auto next = [&](std::uint32_t i, std::int32_t below) -> std::int64_t {
-      const Int3 c = region.cell(i);
-      const std::array<Int3, 6> dirs = directions(lead, unsigned(mix64(salt ^ grid_index(grid, c.x, c.y, c.z)) & 3));
-      std::int64_t best = -1;
-      std::int32_t best_distance = below;
-      for (const Int3& d : dirs) {
-        const Int3 n{c.x + d.x, c.y + d.y, c.z + d.z};
-        if (!region.inside(n)) continue;
-        const std::uint32_t j = region.local(n);
-        if (s.distance[j] >= 0 && s.distance[j] < best_distance && passable(j)) {
-          best = j;
-          best_distance = s.distance[j];
-        }
-      }
-      return best;
-    };
-
-    search();
-    bool fresh = true;  // the distances are exact: no void was used since the search
+    bool nearby_will_do = false;  // set once a search found no void away from the surroundings
     for (const std::uint64_t g : s.push) {
       const std::uint32_t start = region.local(grid_cell(grid, g));
-      for (;;) {
-        s.path.assign(1, start);
-        std::int64_t step = next(start, INT32_MAX);
-        while (step >= 0) {
-          s.path.push_back(std::uint32_t(step));
-          if (s.distance[std::uint32_t(step)] == 0) break;
-          step = next(std::uint32_t(step), s.distance[std::uint32_t(step)]);
-        }
-        const std::uint32_t end = s.path.back();
-        if (s.path.size() > 1 && s.distance[end] == 0 && material(end) == 0) {
-          ++result.displaced[material(start)];
-          for (std::size_t k = s.path.size() - 1; k > 0; --k) put(s.path[k], material(s.path[k - 1]));
-          put(start, body_material);
-          s.in_shape[start] = kTaken;
-          s.distance[end] = -1;
-          fresh = false;
-          s.taken.push_back(g);
-          break;
-        }
-        if (fresh) {  // no void within reach
-          ++result.blocked;
-          break;
-        }
-        search();
-        fresh = true;
+      const Int3 c = grid_cell(grid, g);
+      const std::int64_t end = nearest(start, directions(lead, unsigned(mix64(salt ^ grid_index(grid, c.x, c.y, c.z)) & 3)),
+                                       nearby_will_do, through, to_void);
+      if (end < 0 || s.in_shape[std::uint32_t(end)] == kNear) nearby_will_do = true;
+      if (end < 0) {  // no void within reach
+        ++result.blocked;
+        continue;
       }
+      ++result.displaced[material(start)];
+      shift(start, std::uint32_t(end), body_material);
+      s.in_shape[start] = kTaken;
+      s.taken.push_back(g);
     }
     std::sort(s.taken.begin(), s.taken.end());
   }
 
-  // The wake: each cell the body left is filled from the nearest surface above it, lowest cell first.
-  // A surface is a grain or liquid outside the shape with void or gas over it, higher than the cell;
-  // the path runs through grains and liquid outside the shape, each moving one cell towards the wake,
-  // so the surface drops where the fill came from.
+  // The wake: each cell the body left that holds no liquid is filled from the nearest surface of
+  // liquid higher than it (liquid outside the shape with void or gas over it, away from the body's
+  // surroundings where there is one), lowest cell first; the path runs through liquid outside the
+  // shape, each cell moving one cell towards the wake, so the surface drops where the fill came from.
+  // Grains are left to topple into the wake by the rules: a furrow stays open as far as sand stands.
   if (!s.left.empty()) {
     std::sort(s.left.begin(), s.left.end());  // local indices: z, then y, then x
-    auto dense = [&](std::uint32_t i) {
-      const Behaviour b = materials[material(i)].behaviour;
-      return s.in_shape[i] == 0 && (b == Behaviour::Granular || b == Behaviour::Liquid);
-    };
+    auto liquid = [&](std::uint32_t i) { return outside(i) && materials[material(i)].behaviour == Behaviour::Liquid; };
     auto open_above = [&](Int3 c) {
       const Int3 up{c.x, c.y, c.z + 1};
       if (!region.inside(up)) return false;
       const std::uint32_t j = region.local(up);
-      return s.in_shape[j] == 0 && (material(j) == 0 || materials[material(j)].behaviour == Behaviour::Gas);
+      return outside(j) && (material(j) == 0 || materials[material(j)].behaviour == Behaviour::Gas);
     };
-    s.parent.assign(region.volume(), kUnseen);
+    std::fill(s.dead.begin(), s.dead.end(), std::uint8_t(0));
+    bool nearby_will_do = false;
     for (const std::uint32_t wake : s.left) {
       if (material(wake) != 0) continue;
       const Int3 at = region.cell(wake);
-      const std::array<Int3, 6> fill_order =
-          directions({}, unsigned(mix64(salt ^ ~grid_index(grid, at.x, at.y, at.z)) & 3));
-      const int height = at.z;
-      s.queue.assign(1, wake);
-      s.parent[wake] = wake;
-      std::int64_t found = -1;
-      for (std::size_t head = 0; head < s.queue.size() && found < 0; ++head) {
-        const Int3 c = region.cell(s.queue[head]);
-        for (const Int3& d : fill_order) {
-          const Int3 n{c.x + d.x, c.y + d.y, c.z + d.z};
-          if (!region.inside(n)) continue;
-          const std::uint32_t j = region.local(n);
-          if (s.parent[j] != kUnseen || !dense(j)) continue;
-          s.parent[j] = s.queue[head];
-          s.queue.push_back(j);
-          if (n.z > height && open_above(n)) {
-            found = j;
-            break;
-          }
-        }
-      }
-      if (found >= 0) {
-        ++result.filled[material(std::uint32_t(found))];
-        std::uint32_t to = std::uint32_t(found);
-        std::uint8_t carried = 0;  // what the cell nearer the wake takes
-        for (std::uint32_t at = to;; at = s.parent[at]) {
-          const std::uint8_t here = material(at);
-          put(at, carried);
-          carried = here;
-          if (at == wake) break;
-        }
-      }
-      for (const std::uint32_t i : s.queue) s.parent[i] = kUnseen;
+      auto surface = [&](std::uint32_t j, Int3 n) {
+        if (n.z <= at.z || !open_above(n)) return kNot;
+        return s.in_shape[j] == 0 ? kFar : kNearby;
+      };
+      const std::int64_t found = nearest(wake, directions({}, unsigned(mix64(salt ^ ~grid_index(grid, at.x, at.y, at.z)) & 3)),
+                                         nearby_will_do, liquid, surface);
+      if (found < 0 || s.in_shape[std::uint32_t(found)] == kNear) nearby_will_do = true;
+      if (found < 0) continue;
+      ++result.filled[material(std::uint32_t(found))];
+      pull(wake, std::uint32_t(found));
     }
   }
   owned.swap(s.taken);

@@ -28,13 +28,12 @@ struct StampResult {
 /// The scratch of stamp_body, reused from body to body.
 struct StampScratch {
   std::vector<std::uint8_t> in_shape;   ///< per cell of the region: outside the shape, in it, or the body's
-  std::vector<std::int32_t> distance;   ///< per cell: steps to the nearest void through mobile cells
-  std::vector<std::uint32_t> queue;     ///< the search's frontier
+  std::vector<std::uint32_t> queue;     ///< the last search's cells, in the order reached
   std::vector<std::uint64_t> push;      ///< grid indices of the shape's cells to empty
   std::vector<std::uint64_t> taken;     ///< grid indices of the cells the body holds after the stamp
-  std::vector<std::uint32_t> path;      ///< one push's cells, local indices
   std::vector<std::uint32_t> left;      ///< local indices of the cells the body left
-  std::vector<std::uint32_t> parent;    ///< per cell: where the wake's search reached it from
+  std::vector<std::uint32_t> parent;    ///< per cell: where the last search reached it from
+  std::vector<std::uint8_t> dead;       ///< per cell: a search from it finds nothing
 };
 
 /// Writes a body into `edit`, whose region (inside a grid of `grid`) holds every cell of `owned` and
@@ -42,14 +41,17 @@ struct StampScratch {
 /// - a cell of `owned` outside `shape` that still holds `body_material` becomes void;
 /// - a cell of `shape` that is void, or is in `owned` and holds `body_material`, becomes (stays) the body's;
 /// - a cell of `shape` holding a mobile material (granular, liquid, gas in `materials`) is emptied
-///   along the shortest path of mobile cells not yet the body's to a void outside the shape in the
-///   region, every cell of the path moving one cell towards that void (at rest), then becomes the
-///   body's; the front of the body goes first, and ties go to the direction of `motion` (cells), then
-///   up, then sideways in an order drawn per cell from `salt` (no side is favoured);
+///   along the shortest path of mobile cells and voids not yet the body's to a void outside the
+///   shape, every cell of the path moving one cell towards that void (at rest), then becomes the
+///   body's. The void is the nearest one away from the body's surroundings (kRingWidth cells beside
+///   its layers, which its buoyancy reads) where the region has one, else the nearest in them. The
+///   front of the body goes first; ties go to the direction of `motion` (cells), then up, then
+///   sideways in an order drawn per cell from `salt` (no side is favoured);
 /// - every other cell of `shape` (static, or with no such path) is blocked and left as it is;
-/// - each cell the body left is filled, lowest first, from the nearest surface higher than it (a
-///   grain or liquid outside the shape with void or gas over it) along a path of grains and liquid,
-///   each moving one cell on, so the medium closes behind a moving body and its surface drops.
+/// - each cell the body left is filled, lowest first, from the nearest surface of liquid higher than
+///   it (liquid outside the shape with void or gas over it; away from the surroundings first) along
+///   a path of liquid, each cell moving one cell on, so water closes behind a moving body and its
+///   surface drops; grains are left to topple in by the rules.
 /// `owned` becomes the cells the body holds, ascending. Mass is conserved: every path shifts cells
 /// by one, into a void or out of the cell that becomes void.
 StampResult stamp_body(RegionEdit& edit, Int3 grid, const std::vector<std::uint64_t>& shape,
