@@ -2,11 +2,16 @@
 /// What bodies cost a tick (World::add_body): two worlds of the same scene, one with B bodies
 /// wandering through it and one without, stepped one tick at a time, alternately, so that the
 /// difference of their times is what the bodies add (writing them into the grid, pushing the sand,
-/// the reports, and the step of the sand they stir). The scene: an N x N x N/2 world, sand a quarter
-/// of N deep under water to N * 3/8, the bodies (boxes, spheres and capsules of N/32 half size)
-/// spread over it, each heading somewhere new every 25 ticks at up to 0.5 cells a tick.
+/// the reports, and the step of the sand they stir). The scene: an N x N x N/2 world, a bed of sand a
+/// quarter of N deep on one half and a pool of water as deep on the other, a wall between; the bodies
+/// (boxes, spheres and capsules of N/32 half size) wade through the surfaces of both, each heading
+/// somewhere new every 25 ticks at up to 0.5 cells a tick, as crates pushed about and characters
+/// walking do.
 ///
-///   bench_bodies [--backend cpu|cuda] [--n N] [--bodies B] [--ticks T] [--threads J] [--rules NAME]
+///   bench_bodies [--backend cpu|cuda] [--n N] [--bodies B] [--half H] [--ticks T] [--threads J]
+///                [--rules NAME]
+///
+/// --half sets the bodies' half size in cells (default N/32, at least 2).
 ///
 /// Prints ms per tick with and without the bodies, their difference, and the real-time factor
 /// (simulated seconds per wall second) of the world with bodies. Figures in bench/RESULTS.md.
@@ -32,6 +37,7 @@ struct Options {
   std::string backend = "cpu";
   int n = 128;
   int bodies = 16;
+  double half = 0;  ///< the bodies' half size; 0: N / 32
   int ticks = 200;
   int threads = 0;
   std::string rules = WorldDef{}.rules;
@@ -49,6 +55,7 @@ Options parse(int argc, char** argv) {
     else if (a == "--n") o.n = std::atoi(value().c_str());
     else if (a == "--bodies") o.bodies = std::atoi(value().c_str());
     else if (a == "--ticks") o.ticks = std::atoi(value().c_str());
+    else if (a == "--half") o.half = std::atof(value().c_str());
     else if (a == "--threads") o.threads = std::atoi(value().c_str());
     else if (a == "--rules") o.rules = value();
     else throw InvalidArgument("bench_bodies: unknown option " + a);
@@ -58,6 +65,8 @@ Options parse(int argc, char** argv) {
   if (o.n < 32 || o.n > 2048) throw InvalidArgument("bench_bodies: --n " + std::to_string(o.n) + "; use 32..2048");
   if (o.bodies < 0 || o.bodies > int(kMaxBodies))
     throw InvalidArgument("bench_bodies: --bodies " + std::to_string(o.bodies) + "; use 0.." + std::to_string(kMaxBodies));
+  if (o.half < 0 || o.half > kMaxBodyHalfSize)
+    throw InvalidArgument("bench_bodies: --half " + std::to_string(o.half) + "; use 0 (N/32) or up to 64");
   if (o.ticks < 1) throw InvalidArgument("bench_bodies: --ticks " + std::to_string(o.ticks) + "; use 1 or more");
   return o;
 }
@@ -69,8 +78,9 @@ World scene(const Options& o) {
   def.threads = o.threads;
   def.rules = o.rules;
   World w(def);
-  w.paint(Box{{0, 0, 0}, {o.n, o.n, o.n / 4}}, Material::Granular);
-  w.paint(Box{{0, 0, o.n / 4}, {o.n, o.n, o.n * 3 / 8}}, Material::Liquid);
+  w.paint(Box{{0, 0, 0}, {o.n / 2 - 1, o.n, o.n / 4}}, Material::Granular);
+  w.paint(Box{{o.n / 2 - 1, 0, 0}, {o.n / 2 + 1, o.n, o.n / 4 + 4}}, Material::Solid);
+  w.paint(Box{{o.n / 2 + 1, 0, 0}, {o.n, o.n, o.n / 4}}, Material::Liquid);
   return w;
 }
 
@@ -82,15 +92,16 @@ int main(int argc, char** argv) try {
   std::mt19937_64 rng(1);
   std::uniform_real_distribution<double> unit(0, 1);
   std::vector<BodyId> ids;
-  const double half = std::max(2.0, o.n / 32.0), edge = 2 * half;
+  const double half = o.half > 0 ? o.half : std::max(2.0, o.n / 32.0), edge = 2 * half;
   for (int i = 0; i < o.bodies; ++i) {
     BodyDef def;
     def.shape = BodyShape(i % 3);
     def.half_extents = {half, half, half};
     def.radius = half;
     def.half_length = half;
-    def.pose.position = {edge + (o.n - 2 * edge) * unit(rng), edge + (o.n - 2 * edge) * unit(rng),
-                         o.n / 8.0 + o.n / 4.0 * unit(rng)};
+    const double side = i % 2 == 0 ? 0 : o.n / 2.0;  // sand, water
+    def.pose.position = {side + edge + (o.n / 2.0 - 2 * edge) * unit(rng), edge + (o.n - 2 * edge) * unit(rng),
+                         o.n / 4.0 + half * (unit(rng) - 0.5)};
     ids.push_back(with.add_body(def));
   }
   double with_s = 0, without_s = 0;
@@ -98,13 +109,14 @@ int main(int argc, char** argv) try {
     if (t % 25 == 0)
       for (const BodyId id : ids) {
         BodyPose pose = with.body_pose(id);
-        pose.velocity = {unit(rng) - 0.5, unit(rng) - 0.5, 0.5 * (unit(rng) - 0.5)};
-        if (pose.position.x < 2 * edge) pose.velocity.x = 0.5;
-        if (pose.position.x > o.n - 2 * edge) pose.velocity.x = -0.5;
+        pose.velocity = {unit(rng) - 0.5, unit(rng) - 0.5, 0.25 * (unit(rng) - 0.5)};
+        const double low = pose.position.x < o.n / 2.0 ? 0 : o.n / 2.0;  // its half
+        if (pose.position.x < low + 2 * edge) pose.velocity.x = 0.5;
+        if (pose.position.x > low + o.n / 2.0 - 2 * edge) pose.velocity.x = -0.5;
         if (pose.position.y < 2 * edge) pose.velocity.y = 0.5;
         if (pose.position.y > o.n - 2 * edge) pose.velocity.y = -0.5;
-        if (pose.position.z < o.n / 8.0) pose.velocity.z = 0.25;
-        if (pose.position.z > o.n * 3 / 8.0) pose.velocity.z = -0.25;
+        if (pose.position.z < o.n / 4.0 - half) pose.velocity.z = 0.25;
+        if (pose.position.z > o.n / 4.0 + half) pose.velocity.z = -0.25;
         with.set_body_pose(id, pose);
       }
     with_s += bench::timed_step(with, 1);
@@ -112,8 +124,8 @@ int main(int argc, char** argv) try {
   }
   const double tick_s = tick_seconds(with.rules(), with.def().cell_metres);
   const double with_ms = 1e3 * with_s / o.ticks, without_ms = 1e3 * without_s / o.ticks;
-  std::printf("bench_bodies: %s (%s), %dx%dx%d, %s, %d bodies, %d ticks\n", o.backend.c_str(),
-              with.backend_description().c_str(), o.n, o.n, o.n / 2, o.rules.c_str(), o.bodies, o.ticks);
+  std::printf("bench_bodies: %s (%s), %dx%dx%d, %s, %d bodies of half size %g, %d ticks\n", o.backend.c_str(),
+              with.backend_description().c_str(), o.n, o.n, o.n / 2, o.rules.c_str(), o.bodies, half, o.ticks);
   std::printf("  with bodies %.3f ms/tick (%.2fx real time), without %.3f ms/tick, bodies add %.3f ms/tick\n", with_ms,
               tick_s * 1e3 / with_ms, without_ms, with_ms - without_ms);
   return 0;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <climits>
 #include <cmath>
 
 #include "bodies/body_forces.hpp"
@@ -39,6 +40,9 @@ Int3 lead_of(const Vec3& motion) {
   if (ay >= az) return {0, motion.y > 0 ? 1 : -1, 0};
   return {0, 0, motion.z > 0 ? 1 : -1};
 }
+
+/// Cells a push's search from a filled void may reach before the distances are searched anew.
+constexpr std::size_t kSearchBeforeRefresh = 64;
 
 /// A cell no search has reached.
 constexpr std::uint32_t kUnseen = 0xFFFFFFFFu;
@@ -145,23 +149,47 @@ StampResult stamp_body(RegionEdit& edit, Int3 grid, const std::vector<std::uint6
   s.parent.assign(region.volume(), kUnseen);
   s.dead.assign(region.volume(), 0);
   s.queue.clear();
+  // Per cell, a bit for each of its six neighbours that lies outside the region (Step's order), so
+  // that a search steps by index.
+  s.edges.resize(region.volume());
+  for (std::uint32_t i = 0; i < region.volume(); ++i) {
+    const Int3 c = region.cell(i);
+    s.edges[i] = std::uint8_t((c.x + 1 == region.box.max.x) | (c.x == region.box.min.x) << 1 |
+                              (c.y + 1 == region.box.max.y) << 2 | (c.y == region.box.min.y) << 3 |
+                              (c.z + 1 == region.box.max.z) << 4 | (c.z == region.box.min.z) << 5);
+  }
+  const std::int64_t row = region.e.x, layer = std::int64_t(region.e.x) * region.e.y;
+  // A direction as the search takes it: the edge bit that forbids it and the step of the index.
+  struct Step {
+    std::uint8_t edge;
+    std::int64_t delta;
+  };
+  auto steps_of = [&](const std::array<Int3, 6>& order) {
+    std::array<Step, 6> out{};
+    for (std::size_t k = 0; k < 6; ++k) {
+      const Int3 d = order[k];
+      const int bit = d.x == 1 ? 0 : d.x == -1 ? 1 : d.y == 1 ? 2 : d.y == -1 ? 3 : d.z == 1 ? 4 : 5;
+      out[k] = {std::uint8_t(1 << bit), d.x + d.y * row + d.z * layer};
+    }
+    return out;
+  };
   auto nearest = [&](std::uint32_t from, const std::array<Int3, 6>& order, bool nearby_will_do, auto&& through,
                      auto&& target) -> std::int64_t {
     for (const std::uint32_t i : s.queue) s.parent[i] = kUnseen;  // the last search's marks
     s.queue.assign(1, from);
     s.parent[from] = from;
     if (s.dead[from]) return -1;
+    const std::array<Step, 6> steps = steps_of(order);
     std::int64_t nearby = -1;
     for (std::size_t head = 0; head < s.queue.size(); ++head) {
-      const Int3 c = region.cell(s.queue[head]);
-      for (const Int3& d : order) {
-        const Int3 n{c.x + d.x, c.y + d.y, c.z + d.z};
-        if (!region.inside(n)) continue;
-        const std::uint32_t j = region.local(n);
+      const std::uint32_t i = s.queue[head];
+      for (const Step& step : steps) {
+        if (s.edges[i] & step.edge) continue;
+        const std::uint32_t j = std::uint32_t(std::int64_t(i) + step.delta);
         if (s.parent[j] != kUnseen || !through(j)) continue;
-        s.parent[j] = s.queue[head];
+        s.parent[j] = i;
         s.queue.push_back(j);
-        const Target t = target(j, n);
+        const Target t = target(j);
         if (t == kFar || (t == kNearby && nearby_will_do)) return j;
         if (t == kNearby && nearby < 0) nearby = j;
       }
@@ -197,27 +225,80 @@ StampResult stamp_body(RegionEdit& edit, Int3 grid, const std::vector<std::uint6
     };
     std::stable_sort(s.push.begin(), s.push.end(), [&](std::uint64_t a, std::uint64_t b) { return ahead(a) > ahead(b); });
     // A push passes through mobile cells and voids, crossing cells of the shape that wait for their
-    // own push (it moves what they hold on by one cell), and ends in a void outside the shape: away
-    // from the body's surroundings where there is one within reach (so that its buoyancy does not
-    // jump with what it pushed), else in them.
+    // own push (it moves what they hold on by one cell), and ends in the nearest void away from the
+    // body's surroundings (so that its buoyancy does not jump with what it pushed).
     auto through = [&](std::uint32_t i) { return s.in_shape[i] != kTaken && (material(i) == 0 || mobile(material(i))); };
-    auto to_void = [&](std::uint32_t i, Int3) {
-      if (material(i) != 0 || !outside(i)) return kNot;
-      return s.in_shape[i] == 0 ? kFar : kNearby;
+    auto free_cell = [&](std::uint32_t i) { return material(i) == 0 && s.in_shape[i] == 0; };
+    // Every cell's distance to the nearest such void, searched from all of them at once. A push
+    // follows it down; where it leads to a void an earlier push has filled, or nowhere, a search from
+    // there ends in the nearest void outside the shape, and the distances are searched anew once such
+    // searches grow.
+    const std::array<Step, 6> field_steps = steps_of(directions({}, 0));
+    auto field = [&] {
+      s.distance.assign(region.volume(), -1);
+      s.front.clear();
+      for (std::uint32_t i = 0; i < region.volume(); ++i)
+        if (free_cell(i)) {
+          s.distance[i] = 0;
+          s.front.push_back(i);
+        }
+      for (std::size_t head = 0; head < s.front.size(); ++head) {
+        const std::uint32_t i = s.front[head];
+        for (const Step& step : field_steps) {
+          if (s.edges[i] & step.edge) continue;
+          const std::uint32_t j = std::uint32_t(std::int64_t(i) + step.delta);
+          if (s.distance[j] >= 0 || !through(j)) continue;
+          s.distance[j] = s.distance[i] + 1;
+          s.front.push_back(j);
+        }
+      }
     };
-    bool nearby_will_do = false;  // set once a search found no void away from the surroundings
+    field();
+    s.on_route.assign(region.volume(), 0);
+    auto off_route = [&](std::uint32_t i) { return !s.on_route[i] && through(i); };
+    auto void_found = [&](std::uint32_t i) { return material(i) == 0 && outside(i) ? kFar : kNot; };
     for (const std::uint64_t g : s.push) {
       const std::uint32_t start = region.local(grid_cell(grid, g));
       const Int3 c = grid_cell(grid, g);
-      const std::int64_t end = nearest(start, directions(lead, unsigned(mix64(salt ^ grid_index(grid, c.x, c.y, c.z)) & 3)),
-                                       nearby_will_do, through, to_void);
-      if (end < 0 || s.in_shape[std::uint32_t(end)] == kNear) nearby_will_do = true;
-      if (end < 0) {  // no void within reach
-        ++result.blocked;
-        continue;
+      const std::array<Step, 6> steps =
+          steps_of(directions(lead, unsigned(mix64(salt ^ grid_index(grid, c.x, c.y, c.z)) & 3)));
+      // Down the distances, ties to the first of `steps`.
+      s.route.assign(1, start);
+      std::int32_t above = INT32_MAX;
+      for (std::uint32_t at = start;;) {
+        std::int64_t best = -1;
+        for (const Step& step : steps) {
+          if (s.edges[at] & step.edge) continue;
+          const std::uint32_t j = std::uint32_t(std::int64_t(at) + step.delta);
+          if (s.distance[j] >= 0 && s.distance[j] < above && through(j)) {
+            best = j;
+            above = s.distance[j];
+          }
+        }
+        if (best < 0) break;
+        at = std::uint32_t(best);
+        s.route.push_back(at);
+        if (free_cell(at) || above == 0) break;
+      }
+      if (!free_cell(s.route.back())) {  // the distances led to a filled void, or nowhere: search on
+        for (const std::uint32_t i : s.route) s.on_route[i] = 1;
+        const std::uint32_t from = s.route.back();
+        const std::int64_t end = nearest(from, directions(lead, 0), true, off_route, void_found);
+        for (const std::uint32_t i : s.route) s.on_route[i] = 0;
+        const bool grown = s.queue.size() > kSearchBeforeRefresh;
+        if (end < 0) {  // no void within reach
+          ++result.blocked;
+          if (grown) field();
+          continue;
+        }
+        const std::size_t joined = s.route.size();
+        for (std::uint32_t at = std::uint32_t(end); at != from; at = s.parent[at]) s.route.push_back(at);
+        std::reverse(s.route.begin() + std::ptrdiff_t(joined), s.route.end());
+        if (grown) field();
       }
       ++result.displaced[material(start)];
-      shift(start, std::uint32_t(end), body_material);
+      for (std::size_t k = s.route.size() - 1; k > 0; --k) put(s.route[k], material(s.route[k - 1]));
+      put(start, body_material);
       s.in_shape[start] = kTaken;
       s.taken.push_back(g);
     }
@@ -232,10 +313,9 @@ StampResult stamp_body(RegionEdit& edit, Int3 grid, const std::vector<std::uint6
   if (!s.left.empty()) {
     std::sort(s.left.begin(), s.left.end());  // local indices: z, then y, then x
     auto liquid = [&](std::uint32_t i) { return outside(i) && materials[material(i)].behaviour == Behaviour::Liquid; };
-    auto open_above = [&](Int3 c) {
-      const Int3 up{c.x, c.y, c.z + 1};
-      if (!region.inside(up)) return false;
-      const std::uint32_t j = region.local(up);
+    auto open_above = [&](std::uint32_t i) {
+      if (s.edges[i] & 16) return false;  // the region's top layer
+      const std::uint32_t j = std::uint32_t(i + std::uint32_t(layer));
       return outside(j) && (material(j) == 0 || materials[material(j)].behaviour == Behaviour::Gas);
     };
     std::fill(s.dead.begin(), s.dead.end(), std::uint8_t(0));
@@ -243,8 +323,9 @@ StampResult stamp_body(RegionEdit& edit, Int3 grid, const std::vector<std::uint6
     for (const std::uint32_t wake : s.left) {
       if (material(wake) != 0) continue;
       const Int3 at = region.cell(wake);
-      auto surface = [&](std::uint32_t j, Int3 n) {
-        if (n.z <= at.z || !open_above(n)) return kNot;
+      const std::uint32_t above_wake = std::uint32_t((std::int64_t(wake) / layer + 1) * layer);  // first cell over its layer
+      auto surface = [&](std::uint32_t j) {
+        if (j < above_wake || !open_above(j)) return kNot;
         return s.in_shape[j] == 0 ? kFar : kNearby;
       };
       const std::int64_t found = nearest(wake, directions({}, unsigned(mix64(salt ^ ~grid_index(grid, at.x, at.y, at.z)) & 3)),
