@@ -11,13 +11,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <random>
 #include <vector>
 
 #include "granular/body.hpp"
 #include "granular/errors.hpp"
 #include "granular/time_scale.hpp"
 #include "granular/world.hpp"
+#include "body_scene.hpp"
 #include "test_support.hpp"
 
 using namespace granular;
@@ -155,40 +155,11 @@ TEST_CASE("bodies moving through sand and water conserve every material, and are
   // ticks (64 s); the same run on one and two threads, and densely stepped, ends in the same cells.
   auto run = [](int threads, bool sparse, int ticks) {
     World w(test::with_sparse(test_def({48, 48, 40}, kRules, threads, 7), sparse));
-    w.paint(Box{{0, 0, 0}, {48, 48, 12}}, Material::Granular);
-    w.paint(Box{{16, 16, 4}, {32, 32, 10}}, Material::Gravel);
-    w.paint(Box{{0, 0, 12}, {48, 48, 20}}, Material::Liquid);
-    w.pour({24, 24, 32}, 5, Material::Gas, 150);
-    std::mt19937_64 rng(11);
-    std::uniform_real_distribution<double> unit(0, 1);
-    std::vector<BodyId> ids;
-    for (int i = 0; i < 10; ++i) {
-      BodyDef def;
-      def.shape = BodyShape(i % 3);
-      def.half_extents = {2 + 2 * unit(rng), 2 + 2 * unit(rng), 2 + 2 * unit(rng)};
-      def.radius = 2 + 2 * unit(rng);
-      def.half_length = 1 + 2 * unit(rng);
-      def.pose.position = {8 + 32 * unit(rng), 8 + 32 * unit(rng), 6 + 24 * unit(rng)};
-      def.pose.orientation = {unit(rng), unit(rng), unit(rng), unit(rng)};
-      def.pose.angular_velocity = {0.05 * unit(rng), 0.05 * unit(rng), 0.05 * unit(rng)};
-      ids.push_back(w.add_body(def));
-    }
+    test::WanderingBodies bodies(w);
+    const std::vector<BodyId>& ids = bodies.ids;
     const MaterialCounts before = w.count();
     for (int t = 0; t < ticks; ++t) {
-      if (t % 25 == 0)
-        for (const BodyId id : ids) {  // a new heading every 25 ticks, turned back at the walls
-          BodyPose pose = w.body_pose(id);
-          Vec3 v{unit(rng) - 0.5, unit(rng) - 0.5, unit(rng) - 0.5};
-          if (pose.position.x < 10) v.x = 0.5;
-          if (pose.position.x > 38) v.x = -0.5;
-          if (pose.position.y < 10) v.y = 0.5;
-          if (pose.position.y > 38) v.y = -0.5;
-          if (pose.position.z < 8) v.z = 0.5;
-          if (pose.position.z > 30) v.z = -0.5;
-          pose.velocity = v;
-          w.set_body_pose(id, pose);
-        }
-      w.step(1);
+      bodies.tick();
       if (t % 100 == 99) {
         const MaterialCounts now = w.count();
         std::int64_t held = 0;
