@@ -51,20 +51,29 @@ Options parse(int argc, char** argv) {
       if (i + 1 >= argc) throw InvalidArgument("bench_bodies: " + a + " needs a value");
       return argv[++i];
     };
-    if (a == "--backend") o.backend = value();
-    else if (a == "--n") o.n = std::atoi(value().c_str());
-    else if (a == "--bodies") o.bodies = std::atoi(value().c_str());
-    else if (a == "--ticks") o.ticks = std::atoi(value().c_str());
-    else if (a == "--half") o.half = std::atof(value().c_str());
-    else if (a == "--threads") o.threads = std::atoi(value().c_str());
-    else if (a == "--rules") o.rules = value();
-    else throw InvalidArgument("bench_bodies: unknown option " + a);
+    if (a == "--backend")
+      o.backend = value();
+    else if (a == "--n")
+      o.n = std::atoi(value().c_str());
+    else if (a == "--bodies")
+      o.bodies = std::atoi(value().c_str());
+    else if (a == "--ticks")
+      o.ticks = std::atoi(value().c_str());
+    else if (a == "--half")
+      o.half = std::atof(value().c_str());
+    else if (a == "--threads")
+      o.threads = std::atoi(value().c_str());
+    else if (a == "--rules")
+      o.rules = value();
+    else
+      throw InvalidArgument("bench_bodies: unknown option " + a);
   }
   if (o.backend != "cpu" && o.backend != "cuda")
     throw InvalidArgument("bench_bodies: --backend " + o.backend + "; use cpu or cuda");
   if (o.n < 32 || o.n > 2048) throw InvalidArgument("bench_bodies: --n " + std::to_string(o.n) + "; use 32..2048");
   if (o.bodies < 0 || o.bodies > int(kMaxBodies))
-    throw InvalidArgument("bench_bodies: --bodies " + std::to_string(o.bodies) + "; use 0.." + std::to_string(kMaxBodies));
+    throw InvalidArgument("bench_bodies: --bodies " + std::to_string(o.bodies) + "; use 0.." +
+                          std::to_string(kMaxBodies));
   if (o.half < 0 || o.half > kMaxBodyHalfSize)
     throw InvalidArgument("bench_bodies: --half " + std::to_string(o.half) + "; use 0 (N/32) or up to 64");
   if (o.ticks < 1) throw InvalidArgument("bench_bodies: --ticks " + std::to_string(o.ticks) + "; use 1 or more");

@@ -28,12 +28,12 @@ int main() {
   BodyPose pose = world.body_pose(id);
   double vz = 0;  // m/s
   for (int tick = 0; tick < 200; ++tick) {
-    world.step(1);                                       // writes the crate at `pose`, pushes the sand
-    const BodySand& sand = world.body_sand(id);          // what the sand did to it
-    vz += (sand.force.z / sand.mass - 9.81) * dt;        // the sand's force and gravity
-    pose.velocity = {0, 0, vz * dt * cells_per_metre};   // cells per tick
+    world.step(1);                                      // writes the crate at `pose`, pushes the sand
+    const BodySand& sand = world.body_sand(id);         // what the sand did to it
+    vz += (sand.force.z / sand.mass - 9.81) * dt;       // the sand's force and gravity
+    pose.velocity = {0, 0, vz * dt * cells_per_metre};  // cells per tick
     pose.position.z += pose.velocity.z;
-    world.set_body_pose(id, pose);                       // where it is written next tick
+    world.set_body_pose(id, pose);  // where it is written next tick
   }
 
   const BodySand& sand = world.body_sand(id);

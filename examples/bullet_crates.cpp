@@ -44,19 +44,18 @@ int main() {
     double x, y;     // cells
     bool floats;
   };
-  const std::vector<Drop> drops{{"light crate in sand", false, 700, 10, 12, true},
-                                {"heavy crate in sand", false, 3600, 28, 12, false},
-                                {"cork ball in sand", true, 300, 18, 30, true},
-                                {"light crate in water", false, 450, 52, 12, true},
-                                {"heavy crate in water", false, 2500, 70, 12, false},
-                                {"steel ball in water", true, 7800, 60, 30, false}};
+  const std::vector<Drop> drops{
+      {"light crate in sand", false, 700, 10, 12, true},    {"heavy crate in sand", false, 3600, 28, 12, false},
+      {"cork ball in sand", true, 300, 18, 30, true},       {"light crate in water", false, 450, 52, 12, true},
+      {"heavy crate in water", false, 2500, 70, 12, false}, {"steel ball in water", true, 7800, 60, 30, false}};
   const double cell = def.cell_metres, half = 4 * cell;  // crates and balls 8 cells (4 cm) across
   std::vector<std::unique_ptr<btCollisionShape>> shapes;
   std::vector<std::unique_ptr<btDefaultMotionState>> states;
   std::vector<std::unique_ptr<btRigidBody>> bodies;
   for (const Drop& d : drops) {
     shapes.push_back(d.ball ? std::unique_ptr<btCollisionShape>(new btSphereShape(btScalar(half)))
-                            : std::unique_ptr<btCollisionShape>(new btBoxShape(btVector3(btScalar(half), btScalar(half), btScalar(half)))));
+                            : std::unique_ptr<btCollisionShape>(
+                                  new btBoxShape(btVector3(btScalar(half), btScalar(half), btScalar(half)))));
     const double volume = d.ball ? 4.0 / 3.0 * 3.14159265358979 * half * half * half : 8 * half * half * half;
     const btScalar mass = btScalar(d.density * volume);
     btVector3 inertia;
@@ -90,7 +89,8 @@ int main() {
   for (const Material m : {Material::Granular, Material::Liquid})
     if (after[to_cell(m)] != before[to_cell(m)]) {
       std::printf("%s: %llu cells before, %llu after\n", std::string(material_name(m)).c_str(),
-                  static_cast<unsigned long long>(before[to_cell(m)]), static_cast<unsigned long long>(after[to_cell(m)]));
+                  static_cast<unsigned long long>(before[to_cell(m)]),
+                  static_cast<unsigned long long>(after[to_cell(m)]));
       ok = false;
     }
   for (const auto& body : bodies) dynamics.removeRigidBody(body.get());

@@ -13,11 +13,11 @@
 #include <cstdio>
 #include <vector>
 
+#include "body_scene.hpp"
 #include "granular/body.hpp"
 #include "granular/errors.hpp"
 #include "granular/time_scale.hpp"
 #include "granular/world.hpp"
-#include "body_scene.hpp"
 #include "test_support.hpp"
 
 using namespace granular;
@@ -87,8 +87,7 @@ double surface_around(const World& w, Material medium, int x0, int x1, int y0, i
 /// deep, moved by OwnPhysics for `ticks` ticks. Returns the share of its height below the local
 /// surface, averaged over the last 100 ticks, and sets `lowest` / `highest` to its centre's range
 /// over them and `awake` to the bricks the last tick stepped.
-double float_box(Material medium, double density, int ticks, double& lowest, double& highest,
-                 std::uint64_t& awake) {
+double float_box(Material medium, double density, int ticks, double& lowest, double& highest, std::uint64_t& awake) {
   World w(test_def({48, 48, 56}, kRules));
   w.paint(Box{{0, 0, 0}, {48, 48, 24}}, medium);
   w.step(medium == Material::Liquid ? 5 : 40);
@@ -235,7 +234,8 @@ TEST_CASE("World::add_body and set_body_pose refuse bad input, naming the field 
   BodyPose pose;
   pose.position.x = INFINITY;
   check_has(error_of<InvalidArgument>([&] { w.set_body_pose(id, pose); }), {"pose.position = (inf, 0, 0)"});
-  check_has(error_of<InvalidArgument>([&] { w.set_body_pose(id + 5, BodyPose{}); }), {"no body " + std::to_string(id + 5)});
+  check_has(error_of<InvalidArgument>([&] { w.set_body_pose(id + 5, BodyPose{}); }),
+            {"no body " + std::to_string(id + 5)});
   check_has(error_of<InvalidArgument>([&] { w.remove_body(id + 5); }), {"no body"});
 
   WorldDef solid_bodies = test_def({16, 16, 16}, kRules);
@@ -281,8 +281,10 @@ TEST_CASE("a ball rolled across a bed leaves a groove, and stops sooner in deepe
   };
   double shallow_groove = 0, deep_groove = 0;
   const double shallow = roll(3, 1.0, shallow_groove), deep = roll(14, 1.0, deep_groove);
-  std::printf("ball at 1 m/s: %.1f cells over a 3-cell bed (groove %.2f cells deep), %.1f over a 14-cell bed "
-              "(groove %.2f)\n", shallow, shallow_groove, deep, deep_groove);
+  std::printf(
+      "ball at 1 m/s: %.1f cells over a 3-cell bed (groove %.2f cells deep), %.1f over a 14-cell bed "
+      "(groove %.2f)\n",
+      shallow, shallow_groove, deep, deep_groove);
   CHECK(deep < shallow);
   CHECK(shallow_groove >= 0.5);
   CHECK(deep_groove >= 0.5);

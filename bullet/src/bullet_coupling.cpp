@@ -157,9 +157,9 @@ void BulletCoupling::rebuild_statics() {
       if (x < inside.min.x || y < inside.min.y || z < inside.min.z || x >= inside.max.x || y >= inside.max.y ||
           z >= inside.max.z)
         return true;  // outside what was read: counts as static, so the region's edge makes no face
-      const std::uint8_t m8 = region[(std::size_t(z - inside.min.z) * std::size_t(e.y) + std::size_t(y - inside.min.y)) *
-                                         std::size_t(e.x) +
-                                     std::size_t(x - inside.min.x)];
+      const std::uint8_t m8 =
+          region[(std::size_t(z - inside.min.z) * std::size_t(e.y) + std::size_t(y - inside.min.y)) * std::size_t(e.x) +
+                 std::size_t(x - inside.min.x)];
       return m8 != body && materials[m8].behaviour == Behaviour::Static;
     };
     for (int z = want.min.z; z < want.max.z; ++z)
@@ -182,8 +182,7 @@ void BulletCoupling::rebuild_statics() {
       runs.push_back({c.z, c.y, c.x, c.x + 1});
   }
   std::uint64_t key = runs.size();
-  for (const StaticRun& r : runs)
-    key = mix64(key ^ pack(r.x0, r.y, r.z) ^ (std::uint64_t(std::uint32_t(r.x1)) << 11));
+  for (const StaticRun& r : runs) key = mix64(key ^ pack(r.x0, r.y, r.z) ^ (std::uint64_t(std::uint32_t(r.x1)) << 11));
   if (statics_ && key == statics_key_) return;
   statics_key_ = key;
   if (statics_) dynamics_.removeCollisionObject(statics_.get());

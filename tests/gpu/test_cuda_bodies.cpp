@@ -8,9 +8,9 @@
 #include <vector>
 
 #include "body_scene.hpp"
+#include "gpu_worlds.hpp"
 #include "granular/body.hpp"
 #include "granular/world.hpp"
-#include "gpu_worlds.hpp"
 
 using namespace granular;
 using granular::test::first_difference;

@@ -24,8 +24,8 @@ namespace granular {
 
 /// The settings of a BulletCoupling.
 struct BulletCouplingDef {
-  int substeps = 4;            ///< Bullet steps per world tick (>= 1)
-  int static_margin = 3;       ///< cells around a body whose static cells collide in Bullet (>= 1)
+  int substeps = 4;       ///< Bullet steps per world tick (>= 1)
+  int static_margin = 3;  ///< cells around a body whose static cells collide in Bullet (>= 1)
 };
 
 /// Couples the rigid bodies of a Bullet dynamics world with the bodies of a World. Bullet's units

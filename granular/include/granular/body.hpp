@@ -70,20 +70,20 @@ using BodyId = std::uint32_t;
 /// frame, for cells of WorldDef::cell_metres and ticks of tick_seconds(); gravity on the body itself
 /// is not in them (the game or engine applies it).
 struct BodySand {
-  std::uint64_t tick = 0;   ///< the tick at whose start the body was written
-  std::int64_t cells = 0;   ///< cells the body holds in the grid
-  std::int64_t blocked = 0; ///< cells of its shape it did not take: static cells (walls, other bodies)
-                            ///< and cells whose grains had no free cell to go to within reach
+  std::uint64_t tick = 0;      ///< the tick at whose start the body was written
+  std::int64_t cells = 0;      ///< cells the body holds in the grid
+  std::int64_t blocked = 0;    ///< cells of its shape it did not take: static cells (walls, other bodies)
+                               ///< and cells whose grains had no free cell to go to within reach
   MaterialCounts displaced{};  ///< cells pushed out of the body's new volume this tick, per material
   std::array<double, kMaterialCount> submerged{};  ///< cells of the body below the surface of each
                                                    ///< material around it (fractions per layer)
-  MaterialCounts below{};   ///< the cells right under the body's lowest cells, per material
-  Vec3 buoyancy;            ///< the bulk density of what surrounds each of its layers, times g and the layer's volume (N)
-  Vec3 drag;                ///< drag of its faces and the momentum of what it pushed (N), as an implicit
-                            ///< step over the tick gives it: it slows the body and never turns it back
-  Vec3 force;               ///< buoyancy + drag (N)
-  Vec3 torque;              ///< of buoyancy and drag about the position (N m)
-  double mass = 0;          ///< the body's mass, density times its shape's volume (kg)
+  MaterialCounts below{};                          ///< the cells right under the body's lowest cells, per material
+  Vec3 buoyancy;    ///< the bulk density of what surrounds each of its layers, times g and the layer's volume (N)
+  Vec3 drag;        ///< drag of its faces and the momentum of what it pushed (N), as an implicit
+                    ///< step over the tick gives it: it slows the body and never turns it back
+  Vec3 force;       ///< buoyancy + drag (N)
+  Vec3 torque;      ///< of buoyancy and drag about the position (N m)
+  double mass = 0;  ///< the body's mass, density times its shape's volume (kg)
 };
 
 }  // namespace granular

@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <array>
-#include <cstddef>
 #include <cmath>
+#include <cstddef>
 
 #include "bodies/body_shape.hpp"
 #include "granular/motion.hpp"
@@ -17,7 +17,9 @@ Vec3 operator+(const Vec3& a, const Vec3& b) { return {a.x + b.x, a.y + b.y, a.z
 Vec3 operator-(const Vec3& a, const Vec3& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
 Vec3 operator*(const Vec3& a, double k) { return {a.x * k, a.y * k, a.z * k}; }
 double dot(const Vec3& a, const Vec3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-Vec3 cross(const Vec3& a, const Vec3& b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
+Vec3 cross(const Vec3& a, const Vec3& b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
 double length(const Vec3& a) { return std::sqrt(dot(a, a)); }
 
 /// The drag of a face moving along itself, as a share of the drag of one moving across: skin
@@ -36,8 +38,7 @@ struct Layer {
 
 void sand_forces(const RegionEdit& edit, Int3 grid, const std::vector<std::uint64_t>& owned,
                  const MaterialTable& materials, const BodyPose& pose, double mass, double moment,
-                 const BodyScale& scale,
-                 BodySand& sand, ForceScratch& s) {
+                 const BodyScale& scale, BodySand& sand, ForceScratch& s) {
   const Box box = edit.region();
   const Int3 e = box.extent();
   const std::size_t volume = std::size_t(e.x) * std::size_t(e.y) * std::size_t(e.z);
@@ -62,12 +63,12 @@ void sand_forces(const RegionEdit& edit, Int3 grid, const std::vector<std::uint6
 
   const double cell_volume = scale.cell_m * scale.cell_m * scale.cell_m;
   const double face_area = scale.cell_m * scale.cell_m;
-  const Vec3 velocity = pose.velocity * (scale.cell_m / scale.tick_s);      // m/s
-  const Vec3 spin = pose.angular_velocity * (1.0 / scale.tick_s);            // rad/s
+  const Vec3 velocity = pose.velocity * (scale.cell_m / scale.tick_s);  // m/s
+  const Vec3 spin = pose.angular_velocity * (1.0 / scale.tick_s);       // rad/s
   // Below the speed of a gravity wave a cell deep the drag grows with the speed, not its square, so
   // that a floating body's small swings die out (as waves carry their energy away).
   const double slow = std::sqrt(scale.gravity * scale.cell_m);  // m/s
-  constexpr std::array<Int3, 6> kFaces{Int3{1, 0, 0}, Int3{-1, 0, 0}, Int3{0, 1, 0},
+  constexpr std::array<Int3, 6> kFaces{Int3{1, 0, 0},  Int3{-1, 0, 0}, Int3{0, 1, 0},
                                        Int3{0, -1, 0}, Int3{0, 0, 1},  Int3{0, 0, -1}};
 
   std::vector<Layer> layers(std::size_t(e.z));
@@ -159,7 +160,8 @@ void sand_forces(const RegionEdit& edit, Int3 grid, const std::vector<std::uint6
   // each tick, its force a tick late.
   if (stiffness > 0 && mass > 0) {
     const double weight_n = mass * scale.gravity, dt = scale.tick_s;
-    const double implicit = weight_n + (lift - weight_n - stiffness * dt * velocity.z) / (1 + stiffness * dt * dt / mass);
+    const double implicit =
+        weight_n + (lift - weight_n - stiffness * dt * velocity.z) / (1 + stiffness * dt * dt / mass);
     if (lift > 0) lift_torque = lift_torque * (implicit / lift);
     lift = implicit;
   }

@@ -48,7 +48,6 @@ struct ForceScratch {
 ///   drag would, and never turns it back.
 void sand_forces(const RegionEdit& edit, Int3 grid, const std::vector<std::uint64_t>& owned,
                  const MaterialTable& materials, const BodyPose& pose, double mass, double moment,
-                 const BodyScale& scale,
-                 BodySand& sand, ForceScratch& scratch);
+                 const BodyScale& scale, BodySand& sand, ForceScratch& scratch);
 
 }  // namespace granular

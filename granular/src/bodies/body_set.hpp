@@ -17,17 +17,17 @@ namespace granular {
 struct BodyRecord {
   BodyId id = 0;
   BodyDef def;
-  BodyPose pose;                       ///< where it is written at the next tick
-  std::vector<std::uint64_t> owned;    ///< grid indices (ascending) of the cells it holds
-  BodySand sand;                       ///< the last tick's report
-  double mass = 0;                     ///< kg
-  double moment = 0;                   ///< kg m^2, of a ball of the same volume and mass
+  BodyPose pose;                     ///< where it is written at the next tick
+  std::vector<std::uint64_t> owned;  ///< grid indices (ascending) of the cells it holds
+  BodySand sand;                     ///< the last tick's report
+  double mass = 0;                   ///< kg
+  double moment = 0;                 ///< kg m^2, of a ball of the same volume and mass
 };
 
 /// The bodies of a World.
 struct World::Bodies {
-  std::vector<BodyRecord> list;  ///< in the order they were added
-  BodyId next = 1;               ///< the next handle
+  std::vector<BodyRecord> list;      ///< in the order they were added
+  BodyId next = 1;                   ///< the next handle
   std::vector<std::uint64_t> shape;  ///< scratch: the cells of a body's shape this tick
   StampScratch stamp;
   ForceScratch forces;

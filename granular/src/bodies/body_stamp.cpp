@@ -92,7 +92,9 @@ StampResult stamp_body(RegionEdit& edit, Int3 grid, const std::vector<std::uint6
   constexpr std::uint8_t kShape = 1, kTaken = 2, kNear = 3;
   s.in_shape.assign(region.volume(), 0);
   for (const std::uint64_t g : shape) s.in_shape[region.local(grid_cell(grid, g))] = kShape;
-  auto in_shape_at = [&](Int3 c) { return region.inside(c) && s.in_shape[region.local(c)] != 0 && s.in_shape[region.local(c)] != kNear; };
+  auto in_shape_at = [&](Int3 c) {
+    return region.inside(c) && s.in_shape[region.local(c)] != 0 && s.in_shape[region.local(c)] != kNear;
+  };
   for (const std::uint64_t g : shape) {
     const Int3 c = grid_cell(grid, g);
     if (in_shape_at({c.x + 1, c.y, c.z}) && in_shape_at({c.x - 1, c.y, c.z}) && in_shape_at({c.x, c.y + 1, c.z}) &&
@@ -198,14 +200,8 @@ StampResult stamp_body(RegionEdit& edit, Int3 grid, const std::vector<std::uint6
       for (const std::uint32_t i : s.queue) s.dead[i] = 1;
     return nearby;
   };
-  // Shifts the path s.parent gives from `end` back to `from` by one cell towards `end`: each cell
-  // takes the material of the one before it on the path, `from` takes `first`, at rest.
-  auto shift = [&](std::uint32_t from, std::uint32_t end, std::uint8_t first) {
-    for (std::uint32_t at = end; at != from; at = s.parent[at]) put(at, material(s.parent[at]));
-    put(from, first);
-  };
-  // Shifts that path by one cell towards `from` instead: each cell takes the material of the one
-  // after it, `end` becomes void.
+  // Shifts the path s.parent gives from `end` back to `from` by one cell towards `from`: each cell
+  // takes the material of the one after it, `end` becomes void.
   auto pull = [&](std::uint32_t from, std::uint32_t end) {
     std::uint8_t carried = 0;
     for (std::uint32_t at = end;; at = s.parent[at]) {
@@ -223,11 +219,14 @@ StampResult stamp_body(RegionEdit& edit, Int3 grid, const std::vector<std::uint6
       const Int3 c = grid_cell(grid, g);
       return c.x * motion.x + c.y * motion.y + c.z * motion.z;
     };
-    std::stable_sort(s.push.begin(), s.push.end(), [&](std::uint64_t a, std::uint64_t b) { return ahead(a) > ahead(b); });
+    std::stable_sort(s.push.begin(), s.push.end(),
+                     [&](std::uint64_t a, std::uint64_t b) { return ahead(a) > ahead(b); });
     // A push passes through mobile cells and voids, crossing cells of the shape that wait for their
     // own push (it moves what they hold on by one cell), and ends in the nearest void away from the
     // body's surroundings (so that its buoyancy does not jump with what it pushed).
-    auto through = [&](std::uint32_t i) { return s.in_shape[i] != kTaken && (material(i) == 0 || mobile(material(i))); };
+    auto through = [&](std::uint32_t i) {
+      return s.in_shape[i] != kTaken && (material(i) == 0 || mobile(material(i)));
+    };
     auto free_cell = [&](std::uint32_t i) { return material(i) == 0 && s.in_shape[i] == 0; };
     // Every cell's distance to the nearest such void, searched from all of them at once. A push
     // follows it down; where it leads to a void an earlier push has filled, or nowhere, a search from
@@ -323,13 +322,15 @@ StampResult stamp_body(RegionEdit& edit, Int3 grid, const std::vector<std::uint6
     for (const std::uint32_t wake : s.left) {
       if (material(wake) != 0) continue;
       const Int3 at = region.cell(wake);
-      const std::uint32_t above_wake = std::uint32_t((std::int64_t(wake) / layer + 1) * layer);  // first cell over its layer
+      const std::uint32_t above_wake =
+          std::uint32_t((std::int64_t(wake) / layer + 1) * layer);  // first cell over its layer
       auto surface = [&](std::uint32_t j) {
         if (j < above_wake || !open_above(j)) return kNot;
         return s.in_shape[j] == 0 ? kFar : kNearby;
       };
-      const std::int64_t found = nearest(wake, directions({}, unsigned(mix64(salt ^ ~grid_index(grid, at.x, at.y, at.z)) & 3)),
-                                         nearby_will_do, liquid, surface);
+      const std::int64_t found =
+          nearest(wake, directions({}, unsigned(mix64(salt ^ ~grid_index(grid, at.x, at.y, at.z)) & 3)), nearby_will_do,
+                  liquid, surface);
       if (found < 0 || s.in_shape[std::uint32_t(found)] == kNear) nearby_will_do = true;
       if (found < 0) continue;
       ++result.filled[material(std::uint32_t(found))];

@@ -20,25 +20,25 @@ inline constexpr int kBodyReach = 4;
 
 /// What stamp_body did.
 struct StampResult {
-  std::int64_t blocked = 0;     ///< cells of the shape not taken (static, or no free cell within reach)
-  MaterialCounts displaced{};   ///< cells pushed out of the shape, per material
-  MaterialCounts filled{};      ///< cells of the wake filled, per material
+  std::int64_t blocked = 0;    ///< cells of the shape not taken (static, or no free cell within reach)
+  MaterialCounts displaced{};  ///< cells pushed out of the shape, per material
+  MaterialCounts filled{};     ///< cells of the wake filled, per material
 };
 
 /// The scratch of stamp_body, reused from body to body.
 struct StampScratch {
-  std::vector<std::uint8_t> in_shape;   ///< per cell of the region: outside the shape, in it, or the body's
-  std::vector<std::uint32_t> queue;     ///< the last search's cells, in the order reached
-  std::vector<std::uint64_t> push;      ///< grid indices of the shape's cells to empty
-  std::vector<std::uint64_t> taken;     ///< grid indices of the cells the body holds after the stamp
-  std::vector<std::uint32_t> left;      ///< local indices of the cells the body left
-  std::vector<std::uint32_t> parent;    ///< per cell: where the last search reached it from
-  std::vector<std::uint8_t> dead;       ///< per cell: a search from it finds nothing
-  std::vector<std::uint8_t> edges;      ///< per cell: which of its neighbours lie outside the region
-  std::vector<std::int32_t> distance;   ///< per cell: steps to the nearest void a push may end in
-  std::vector<std::uint32_t> front;     ///< that search's cells, in the order reached
-  std::vector<std::uint32_t> route;     ///< one push's cells, from the shape to the void
-  std::vector<std::uint8_t> on_route;   ///< per cell: on the route being built
+  std::vector<std::uint8_t> in_shape;  ///< per cell of the region: outside the shape, in it, or the body's
+  std::vector<std::uint32_t> queue;    ///< the last search's cells, in the order reached
+  std::vector<std::uint64_t> push;     ///< grid indices of the shape's cells to empty
+  std::vector<std::uint64_t> taken;    ///< grid indices of the cells the body holds after the stamp
+  std::vector<std::uint32_t> left;     ///< local indices of the cells the body left
+  std::vector<std::uint32_t> parent;   ///< per cell: where the last search reached it from
+  std::vector<std::uint8_t> dead;      ///< per cell: a search from it finds nothing
+  std::vector<std::uint8_t> edges;     ///< per cell: which of its neighbours lie outside the region
+  std::vector<std::int32_t> distance;  ///< per cell: steps to the nearest void a push may end in
+  std::vector<std::uint32_t> front;    ///< that search's cells, in the order reached
+  std::vector<std::uint32_t> route;    ///< one push's cells, from the shape to the void
+  std::vector<std::uint8_t> on_route;  ///< per cell: on the route being built
 };
 
 /// Writes a body into `edit`, whose region (inside a grid of `grid`) holds every cell of `owned` and

@@ -150,7 +150,9 @@ Box bounds_of(const std::vector<std::uint64_t>& cells, Int3 size) {
 }
 
 /// `b` grown by `d` cells on every side.
-Box grown(const Box& b, int d) { return {{b.min.x - d, b.min.y - d, b.min.z - d}, {b.max.x + d, b.max.y + d, b.max.z + d}}; }
+Box grown(const Box& b, int d) {
+  return {{b.min.x - d, b.min.y - d, b.min.z - d}, {b.max.x + d, b.max.y + d, b.max.z + d}};
+}
 
 /// The smallest box holding `a` and `b` (either may be empty).
 Box joined(const Box& a, const Box& b) {
@@ -220,7 +222,8 @@ void World::stamp_bodies() {
         intersect(grown(old_cells, kBodyReach), grown(new_cells, kBodyReach)).empty())
       release_body_cells(body.owned);
     if (all.shape.empty() && body.owned.empty()) continue;
-    const Box region = intersect(grown(joined(bounds_of(body.owned, size_), new_cells), kBodyReach), Box{{0, 0, 0}, size_});
+    const Box region =
+        intersect(grown(joined(bounds_of(body.owned, size_), new_cells), kBodyReach), Box{{0, 0, 0}, size_});
     RegionEdit& edit = begin_edit(region);
     const StampResult stamped =
         stamp_body(edit, size_, all.shape, body.owned, body_material, rules_->materials, body.pose.velocity,
