@@ -86,9 +86,11 @@ double surface_around(const World& w, Material medium, int x0, int x1, int y0, i
 /// A box of half size 5 and `density` dropped from 6 cells over a settled bed of `medium` 24 cells
 /// deep, moved by OwnPhysics for `ticks` ticks. Returns the share of its height below the local
 /// surface, averaged over the last 100 ticks, and sets `lowest` / `highest` to its centre's range
-/// over them and `awake` to the bricks the last tick stepped.
-double float_box(Material medium, double density, int ticks, double& lowest, double& highest, std::uint64_t& awake) {
-  World w(test_def({48, 48, 56}, kRules));
+/// over them, `awake` to the bricks the last tick stepped and `*hash` (when given) to a hash of the
+/// cells and the centre; `sparse` as WorldDef::sparse.
+double float_box(Material medium, double density, int ticks, double& lowest, double& highest, std::uint64_t& awake,
+                 std::uint64_t* hash = nullptr, bool sparse = true) {
+  World w(test::with_sparse(test_def({48, 48, 56}, kRules), sparse));
   w.paint(Box{{0, 0, 0}, {48, 48, 24}}, medium);
   w.step(medium == Material::Liquid ? 5 : 40);
   const MaterialCounts before = w.count();
@@ -111,6 +113,7 @@ double float_box(Material medium, double density, int ticks, double& lowest, dou
     }
   }
   awake = w.activity().active_bricks;
+  if (hash) *hash = w.hash() ^ std::uint64_t(std::llround(body.pose.position.z * 1e6));
   const MaterialCounts after = w.count();
   for (int m = 0; m < kMaterialCount; ++m)
     if (m != 0 && m != kBody) CHECK(after[std::size_t(m)] == before[std::size_t(m)]);
@@ -195,6 +198,12 @@ TEST_CASE("a box of half the bulk density floats half submerged, one of twice si
     CHECK(below == doctest::Approx(0.5).epsilon(0.2));
     CHECK(highest - lowest < 1.0);
     CHECK(awake == 0);  // a body at rest lets the sand around it sleep
+    // At rest, a body whose region nothing changed is not written again (stamp_bodies); dense
+    // stepping, where every brick counts as changed, writes it every tick: the same cells and pose.
+    std::uint64_t sparse_hash = 0, dense_hash = 0;
+    float_box(Material::Granular, 800, 150, lowest, highest, awake, &sparse_hash, true);
+    float_box(Material::Granular, 800, 150, lowest, highest, awake, &dense_hash, false);
+    CHECK(sparse_hash == dense_hash);
     float_box(Material::Granular, 3200, 100, lowest, highest, awake);
     CHECK(lowest == doctest::Approx(5));  // its bottom on the floor
   }

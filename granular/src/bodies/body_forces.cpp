@@ -7,7 +7,6 @@
 
 #include "bodies/body_shape.hpp"
 #include "granular/motion.hpp"
-#include "world/region_edit.hpp"
 
 namespace granular {
 
@@ -36,10 +35,9 @@ struct Layer {
 
 }  // namespace
 
-void sand_forces(const RegionEdit& edit, Int3 grid, const std::vector<std::uint64_t>& owned,
-                 const MaterialTable& materials, const BodyPose& pose, double mass, double moment,
-                 const BodyScale& scale, BodySand& sand, ForceScratch& s) {
-  const Box box = edit.region();
+void sand_forces(const Box& box, std::span<const std::uint8_t> bytes, Int3 grid,
+                 const std::vector<std::uint64_t>& owned, const MaterialTable& materials, const BodyPose& pose,
+                 double mass, double moment, const BodyScale& scale, BodySand& sand, ForceScratch& s) {
   const Int3 e = box.extent();
   const std::size_t volume = std::size_t(e.x) * std::size_t(e.y) * std::size_t(e.z);
   auto inside = [&](Int3 c) {
@@ -53,7 +51,7 @@ void sand_forces(const RegionEdit& edit, Int3 grid, const std::vector<std::uint6
   // A cell outside the region lies outside the grid (the region holds the body and a margin where the
   // grid has one), and reads as static there, as it does to the rules.
   constexpr std::uint8_t kOutside = to_cell(Material::Solid);
-  auto material_at = [&](Int3 c) { return inside(c) ? std::uint8_t(edit.byte(local(c)) & kMaterialMask) : kOutside; };
+  auto material_at = [&](Int3 c) { return inside(c) ? std::uint8_t(bytes[local(c)] & kMaterialMask) : kOutside; };
   auto is_static = [&](std::uint8_t m) { return m == kOutside || materials[m].behaviour == Behaviour::Static; };
 
   s.owned.assign(volume, 0);

@@ -4,14 +4,13 @@
 /// buoyancy and drag of its surroundings (docs/design/bodies.md, "Forces").
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "granular/body.hpp"
 #include "granular/rule_set.hpp"
 
 namespace granular {
-
-class RegionEdit;
 
 /// How far beside a layer of a body its surroundings reach, in cells (x and y).
 inline constexpr int kRingWidth = 2;
@@ -30,7 +29,8 @@ struct ForceScratch {
 };
 
 /// Fills `sand`'s cells, submerged, below, buoyancy, drag, force and torque for a body holding the
-/// cells `owned` (grid indices, ascending, of a grid of `grid`) of `edit`'s region, at `pose`, of
+/// cells `owned` (grid indices, ascending, of a grid of `grid`) of the region `box`, whose cell bytes
+/// are `bytes` (x fastest; the body and kBodyReach cells around it where the grid has them), at `pose`, of
 /// mass `mass` kg and moment of inertia `moment` kg m^2, having pushed `sand.displaced` out of its
 /// way this tick:
 /// - each layer of the body is submerged in the materials of the non-static cells within
@@ -46,8 +46,8 @@ struct ForceScratch {
 /// - the drag D against momentum p is given as D / (1 + D dt / p) (likewise the torque), the change
 ///   of an implicit step over the tick dt: an engine stepping it explicitly slows the body as the
 ///   drag would, and never turns it back.
-void sand_forces(const RegionEdit& edit, Int3 grid, const std::vector<std::uint64_t>& owned,
-                 const MaterialTable& materials, const BodyPose& pose, double mass, double moment,
-                 const BodyScale& scale, BodySand& sand, ForceScratch& scratch);
+void sand_forces(const Box& box, std::span<const std::uint8_t> bytes, Int3 grid,
+                 const std::vector<std::uint64_t>& owned, const MaterialTable& materials, const BodyPose& pose,
+                 double mass, double moment, const BodyScale& scale, BodySand& sand, ForceScratch& scratch);
 
 }  // namespace granular

@@ -17,11 +17,14 @@ namespace granular {
 struct BodyRecord {
   BodyId id = 0;
   BodyDef def;
-  BodyPose pose;                     ///< where it is written at the next tick
-  std::vector<std::uint64_t> owned;  ///< grid indices (ascending) of the cells it holds
-  BodySand sand;                     ///< the last tick's report
-  double mass = 0;                   ///< kg
-  double moment = 0;                 ///< kg m^2, of a ball of the same volume and mass
+  BodyPose pose;                           ///< where it is written at the next tick
+  std::vector<std::uint64_t> owned;        ///< grid indices (ascending) of the cells it holds
+  BodySand sand;                           ///< the last tick's report
+  double mass = 0;                         ///< kg
+  double moment = 0;                       ///< kg m^2, of a ball of the same volume and mass
+  Box region;                              ///< the region of its last stamp
+  std::vector<std::uint8_t> region_bytes;  ///< that region's cell bytes after the stamp (empty: not kept)
+  std::uint64_t version = 0;               ///< World::change_version() after the stamp
 };
 
 /// The bodies of a World.

@@ -9,6 +9,7 @@
 
 #include "bodies/body_set.hpp"
 #include "bodies/body_shape.hpp"
+#include "granular/bricks.hpp"
 #include "granular/errors.hpp"
 #include "granular/extend/backend.hpp"
 #include "granular/grid.hpp"
@@ -24,6 +25,10 @@ namespace granular {
 namespace {
 
 constexpr double kMaxCoordinate = 1 << 23;  ///< cells: far past any grid, still exact in a double
+
+/// The most cells of a body's region whose bytes it keeps, so that its next tick at rest needs no
+/// read: a body of 64 cells across, with its reach.
+constexpr std::size_t kMaxKeptRegion = std::size_t(1) << 18;
 
 bool finite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 double length(const Vec3& v) { return std::sqrt(v.x * v.x + v.y * v.y + v.z * v.z); }
@@ -208,6 +213,18 @@ void World::stamp_bodies() {
   Bodies& all = *bodies_;
   const std::uint8_t body_material = to_cell(def_.body_material);
   const BodyScale scale{def_.cell_metres, tick_seconds(*rules_, def_.cell_metres), kStandardGravity};
+  take_step_changes();  // the bricks the last tick changed, for the bodies at rest below
+  // True when no brick of `region` changed since `version` (brick_version_).
+  auto unchanged = [&](const Box& region, std::uint64_t version) {
+    const Int3 bricks = brick_counts();
+    for (int z = region.min.z / kBrickSize; z <= (region.max.z - 1) / kBrickSize; ++z)
+      for (int y = region.min.y / kBrickSize; y <= (region.max.y - 1) / kBrickSize; ++y)
+        for (int x = region.min.x / kBrickSize; x <= (region.max.x - 1) / kBrickSize; ++x)
+          if (brick_version_[std::size_t(x) + std::size_t(bricks.x) *
+                                                  (std::size_t(y) + std::size_t(bricks.y) * std::size_t(z))] > version)
+            return false;
+    return true;
+  };
   for (BodyRecord& body : all.list) {
     PlacedShape(body.def, body.pose).cells(size_, all.shape);
     body.sand = BodySand{};
@@ -224,15 +241,29 @@ void World::stamp_bodies() {
     if (all.shape.empty() && body.owned.empty()) continue;
     const Box region =
         intersect(grown(joined(bounds_of(body.owned, size_), new_cells), kBodyReach), Box{{0, 0, 0}, size_});
+    // A body that holds its whole shape already, in a region nothing changed since its last stamp,
+    // would change nothing: its report comes from the bytes it kept, and no cell is read or written.
+    if (all.shape == body.owned && region == body.region && !body.region_bytes.empty() &&
+        unchanged(region, body.version)) {
+      sand_forces(region, body.region_bytes, size_, body.owned, rules_->materials, body.pose, body.mass, body.moment,
+                  scale, body.sand, all.forces);
+      continue;
+    }
     RegionEdit& edit = begin_edit(region);
     const StampResult stamped =
         stamp_body(edit, size_, all.shape, body.owned, body_material, rules_->materials, body.pose.velocity,
                    mix64(def_.seed ^ mix64(tick_ * 0x9E3779B97F4A7C15ull + body.id)), all.stamp);
     body.sand.blocked = stamped.blocked;
     body.sand.displaced = stamped.displaced;
-    sand_forces(edit, size_, body.owned, rules_->materials, body.pose, body.mass, body.moment, scale, body.sand,
-                all.forces);
+    sand_forces(region, edit.cells(), size_, body.owned, rules_->materials, body.pose, body.mass, body.moment, scale,
+                body.sand, all.forces);
+    body.region = region;
+    if (edit.cells().size() <= kMaxKeptRegion)
+      body.region_bytes.assign(edit.cells().begin(), edit.cells().end());
+    else
+      body.region_bytes.clear();
     write_edit();
+    body.version = change_version_;
   }
 }
 
