@@ -4,7 +4,8 @@
 /// material exactly and stay deterministic (thread counts, sparse = dense); a box of half the bulk
 /// density of sand or water floats half submerged and one of twice sinks to the floor, moved by a
 /// game's own few lines of physics; a ball rolled over a bed leaves a groove and stops sooner in
-/// deeper sand; a capsule walked through a dune leaves it whole; bad input is refused by name.
+/// deeper sand; a capsule walked through a dune leaves it whole; bodies half out of the grid,
+/// leaving it, jumping far and overlapping keep every cell; bad input is refused by name.
 
 #include <doctest/doctest.h>
 
@@ -338,4 +339,43 @@ TEST_CASE("a capsule walked through a dune leaves it whole") {
   std::printf("sand in the track's half of the dune: %lld cells of %llu\n", static_cast<long long>(track_sand),
               static_cast<unsigned long long>(sand));
   CHECK(double(track_sand) > 0.4 * double(sand));
+}
+
+TEST_CASE("bodies at the grid's edge, leaving it, jumping far and overlapping keep every cell") {
+  World w(test_def({32, 32, 32}, kRules));
+  w.paint(Box{{0, 0, 0}, {32, 32, 8}}, Material::Granular);
+  w.step(10);
+  const std::uint64_t sand = cells_of(w, Material::Granular);
+  BodyDef def;
+  def.half_extents = {3, 3, 3};
+  def.pose.position = {1, 16, 8};  // half of it past x = 0
+  const BodyId edge = w.add_body(def);
+  def.pose.position = {16, 16, 10};
+  const BodyId a = w.add_body(def);
+  def.pose.position = {19, 16, 10};  // overlapping a by half
+  const BodyId b = w.add_body(def);
+  w.step(1);
+  CHECK(w.body_sand(edge).cells == 4 * 6 * 6);  // the cells of x = 0 .. 3 only
+  CHECK(w.body_sand(a).cells == 216);
+  CHECK(w.body_sand(b).cells == 216 - 108);    // b does not take a's cells...
+  CHECK(w.body_sand(b).blocked == 108);        // ...it reports them blocked
+  CHECK(cells_of(w, Material::State7) == std::uint64_t(144 + 216 + 108));
+  // The edge body leaves the grid, a jumps far across it, b takes the cells a left.
+  BodyPose pose = w.body_pose(edge);
+  pose.position.x = -20;
+  w.set_body_pose(edge, pose);
+  pose = w.body_pose(a);
+  pose.position = {16, 28, 20};
+  w.set_body_pose(a, pose);
+  w.step(1);
+  CHECK(w.body_sand(edge).cells == 0);
+  CHECK(w.body_sand(a).cells == 216);
+  CHECK(w.body_sand(b).cells == 216);
+  CHECK(cells_of(w, Material::State7) == 432);
+  CHECK(cells_of(w, Material::Granular) == sand);
+  w.remove_body(a);
+  w.remove_body(b);
+  w.remove_body(edge);
+  CHECK(cells_of(w, Material::State7) == 0);
+  CHECK(cells_of(w, Material::Granular) == sand);
 }
