@@ -122,19 +122,22 @@ BodyId World::add_body(const BodyDef& def) {
 
 namespace {
 
-template <class List>
-auto& find_body(List& list, BodyId id, const char* who) {
-  const auto it = std::find_if(list.begin(), list.end(), [&](const BodyRecord& b) { return b.id == id; });
-  if (it == list.end()) throw InvalidArgument(std::string(who) + ": no body " + std::to_string(id) + " in this world");
-  return *it;
+/// The body `id` of `all` (World::Bodies, or null before the first add_body); InvalidArgument naming
+/// `who` when there is none.
+template <class Bodies>
+auto& find_body(Bodies* all, BodyId id, const char* who) {
+  if (all) {
+    const auto it = std::find_if(all->list.begin(), all->list.end(), [&](const BodyRecord& b) { return b.id == id; });
+    if (it != all->list.end()) return *it;
+  }
+  throw InvalidArgument(std::string(who) + ": no body " + std::to_string(id) + " in this world");
 }
 
 }  // namespace
 
 void World::remove_body(BodyId id) {
   live();
-  if (!bodies_) throw InvalidArgument("World::remove_body: no body " + std::to_string(id) + " in this world");
-  BodyRecord& body = find_body(bodies_->list, id, "World::remove_body");
+  BodyRecord& body = find_body(bodies_.get(), id, "World::remove_body");
   release_body_cells(body.owned);
   bodies_->list.erase(bodies_->list.begin() + (&body - bodies_->list.data()));
 }
@@ -184,25 +187,23 @@ void World::release_body_cells(std::vector<std::uint64_t>& owned) {
 
 void World::set_body_pose(BodyId id, const BodyPose& pose) {
   live();
-  if (!bodies_) throw InvalidArgument("World::set_body_pose: no body " + std::to_string(id) + " in this world");
-  BodyRecord& body = find_body(bodies_->list, id, "World::set_body_pose");
+  BodyRecord& body = find_body(bodies_.get(), id, "World::set_body_pose");
   check_pose(pose, "World::set_body_pose: pose");
   body.pose = pose;
 }
 
 BodyPose World::body_pose(BodyId id) const {
   live();
-  if (!bodies_) throw InvalidArgument("World::body_pose: no body " + std::to_string(id) + " in this world");
-  return find_body(bodies_->list, id, "World::body_pose").pose;
+  return find_body(bodies_.get(), id, "World::body_pose").pose;
 }
 
 const BodySand& World::body_sand(BodyId id) const {
   live();
-  if (!bodies_) throw InvalidArgument("World::body_sand: no body " + std::to_string(id) + " in this world");
-  return find_body(bodies_->list, id, "World::body_sand").sand;
+  return find_body(bodies_.get(), id, "World::body_sand").sand;
 }
 
 std::vector<BodyId> World::body_ids() const {
+  live();
   std::vector<BodyId> ids;
   if (bodies_)
     for (const BodyRecord& b : bodies_->list) ids.push_back(b.id);
