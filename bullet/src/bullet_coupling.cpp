@@ -146,7 +146,8 @@ void BulletCoupling::rebuild_statics() {
                    {int(std::floor(hi.x() / cell_m_)) + m + 1, int(std::floor(hi.y() / cell_m_)) + m + 1,
                     int(std::floor(hi.z() / cell_m_)) + m + 1}};
     const Box inside = intersect(want, Box{{0, 0, 0}, n});
-    if (want.extent().x > 1024 || want.extent().y > 1024 || want.extent().z > 1024) continue;  // a body far away
+    // An AABB larger than any body World takes (kMaxBodyHalfSize) is not one of its bodies' shapes.
+    if (want.extent().x > 1024 || want.extent().y > 1024 || want.extent().z > 1024) continue;
     const Int3 e = inside.extent();
     if (!inside.empty()) {
       region.resize(std::size_t(inside.volume()));
