@@ -9,7 +9,6 @@
 #include "bodies/body_shape.hpp"
 #include "granular/grid.hpp"
 #include "granular/motion.hpp"
-#include "world/region_edit.hpp"
 
 namespace granular {
 
@@ -71,16 +70,18 @@ struct Region {
 
 }  // namespace
 
-StampResult stamp_body(RegionEdit& edit, Int3 grid, const std::vector<std::uint64_t>& shape,
-                       std::vector<std::uint64_t>& owned, std::uint8_t body_material, const MaterialTable& materials,
-                       const Vec3& motion, std::uint64_t salt, StampScratch& s) {
+StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
+                       const std::vector<std::uint64_t>& shape, std::vector<std::uint64_t>& owned,
+                       std::uint8_t body_material, const MaterialTable& materials, const Vec3& motion,
+                       std::uint64_t salt, StampScratch& s) {
   StampResult result;
-  const Region region(edit.region());
+  const Region region(box);
+  s.written.clear();
   auto put = [&](std::uint32_t i, std::uint8_t byte) {
-    const Int3 c = region.cell(i);
-    edit.put(i, edit.row(c.y, c.z).flag(c.x), byte);
+    bytes[i] = byte;
+    s.written.push_back(i);
   };
-  auto material = [&](std::uint32_t i) { return std::uint8_t(edit.byte(i) & kMaterialMask); };
+  auto material = [&](std::uint32_t i) { return std::uint8_t(bytes[i] & kMaterialMask); };
   auto mobile = [&](std::uint8_t m) {
     const Behaviour b = materials[m].behaviour;
     return b == Behaviour::Granular || b == Behaviour::Liquid || b == Behaviour::Gas;

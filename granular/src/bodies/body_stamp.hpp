@@ -5,6 +5,7 @@
 /// nearest free cells, each cell of a path moving one cell on (docs/design/bodies.md, "Displacement").
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "granular/geometry.hpp"
@@ -12,8 +13,6 @@
 #include "granular/rule_set.hpp"
 
 namespace granular {
-
-class RegionEdit;
 
 /// Cells around a body's bounds that its pushes may pass through and end in.
 inline constexpr int kBodyReach = 4;
@@ -39,10 +38,12 @@ struct StampScratch {
   std::vector<std::uint32_t> front;    ///< that search's cells, in the order reached
   std::vector<std::uint32_t> route;    ///< one push's cells, from the shape to the void
   std::vector<std::uint8_t> on_route;  ///< per cell: on the route being built
+  std::vector<std::uint32_t> written;  ///< local indices of the cells the stamp wrote (some twice)
 };
 
-/// Writes a body into `edit`, whose region (inside a grid of `grid`) holds every cell of `owned` and
-/// `shape` (grid indices, ascending) and kBodyReach cells around them where the grid has them:
+/// Writes a body into `bytes`, the cell bytes (x fastest) of `region`, which (inside a grid of `grid`)
+/// holds every cell of `owned` and `shape` (grid indices, ascending) and kBodyReach cells around them
+/// where the grid has them; scratch.written lists the cells it wrote:
 /// - a cell of `owned` outside `shape` that still holds `body_material` becomes void;
 /// - a cell of `shape` that is void, or is in `owned` and holds `body_material`, becomes (stays) the body's;
 /// - a cell of `shape` holding a mobile material (granular, liquid, gas in `materials`) is emptied
@@ -59,8 +60,9 @@ struct StampScratch {
 ///   surface drops; grains are left to topple in by the rules.
 /// `owned` becomes the cells the body holds, ascending. Mass is conserved: every path shifts cells
 /// by one, into a void or out of the cell that becomes void.
-StampResult stamp_body(RegionEdit& edit, Int3 grid, const std::vector<std::uint64_t>& shape,
-                       std::vector<std::uint64_t>& owned, std::uint8_t body_material, const MaterialTable& materials,
-                       const Vec3& motion, std::uint64_t salt, StampScratch& scratch);
+StampResult stamp_body(const Box& region, std::span<std::uint8_t> bytes, Int3 grid,
+                       const std::vector<std::uint64_t>& shape, std::vector<std::uint64_t>& owned,
+                       std::uint8_t body_material, const MaterialTable& materials, const Vec3& motion,
+                       std::uint64_t salt, StampScratch& scratch);
 
 }  // namespace granular

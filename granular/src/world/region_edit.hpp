@@ -80,7 +80,7 @@ class RegionEdit {
     flags_[flag] = 1;
   }
   /// Sets the byte of the cell at index `cell` (in the brick of flag `flag`) to `byte` and flags the
-  /// brick, counting nothing: a body moving cells (bodies/body_stamp.hpp), which reports its own.
+  /// brick, counting nothing: the cells a body wrote (world_bodies.cpp), which it reports itself.
   void put(std::size_t cell, std::size_t flag, std::uint8_t byte) {
     cells_[cell] = byte;
     flags_[flag] = 1;

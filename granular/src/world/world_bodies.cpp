@@ -252,8 +252,16 @@ void World::stamp_bodies() {
     }
     RegionEdit& edit = begin_edit(region);
     const StampResult stamped =
-        stamp_body(edit, size_, all.shape, body.owned, body_material, rules_->materials, body.pose.velocity,
-                   mix64(def_.seed ^ mix64(tick_ * 0x9E3779B97F4A7C15ull + body.id)), all.stamp);
+        stamp_body(region, edit.cells(), size_, all.shape, body.owned, body_material, rules_->materials,
+                   body.pose.velocity, mix64(def_.seed ^ mix64(tick_ * 0x9E3779B97F4A7C15ull + body.id)), all.stamp);
+    // The bricks of the cells it wrote wake and count as changed (write_edit).
+    const Int3 e = region.extent();
+    for (const std::uint32_t i : all.stamp.written) {
+      const std::uint32_t row = i / std::uint32_t(e.x);
+      const RegionEdit::Row r =
+          edit.row(region.min.y + int(row % std::uint32_t(e.y)), region.min.z + int(row / std::uint32_t(e.y)));
+      edit.put(i, r.flag(region.min.x + int(i % std::uint32_t(e.x))), edit.byte(i));
+    }
     body.sand.blocked = stamped.blocked;
     body.sand.displaced = stamped.displaced;
     sand_forces(region, edit.cells(), size_, body.owned, rules_->materials, body.pose, body.mass, body.moment, scale,
