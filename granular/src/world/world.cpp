@@ -5,7 +5,7 @@
 #include <mutex>
 #include <new>
 
-#include "bodies/body_set.hpp"
+#include "world/world_body_set.hpp"
 #include "granular/extend/backend.hpp"
 #include "granular/extend/backend_factory.hpp"
 #include "granular/extend/backend_registry.hpp"

@@ -7,7 +7,7 @@
 #include <numbers>
 #include <string>
 
-#include "bodies/body_set.hpp"
+#include "world/world_body_set.hpp"
 #include "bodies/body_shape.hpp"
 #include "granular/bricks.hpp"
 #include "granular/errors.hpp"

@@ -1,5 +1,5 @@
 #pragma once
-/// @file body_set.hpp
+/// @file world_body_set.hpp
 /// The bodies a World holds (World::Bodies): each body's definition, pose, the cells it holds and its
 /// last report, and the scratch of writing them into the grid.
 
