@@ -83,6 +83,16 @@ void RegionEdit::map_materials(const Sphere& sphere, const MaterialMap& to) {
            [map = to](std::size_t, std::uint8_t was) { return map[was]; });
 }
 
+void RegionEdit::flag_written(std::span<const std::uint32_t> cells) {
+  for (const std::uint32_t i : cells) {
+    const std::size_t row = i / std::size_t(extent_.x);
+    const int x = region_.min.x + int(i % std::size_t(extent_.x));
+    const int y = region_.min.y + int(row % std::size_t(extent_.y)),
+              z = region_.min.z + int(row / std::size_t(extent_.y));
+    flags_[this->row(y, z).flag(x)] = 1;
+  }
+}
+
 void RegionEdit::put_materials(std::span<const std::uint8_t> after) {
   const std::uint8_t* const materials = after.data();
   set_runs([&](auto&& fn) { for_each_row(fn); }, [&](std::size_t i, std::uint8_t) { return materials[i]; });

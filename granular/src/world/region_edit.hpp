@@ -80,11 +80,14 @@ class RegionEdit {
     flags_[flag] = 1;
   }
   /// Sets the byte of the cell at index `cell` (in the brick of flag `flag`) to `byte` and flags the
-  /// brick, counting nothing: the cells a body wrote (world_bodies.cpp), which it reports itself.
+  /// brick, counting nothing: the cells a body leaves (world_bodies.cpp), which it reports itself.
   void put(std::size_t cell, std::size_t flag, std::uint8_t byte) {
     cells_[cell] = byte;
     flags_[flag] = 1;
   }
+  /// Flags the bricks of the cells at indices `cells` (into cells()), which the caller wrote itself,
+  /// counting nothing: a body's stamp (bodies/body_stamp.hpp), which reports its own.
+  void flag_written(std::span<const std::uint32_t> cells);
   /// Each cell of the region whose material m is not to[m] gets material to[m], at rest, counted
   /// in the report, its brick flagged.
   void map_materials(const MaterialMap& to);

@@ -15,6 +15,7 @@
 #include "granular/grid.hpp"
 #include "granular/rule_set.hpp"
 #include "granular/time_scale.hpp"
+#include "step/brick_grid.hpp"
 #include "granular/world.hpp"
 #include "util/number_text.hpp"
 #include "world/region_edit.hpp"
@@ -218,16 +219,15 @@ void World::stamp_bodies() {
   // True when no brick of `region` changed since `version` (brick_version_).
   auto unchanged = [&](const Box& region, std::uint64_t version) {
     const Int3 bricks = brick_counts();
-    for (int z = region.min.z / kBrickSize; z <= (region.max.z - 1) / kBrickSize; ++z)
-      for (int y = region.min.y / kBrickSize; y <= (region.max.y - 1) / kBrickSize; ++y)
-        for (int x = region.min.x / kBrickSize; x <= (region.max.x - 1) / kBrickSize; ++x)
-          if (brick_version_[std::size_t(x) + std::size_t(bricks.x) *
-                                                  (std::size_t(y) + std::size_t(bricks.y) * std::size_t(z))] > version)
-            return false;
+    for (int z = brick_of(region.min.z); z <= brick_of(region.max.z - 1); ++z)
+      for (int y = brick_of(region.min.y); y <= brick_of(region.max.y - 1); ++y)
+        for (int x = brick_of(region.min.x); x <= brick_of(region.max.x - 1); ++x)
+          if (brick_version_[brick_index(bricks, x, y, z)] > version) return false;
     return true;
   };
   for (BodyRecord& body : all.list) {
-    PlacedShape(body.def, body.pose).cells(size_, all.shape);
+    const PlacedShape placed(body.def, body.pose);
+    placed.cells(size_, all.shape);
     body.sand = BodySand{};
     body.sand.tick = tick_;
     body.sand.mass = body.mass;
@@ -235,7 +235,7 @@ void World::stamp_bodies() {
     // The region: the old and new cells and the reach of the pushes around them; a body that jumped
     // farther than that leaves its old cells first, so the region stays the size of the body.
     const Box old_cells = bounds_of(body.owned, size_);
-    const Box new_cells = all.shape.empty() ? Box{} : PlacedShape(body.def, body.pose).bounds(size_);
+    const Box new_cells = all.shape.empty() ? Box{} : placed.bounds(size_);
     if (!old_cells.empty() && !new_cells.empty() &&
         intersect(grown(old_cells, kBodyReach), grown(new_cells, kBodyReach)).empty())
       release_body_cells(body.owned);
@@ -254,14 +254,7 @@ void World::stamp_bodies() {
     const StampResult stamped =
         stamp_body(region, edit.cells(), size_, all.shape, body.owned, body_material, rules_->materials,
                    body.pose.velocity, mix64(def_.seed ^ mix64(tick_ * 0x9E3779B97F4A7C15ull + body.id)), all.stamp);
-    // The bricks of the cells it wrote wake and count as changed (write_edit).
-    const Int3 e = region.extent();
-    for (const std::uint32_t i : all.stamp.written) {
-      const std::uint32_t row = i / std::uint32_t(e.x);
-      const RegionEdit::Row r =
-          edit.row(region.min.y + int(row % std::uint32_t(e.y)), region.min.z + int(row / std::uint32_t(e.y)));
-      edit.put(i, r.flag(region.min.x + int(i % std::uint32_t(e.x))), edit.byte(i));
-    }
+    edit.flag_written(all.stamp.written);  // their bricks wake and count as changed (write_edit)
     body.sand.blocked = stamped.blocked;
     body.sand.displaced = stamped.displaced;
     sand_forces(region, edit.cells(), size_, body.owned, rules_->materials, body.pose, body.mass, body.moment, scale,
