@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstddef>
 
+#include "bodies/body_region.hpp"
 #include "bodies/body_shape.hpp"
 #include "granular/motion.hpp"
 
@@ -38,26 +39,20 @@ struct Layer {
 void sand_forces(const Box& box, std::span<const std::uint8_t> bytes, Int3 grid,
                  const std::vector<std::uint64_t>& owned, const MaterialTable& materials, const BodyPose& pose,
                  double mass, double moment, const BodyScale& scale, BodySand& sand, ForceScratch& s) {
-  const Int3 e = box.extent();
-  const std::size_t volume = std::size_t(e.x) * std::size_t(e.y) * std::size_t(e.z);
-  auto inside = [&](Int3 c) {
-    return c.x >= box.min.x && c.y >= box.min.y && c.z >= box.min.z && c.x < box.max.x && c.y < box.max.y &&
-           c.z < box.max.z;
-  };
-  auto local = [&](Int3 c) {
-    return (std::size_t(c.z - box.min.z) * std::size_t(e.y) + std::size_t(c.y - box.min.y)) * std::size_t(e.x) +
-           std::size_t(c.x - box.min.x);
-  };
+  const BodyRegion region(box);
+  const std::size_t volume = region.volume();
   // A cell outside the region lies outside the grid (the region holds the body and a margin where the
   // grid has one), and reads as static there, as it does to the rules.
   constexpr std::uint8_t kOutside = to_cell(Material::Solid);
-  auto material_at = [&](Int3 c) { return inside(c) ? std::uint8_t(bytes[local(c)] & kMaterialMask) : kOutside; };
+  auto material_at = [&](Int3 c) {
+    return region.inside(c) ? std::uint8_t(bytes[region.local(c)] & kMaterialMask) : kOutside;
+  };
   auto is_static = [&](std::uint8_t m) { return m == kOutside || materials[m].behaviour == Behaviour::Static; };
 
   s.owned.assign(volume, 0);
   s.ring.assign(volume, 0);
-  for (const std::uint64_t g : owned) s.owned[local(grid_cell(grid, g))] = 1;
-  auto held = [&](Int3 c) { return inside(c) && s.owned[local(c)] != 0; };
+  for (const std::uint64_t g : owned) s.owned[region.local(grid_cell(grid, g))] = 1;
+  auto held = [&](Int3 c) { return region.inside(c) && s.owned[region.local(c)] != 0; };
 
   const double cell_volume = scale.cell_m * scale.cell_m * scale.cell_m;
   const double face_area = scale.cell_m * scale.cell_m;
@@ -69,7 +64,7 @@ void sand_forces(const Box& box, std::span<const std::uint8_t> bytes, Int3 grid,
   constexpr std::array<Int3, 6> kFaces{Int3{1, 0, 0},  Int3{-1, 0, 0}, Int3{0, 1, 0},
                                        Int3{0, -1, 0}, Int3{0, 0, 1},  Int3{0, 0, -1}};
 
-  std::vector<Layer> layers(std::size_t(e.z));
+  std::vector<Layer> layers(std::size_t(region.e.z));
   sand.cells = std::int64_t(owned.size());
   sand.below = {};
   sand.submerged = {};
@@ -87,8 +82,8 @@ void sand_forces(const Box& box, std::span<const std::uint8_t> bytes, Int3 grid,
     for (int dy = -kRingWidth; edge && dy <= kRingWidth; ++dy)
       for (int dx = -kRingWidth; dx <= kRingWidth; ++dx) {
         const Int3 n{c.x + dx, c.y + dy, c.z};
-        if (!inside(n) || s.owned[local(n)] || s.ring[local(n)]) continue;
-        s.ring[local(n)] = 1;
+        if (!region.inside(n) || s.owned[region.local(n)] || s.ring[region.local(n)]) continue;
+        s.ring[region.local(n)] = 1;
         const std::uint8_t m = material_at(n);
         if (is_static(m)) continue;
         ++layer.beside[m];

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "bodies/body_forces.hpp"
+#include "bodies/body_region.hpp"
 #include "bodies/body_shape.hpp"
 #include "granular/grid.hpp"
 #include "granular/motion.hpp"
@@ -46,28 +47,6 @@ constexpr std::size_t kSearchBeforeRefresh = 64;
 /// A cell no search has reached.
 constexpr std::uint32_t kUnseen = 0xFFFFFFFFu;
 
-/// A body's region: local indices (x fastest) of its cells.
-struct Region {
-  Box box;
-  Int3 e;
-  explicit Region(const Box& b) : box(b), e(b.extent()) {}
-  std::uint32_t local(Int3 c) const {
-    return std::uint32_t((std::size_t(c.z - box.min.z) * std::size_t(e.y) + std::size_t(c.y - box.min.y)) *
-                             std::size_t(e.x) +
-                         std::size_t(c.x - box.min.x));
-  }
-  Int3 cell(std::uint32_t i) const {
-    const std::uint32_t row = i / std::uint32_t(e.x);
-    return {box.min.x + int(i % std::uint32_t(e.x)), box.min.y + int(row % std::uint32_t(e.y)),
-            box.min.z + int(row / std::uint32_t(e.y))};
-  }
-  bool inside(Int3 c) const {
-    return c.x >= box.min.x && c.y >= box.min.y && c.z >= box.min.z && c.x < box.max.x && c.y < box.max.y &&
-           c.z < box.max.z;
-  }
-  std::size_t volume() const { return std::size_t(e.x) * std::size_t(e.y) * std::size_t(e.z); }
-};
-
 }  // namespace
 
 StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
@@ -75,7 +54,7 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
                        std::uint8_t body_material, const MaterialTable& materials, const Vec3& motion,
                        std::uint64_t salt, StampScratch& s) {
   StampResult result;
-  const Region region(box);
+  const BodyRegion region(box);
   s.written.clear();
   auto put = [&](std::uint32_t i, std::uint8_t byte) {
     bytes[i] = byte;
