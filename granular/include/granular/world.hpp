@@ -121,6 +121,9 @@ class World {
   void set_body_pose(BodyId id, const BodyPose& pose);
   /// Where a body will be written at the next tick. Throws InvalidArgument for an unknown id.
   BodyPose body_pose(BodyId id) const;
+  /// What a body is: the BodyDef it was added with, its pose the one body_pose() gives (how a physics
+  /// engine adapter builds its own body for a World body). Throws InvalidArgument for an unknown id.
+  BodyDef body_def(BodyId id) const;
   /// What the sand did with a body and to it at the start of the last tick (tick 0 and no cells
   /// before its first). Throws InvalidArgument for an unknown id.
   const BodySand& body_sand(BodyId id) const;

@@ -198,6 +198,14 @@ BodyPose World::body_pose(BodyId id) const {
   return find_body(bodies_.get(), id, "World::body_pose").pose;
 }
 
+BodyDef World::body_def(BodyId id) const {
+  live();
+  const BodyRecord& body = find_body(bodies_.get(), id, "World::body_def");
+  BodyDef def = body.def;
+  def.pose = body.pose;
+  return def;
+}
+
 const BodySand& World::body_sand(BodyId id) const {
   live();
   return find_body(bodies_.get(), id, "World::body_sand").sand;
