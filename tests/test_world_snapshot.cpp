@@ -167,8 +167,8 @@ TEST_CASE("snapshot: bad files are ParseErrors naming the field, offset or value
   check_has(parse_error(bad), {"not a snapshot file", "bad magic \"GXNP\"", "expected \"GSNP\""});
   check_has(parse_error({'G', 'R', 'A', 'W', 1, 0, 0, 0}), {"bad magic \"GRAW\""});
   bad = good;
-  bad[4] = 6;
-  check_has(parse_error(bad), {"unsupported snapshot version 6", "version (bytes 4..7)", "reads versions 1..5"});
+  bad[4] = 7;
+  check_has(parse_error(bad), {"unsupported snapshot version 7", "version (bytes 4..7)", "reads versions 1..6"});
   // A version 3 file relabelled 4 or 5 lacks the side or face plane its frames should hold after
   // the cells.
   for (const std::uint8_t planed : {4, 5}) {

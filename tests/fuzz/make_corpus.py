@@ -75,30 +75,58 @@ def zstd_frame(blocks, size):
     return out
 
 
-def snapshot_file_hash(nx, ny, nz, cells_hash, version, tick, seed, tool_calls, fingerprint, rules):
+def bytes_hash(data):
+    """The hash of a body section that snapshot_file_hash mixes in (version 6)."""
+    h = mix64(len(data) ^ 0x424F444945535345)
+    for i in range(0, len(data), 8):
+        word = int.from_bytes(data[i:i + 8].ljust(8, b"\0"), "little")
+        h = (mix64(h ^ word) + 0x9E3779B97F4A7C15) & MASK64
+    return mix64(h)
+
+
+def body_section(next_id, bodies):
+    """A version-6 body section: the next handle, then per body (handle, shape, its 19 doubles: half
+    extents, radius, half length, density, position, orientation w x y z, velocity, angular
+    velocity, and its ascending cells) the record, the cell count and the cells as gaps."""
+    out = struct.pack("<Q", next_id)
+    for handle, shape, doubles, cells in bodies:
+        out += struct.pack("<QII", handle, shape, 0) + struct.pack("<19d", *doubles) + struct.pack("<Q", len(cells))
+        out += b"".join(struct.pack("<Q", c - (cells[k - 1] if k else 0)) for k, c in enumerate(cells))
+    return out
+
+
+def snapshot_file_hash(nx, ny, nz, cells_hash, version, tick, seed, tool_calls, fingerprint, rules, layout=3,
+                       bodies=0, section=b""):
     """granular::snapshot_file_hash: the cells' hash alone in versions 1 and 2; from version 3 mixed
-    with the header's fields."""
+    with the header's fields; in version 6 with the body header's layout and count and the body
+    section's hash too."""
     if version < 3:
         return cells_hash
     h = mix64(cells_hash ^ 0x47534E5048454144)
     for field in [version, nx, ny, nz, tick, seed, tool_calls, fingerprint, len(rules)] + list(rules):
         h = (mix64(h ^ field) + 0x9E3779B97F4A7C15) & MASK64
+    if version == 6:
+        for field in [layout, bodies, bytes_hash(section)]:
+            h = (mix64(h ^ field) + 0x9E3779B97F4A7C15) & MASK64
     return mix64(h)
 
 
 def snapshot(nx, ny, nz, cells, blocks, tick=100, seed=0, tool_calls=3, rules=b"inertial-24", fingerprint=0,
-             version=1, frames=None, side=b"", faces=()):
+             version=1, frames=None, side=b"", faces=(), bodies=0, section=b""):
     """A snapshot file (docs/FORMATS.md) of `version` holding `cells` (and in version 4 the side
-    plane `side`, in version 5 the face plane `faces`, after them), compressed as `blocks` in one
-    frame, or as `frames` (a list of (blocks, content bytes)) one after the other."""
+    plane `side`, in version 5 the face plane `faces`, after them; in version 6 the body section
+    `section` of `bodies` bodies after those, its layout 3, 4 or 5 by the plane), compressed as
+    `blocks` in one frame, or as `frames` (a list of (blocks, content bytes)) one after the other."""
     if frames is None:
-        frames = [(blocks, len(cells) + len(side) + 4 * len(faces))]
+        frames = [(blocks, len(cells) + len(side) + 4 * len(faces) + len(section))]
     body = b"".join(zstd_frame(b, size) for b, size in frames)
+    layout = 5 if faces else 4 if side else 3
     check = snapshot_file_hash(nx, ny, nz, hash_cells(nx, ny, nz, cells, side, faces), version, tick, seed,
-                               tool_calls, fingerprint, rules)
+                               tool_calls, fingerprint, rules, layout, bodies, section)
     header = b"GSNP" + struct.pack("<IIIII", version, nx, ny, nz, len(rules)) + struct.pack(
         "<QQQQQQ", tick, seed, tool_calls, fingerprint, check, len(body))
-    return header + rules + body
+    body_header = struct.pack("<IIQ", layout, bodies, len(section)) if version == 6 else b""
+    return header + rules + body_header + body
 
 
 def chunk(cid, content=b"", children=b""):
@@ -210,6 +238,14 @@ def main():
     plane = struct.pack("<48i", *faces)
     (OUT / "snapshot-face-plane-v5.gsnap").write_bytes(
         snapshot(4, 3, 2, cells, [(0, cells + plane)], rules=b"inertial-24-shallow", version=5, faces=faces))
+    # Version 6: a box of 700 kg/m^3 holding the two cells of state 7 (the body material), next
+    # handle 3 (body 1 was removed).
+    held = [17, 18]
+    body_cells = bytes(7 if i in held else 2 if i < 12 else 0 for i in range(24))
+    box = [1, 0.5, 0.5, 4, 4, 700, 2.0, 1.5, 1.5, 1, 0, 0, 0, 0, 0, -0.25, 0, 0, 0.01]
+    section = body_section(3, [(2, 0, box, held)])
+    (OUT / "snapshot-bodies-v6.gsnap").write_bytes(
+        snapshot(4, 3, 2, body_cells, [(0, body_cells + section)], version=6, bodies=1, section=section))
 
 
 if __name__ == "__main__":

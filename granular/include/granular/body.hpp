@@ -7,6 +7,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 #include "granular/geometry.hpp"
 #include "granular/material.hpp"
@@ -84,6 +85,20 @@ struct BodySand {
   Vec3 force;       ///< buoyancy + drag (N)
   Vec3 torque;      ///< of buoyancy and drag about the position (N m)
   double mass = 0;  ///< the body's mass, density times its shape's volume (kg)
+};
+
+/// One body as a snapshot or an undo keeps it: all a World needs to go on writing it into the grid
+/// exactly as it would have.
+struct BodyState {
+  BodyId id = 0;                     ///< its handle
+  BodyDef def;                       ///< what it is; def.pose is where it is written at the next tick
+  std::vector<std::uint64_t> cells;  ///< grid indices (x fastest, ascending) of the cells it holds
+};
+
+/// Every body of a World (World::body_states, WorldSnapshot::bodies).
+struct BodyStates {
+  std::vector<BodyState> bodies;  ///< in the order they were added
+  BodyId next_id = 1;             ///< the handle the next add_body gives
 };
 
 }  // namespace granular

@@ -1,10 +1,11 @@
 #pragma once
 /// @file stroke_history.hpp
-/// Undo and redo of a player's strokes (a tool held from press to release) on a World that keeps
-/// stepping: an undo puts back the exact world at the start of the last stroke (every cell byte,
-/// the tick, the tool calls), a redo the exact world at its end. History is kept as the cell bytes
-/// of the 16^3 bricks that changed (World::bricks_changed_since), zstd-compressed, within a memory
-/// bound that drops the oldest strokes first; the world keeps one checkpoint of its cells
+/// Undo and redo of a player's strokes (a tool held from press to release, or a body thrown) on a
+/// World that keeps stepping: an undo puts back the exact world at the start of the last stroke
+/// (every cell byte, the tick, the tool calls, the bodies), a redo the exact world at its end.
+/// History is kept as the cell bytes of the 16^3 bricks that changed (World::bricks_changed_since),
+/// zstd-compressed, and the bodies at each stroke's start and end (World::body_states), within a
+/// memory bound that drops the oldest strokes first; the world keeps one checkpoint of its cells
 /// (World::take_checkpoint) beside it. docs/design/snapshots-and-undo.md has the design. Under
 /// MotionParams::momentum the history keeps the cell bytes only: a cell an undo or redo changes
 /// starts with no velocity (docs/design/momentum.md).
@@ -14,6 +15,8 @@
 #include <deque>
 #include <optional>
 #include <vector>
+
+#include "granular/body.hpp"
 
 namespace granular {
 
@@ -58,7 +61,8 @@ class StrokeHistory {
   bool stroke_open() const { return open_; }
 
   /// Puts back the world at the start of the last stroke before now (ending an open stroke first):
-  /// every cell byte, the tick and the tool calls. Nothing (nullopt) when there is no such stroke.
+  /// every cell byte, the tick, the tool calls and the bodies (World::restore_bodies: a body added
+  /// since is gone, and the next add_body gives the handle it gave). Nothing (nullopt) when there is no such stroke.
   std::optional<HistoryMove> undo();
   /// Puts back the world at the end of the stroke the last undo went back over. Nothing (nullopt)
   /// when there is none, or when the world changed since that undo (which forgets the redo list).
@@ -68,8 +72,8 @@ class StrokeHistory {
   std::size_t undo_count() const;
   /// Strokes redo() can go forward over now.
   std::size_t redo_count() const;
-  /// Bytes the history holds (compressed bricks and their indices), at most max_bytes() after
-  /// every end_stroke(); the world's checkpoint is apart (checkpoint_bytes()).
+  /// Bytes the history holds (compressed bricks and their indices, the bodies' states), at most
+  /// max_bytes() after every end_stroke(); the world's checkpoint is apart (checkpoint_bytes()).
   std::uint64_t bytes() const { return bytes_; }
   /// The bound given at construction.
   std::uint64_t max_bytes() const { return max_bytes_; }
@@ -85,6 +89,7 @@ class StrokeHistory {
     std::uint64_t tool_calls = 0;
     bool starts_stroke = false;
     bool ends_stroke = false;
+    BodyStates bodies;  ///< World::body_states() there
   };
   /// The bricks that changed between two consecutive marks, and their cells at one of the two: at
   /// the earlier mark while the world is at or after the later one, else at the later mark.
@@ -95,6 +100,10 @@ class StrokeHistory {
   };
 
   Mark mark_now() const;
+  // Bytes the bodies of `m` take.
+  static std::uint64_t mark_bytes(const Mark& m);
+  // Appends mark_now() to marks_, counting its bytes.
+  void push_mark();
   // True when the world changed (a tick, a tool, any cell) since it was at marks_[at_].
   bool changed() const;
   // Appends the delta from marks_[at_] to now (bricks changed since, their cells at the checkpoint)

@@ -4,6 +4,7 @@
 /// steps it. A game creates one from a WorldDef and calls step() once per fixed tick.
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <span>
@@ -23,6 +24,7 @@
 namespace granular {
 
 class Backend;
+struct BodyRecord;
 class Lut;
 class RegionEdit;
 struct RuleSet;
@@ -129,6 +131,18 @@ class World {
   const BodySand& body_sand(BodyId id) const;
   /// The bodies' handles, in the order they were added.
   std::vector<BodyId> body_ids() const;
+  /// Every body as it is now: its handle, definition, pose and the cells it holds (what capture()
+  /// and an undo keep).
+  BodyStates body_states() const;
+  /// Replaces every body with those of `states`, whose cells the grid must hold as body_material now
+  /// (as after restore_bricks put back the cells of the moment body_states() gave them): how an undo
+  /// puts bodies back. The cells are not written; each body's report is empty until the next tick.
+  /// The next add_body gives states.next_id, as it did then: a handle taken later than `states` may
+  /// name another body after it (body_ids() lists the bodies now). Throws InvalidArgument naming the body and the field for a definition add_body
+  /// refuses, a zero, repeated or not-yet-given (>= next_id) handle, more than kMaxBodies bodies,
+  /// cells out of the grid, not ascending, held by two bodies or not holding body_material; the
+  /// world is unchanged then.
+  void restore_bodies(const BodyStates& states);
 
   /// Cells per material.
   MaterialCounts count() const;
@@ -153,14 +167,17 @@ class World {
   void load(const Grid& grid);
 
   /// The world's whole state: every cell byte (motion state included), the liquids' velocities under
-  /// MotionParams::momentum, the tick, the seed, the tool calls and the rule set's name and fingerprint. A world made from it (World(def, snapshot), or
-  /// restore()) continues bit-identically: the same hash() after every later tick and tool.
+  /// MotionParams::momentum, the tick, the seed, the tool calls, the rule set's name and fingerprint,
+  /// and the bodies (body_states). A world made from it (World(def, snapshot), or restore()) continues
+  /// bit-identically: the same hash() after every later tick and tool.
   WorldSnapshot capture() const;
-  /// Puts back the state `snapshot` holds: every cell byte, the tick and the tool calls. Throws
-  /// InvalidArgument naming the field and both values for a snapshot of another size, seed or rule
-  /// set (fingerprint), and for a cell byte the rule set cannot hold (a motion state on a cell that
-  /// is not granular or liquid, or under rules without a motion model, or a level above
-  /// MotionParams::max_level()); the world is unchanged then. Every brick wakes, as after load().
+  /// Puts back the state `snapshot` holds: every cell byte, the tick, the tool calls and the bodies
+  /// (its bodies replace this world's, as restore_bodies does). Throws InvalidArgument naming the
+  /// field and both values for a snapshot of another size, seed or rule set (fingerprint), for a
+  /// cell byte the rule set cannot hold (a motion state on a cell that is not granular or liquid, or
+  /// under rules without a motion model, or a level above MotionParams::max_level()), and for bodies
+  /// restore_bodies refuses; the world is unchanged then.
+  /// Every brick wakes, as after load().
   void restore(const WorldSnapshot& snapshot);
 
   /// Copies the cell bytes (motion state included) of the bricks `bricks` (bricks.hpp indices)
@@ -189,7 +206,7 @@ class World {
   std::uint64_t checkpoint_id() const { return checkpoint_id_; }
 
   /// A counter that grows with every call that changes cells (step, tools, load, restore and
-  /// restore_bricks). Pass a value read earlier to bricks_changed_since() to learn what changed
+  /// restore_bricks) or bodies (add_body, remove_body, set_body_pose, restore_bodies). Pass a value read earlier to bricks_changed_since() to learn what changed
   /// after it.
   std::uint64_t change_version() const;
   /// Indices (x fastest, see brick_box) of the bricks whose cells changed after change_version()
@@ -282,6 +299,19 @@ class World {
   // Turns the cells of `owned` (grid indices) that still hold WorldDef::body_material void, and
   // clears it.
   void release_body_cells(std::vector<std::uint64_t>& owned);
+  // Throws InvalidArgument, starting with `who`, when body_material is not static in the rules.
+  void check_body_material(const std::string& who) const;
+  // A body of handle `id` and definition `def`, at def.pose, holding no cell yet.
+  BodyRecord body_record(BodyId id, const BodyDef& def) const;
+  // Bodies changed: change_version() grows, so that a StrokeHistory sees it.
+  void note_body_change();
+  // Reads the cell bytes of a box of the grid, x fastest.
+  using CellReader = std::function<void(const Box&, std::span<std::uint8_t>)>;
+  // Throws what restore_bodies throws for `states`, starting with `who`, reading the grid's cells
+  // through `read`.
+  void check_body_states(const BodyStates& states, const std::string& who, const CellReader& read) const;
+  // Replaces the bodies with `states` (checked), holding their cells, with empty reports.
+  void put_bodies(const BodyStates& states);
   // The bodies (world_bodies.cpp).
   struct Bodies;
 

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "granular/body.hpp"
 #include "granular/geometry.hpp"
 
 namespace granular {
@@ -33,6 +34,7 @@ struct WorldSnapshot {
                                        ///< the x faces' velocities, the y faces', the x faces' fractions, the
                                        ///< y faces', each nx ny values, x fastest; granular/step/shallow_water.hpp),
                                        ///< or empty when every face is at rest
+  BodyStates bodies;                   ///< the rigid bodies (World::body_states); none in most worlds
   /// The World::hash() of the cells, their velocities and the faces.
   std::uint64_t hash() const;
 };
@@ -57,6 +59,16 @@ inline constexpr std::uint32_t kSideSnapshotVersion = 4;
 /// value a little-endian int32), and the hash covers it (WorldSnapshot::hash).
 inline constexpr std::uint32_t kFacesSnapshotVersion = 5;
 
+/// The snapshot format version of a snapshot with bodies (WorldSnapshot::bodies holds a body, or a
+/// next handle other than 1): a 16-byte body header after the rule set name gives the version whose
+/// cells and plane the zstd frames hold first (kSnapshotVersion, kSideSnapshotVersion or
+/// kFacesSnapshotVersion), the body count and the bytes of the body section the frames hold after
+/// them (docs/FORMATS.md); the hash covers the body section too.
+inline constexpr std::uint32_t kBodiesSnapshotVersion = 6;
+
+/// Bytes of a version-6 snapshot's body header, after the rule set name.
+inline constexpr std::size_t kSnapshotBodyHeaderSize = 16;
+
 /// An older version, still read: the cells in one zstd frame; the header hash covers the cells only.
 inline constexpr std::uint32_t kOneFrameSnapshotVersion = 1;
 
@@ -75,9 +87,10 @@ inline constexpr const char* kSnapshotExtension = ".gsnap";
 /// Encodes `snapshot` in the snapshot format, version kSnapshotVersion (header, rule set name, one
 /// zstd frame of the cells), or kSideSnapshotVersion when it has a side plane (the frame holds the
 /// cells, then the side plane), or kFacesSnapshotVersion when it has a face plane (the cells, then
-/// the faces).
+/// the faces), or kBodiesSnapshotVersion when it has bodies (one of those, then the body section).
 /// Throws InvalidArgument for a bad size, a cell count other than the size's, a side plane of
-/// another size, a face plane of other than 4 values per column, both planes at once, or a rule set name
+/// another size, a face plane of other than 4 values per column, both planes at once, more than
+/// kMaxBodies bodies, a body shape that is not a BodyShape or cells not ascending, or a rule set name
 /// that is empty, longer than kMaxSnapshotRulesName or holds a control character; OutOfMemory when
 /// the buffer cannot be allocated.
 std::vector<std::uint8_t> encode_snapshot(const WorldSnapshot& snapshot);

@@ -58,6 +58,9 @@ DistributedWorld::DistributedWorld(const WorldDef& def, Communicator& comm, cons
         const SnapshotHeader& h = opened.second;
         const Int3 size = h.meta.size;
         const std::string src = path.string();
+        if (h.version == kBodiesSnapshotVersion)
+          throw ParseError(src + ": snapshot version " + std::to_string(h.version) + " holds bodies (" +
+                           std::to_string(h.body_count) + "), which a DistributedWorld cannot hold");
         if (h.version == kSideSnapshotVersion)
           throw ParseError(src + ": snapshot version " + std::to_string(h.version) +
                            " holds a side plane (MotionParams::momentum), which a DistributedWorld cannot step");

@@ -122,6 +122,13 @@ DistributedWorld::DistributedWorld(const WorldDef& def, Communicator& comm, cons
         if (snapshot.cells.size() != std::size_t(size.x) * std::size_t(size.y) * std::size_t(size.z))
           throw InvalidArgument("DistributedWorld: WorldSnapshot::cells holds " + std::to_string(snapshot.cells.size()) +
                                 " bytes; its " + to_string(size) + " grid has another number of cells");
+        if (!snapshot.bodies.bodies.empty())
+          throw InvalidArgument("DistributedWorld: WorldSnapshot::bodies holds " +
+                                std::to_string(snapshot.bodies.bodies.size()) + " bodies; a DistributedWorld holds none");
+        if (!snapshot.side.empty() || !snapshot.faces.empty())
+          throw InvalidArgument(std::string("DistributedWorld: WorldSnapshot::") +
+                                (snapshot.side.empty() ? "faces" : "side") +
+                                " holds a plane (MotionParams::momentum or shallow), which a DistributedWorld cannot step");
         WorldSnapshot part = snapshot_part(snapshot);
         part.size = local.size;
         const std::span<const std::uint8_t> kept = kept_cells(snapshot.cells, size, slab);

@@ -15,7 +15,11 @@ namespace granular {
 /// A snapshot file's header (docs/FORMATS.md).
 struct SnapshotHeader {
   WorldSnapshot meta;            ///< every field but the cells
-  std::uint32_t version = 0;     ///< kOneFrameSnapshotVersion .. kSnapshotVersion
+  std::uint32_t version = 0;     ///< kOneFrameSnapshotVersion .. kBodiesSnapshotVersion
+  std::uint32_t layout = 0;      ///< the version whose cells and plane the frames hold (version, but in
+                                 ///< kBodiesSnapshotVersion its body header's)
+  std::uint32_t body_count = 0;  ///< bodies of the body section (kBodiesSnapshotVersion)
+  std::uint64_t body_bytes = 0;  ///< bytes of the body section after the cells and plane
   std::uint64_t hash = 0;        ///< the header's hash field (snapshot_file_hash)
   std::size_t body_at = 0;       ///< where the compressed cells start
   std::uint64_t packed_size = 0; ///< their bytes
@@ -37,8 +41,10 @@ std::string snapshot_hash_problem(std::uint64_t found, std::uint64_t header, std
 
 /// The bytes of a snapshot header (version `version`) and rule set name for `meta` (its cells
 /// unused) whose hash field is `hash` (snapshot_file_hash) and whose cells take `packed_size`
-/// compressed bytes.
+/// compressed bytes; in kBodiesSnapshotVersion then the body header: `layout`, meta's body count
+/// and `body_bytes`.
 std::vector<std::uint8_t> snapshot_header_bytes(const WorldSnapshot& meta, std::uint32_t version, std::uint64_t hash,
-                                                std::uint64_t packed_size);
+                                                std::uint64_t packed_size, std::uint32_t layout = 0,
+                                                std::uint64_t body_bytes = 0);
 
 }  // namespace granular

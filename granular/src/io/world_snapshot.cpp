@@ -12,6 +12,7 @@
 #include "io/expansion_bound.hpp"
 #include "io/little_endian.hpp"
 #include "io/regular_file.hpp"
+#include "io/snapshot_bodies.hpp"
 #include "io/snapshot_header.hpp"
 #include "io/zstd_bytes.hpp"
 
@@ -57,13 +58,38 @@ std::string name_problem(const std::string& name) {
   return {};
 }
 
-/// Bytes of the plane a snapshot of `version` holds after the cells of its `size` grid: a side byte
-/// per cell (kSideSnapshotVersion), 4 int32 per column (kFacesSnapshotVersion), or none.
-std::uint64_t plane_bytes(std::uint32_t version, Int3 size) {
+/// Where each field of a version-6 body header lies, counted from its start (after the name).
+constexpr Field kLayoutField{"layout", 0, 4};
+constexpr Field kBodyCountField{"body_count", 4, 4};
+constexpr Field kBodyBytesField{"body_bytes", 8, 8};
+
+/// Bytes of the plane the frames of `layout` (a snapshot's version, or a version-6 body header's
+/// layout) hold after the cells of its `size` grid: a side byte per cell (kSideSnapshotVersion), 4
+/// int32 per column (kFacesSnapshotVersion), or none.
+std::uint64_t plane_bytes(std::uint32_t layout, Int3 size) {
   const std::uint64_t columns = std::uint64_t(size.x) * std::uint64_t(size.y);
-  if (version == kSideSnapshotVersion) return columns * std::uint64_t(size.z);
-  if (version == kFacesSnapshotVersion) return 16 * columns;
+  if (layout == kSideSnapshotVersion) return columns * std::uint64_t(size.z);
+  if (layout == kFacesSnapshotVersion) return 16 * columns;
   return 0;
+}
+
+/// The layout of `s`'s cells and plane: the version it would be written as without bodies.
+std::uint32_t layout_of(const WorldSnapshot& s) {
+  return !s.faces.empty() ? kFacesSnapshotVersion : !s.side.empty() ? kSideSnapshotVersion : kSnapshotVersion;
+}
+
+/// True when `s` is written as kBodiesSnapshotVersion: it has a body, or a next handle past the first.
+bool has_bodies(const WorldSnapshot& s) { return !s.bodies.bodies.empty() || s.bodies.next_id != 1; }
+
+/// A hash of `bytes` (the body section), for snapshot_file_hash.
+std::uint64_t bytes_hash(std::span<const std::uint8_t> bytes) {
+  std::uint64_t h = mix64(bytes.size() ^ 0x424F444945535345ull);  // "BODIESSE"
+  for (std::size_t i = 0; i < bytes.size(); i += 8) {
+    std::uint64_t word = 0;
+    for (std::size_t k = 0; k < 8 && i + k < bytes.size(); ++k) word |= std::uint64_t(bytes[i + k]) << (8 * k);
+    h = mix64(h ^ word) + 0x9E3779B97F4A7C15ull;
+  }
+  return mix64(h);
 }
 
 /// The extents of the header, checked (ParseError, or OutOfMemory when the cells do not fit).
@@ -93,6 +119,10 @@ std::uint64_t snapshot_file_hash(const WorldSnapshot& meta, std::uint64_t cells_
                                     std::uint64_t(meta.rules.size())})
     h = mix64(h ^ field) + 0x9E3779B97F4A7C15ull;
   for (const char c : meta.rules) h = mix64(h ^ static_cast<unsigned char>(c)) + 0x9E3779B97F4A7C15ull;
+  if (version == kBodiesSnapshotVersion)
+    for (const std::uint64_t field : {std::uint64_t(layout_of(meta)), std::uint64_t(meta.bodies.bodies.size()),
+                                      bytes_hash(encode_body_section(meta.bodies, "snapshot_file_hash"))})
+      h = mix64(h ^ field) + 0x9E3779B97F4A7C15ull;
   return mix64(h);
 }
 
@@ -116,16 +146,19 @@ std::vector<std::uint8_t> encode_snapshot(const WorldSnapshot& s) {
   if (!s.faces.empty() && !s.side.empty())
     throw InvalidArgument("encode_snapshot: WorldSnapshot::side and WorldSnapshot::faces are both set; no rule set "
                           "keeps both planes (MotionParams::momentum needs pressure, which shallow refuses)");
-  const std::uint32_t version =
-      !s.faces.empty() ? kFacesSnapshotVersion : !s.side.empty() ? kSideSnapshotVersion : kSnapshotVersion;
-  const std::uint64_t extra = s.side.size() + 4 * s.faces.size();
+  const std::uint32_t layout = layout_of(s);
+  const std::uint32_t version = has_bodies(s) ? kBodiesSnapshotVersion : layout;
+  const std::vector<std::uint8_t> section =
+      has_bodies(s) ? encode_body_section(s.bodies, "encode_snapshot: WorldSnapshot::bodies") : std::vector<std::uint8_t>{};
+  const std::uint64_t extra = s.side.size() + 4 * s.faces.size() + section.size();
   std::vector<std::uint8_t> body;
   if (extra != 0) {
     try {
       body.reserve(s.cells.size() + extra);
     } catch (const std::bad_alloc&) {
       throw OutOfMemory("encode_snapshot: could not allocate " + std::to_string(cells + extra) +
-                        " bytes for the cells and the side or face plane of a " + to_string(s.size) + " grid");
+                        " bytes for the cells, the side or face plane and the bodies of a " + to_string(s.size) +
+                        " grid");
     }
     body.insert(body.end(), s.cells.begin(), s.cells.end());
     body.insert(body.end(), s.side.begin(), s.side.end());
@@ -134,9 +167,11 @@ std::vector<std::uint8_t> encode_snapshot(const WorldSnapshot& s) {
       put_u32(le, std::uint32_t(f));
       body.insert(body.end(), le, le + 4);
     }
+    body.insert(body.end(), section.begin(), section.end());
   }
   const std::vector<std::uint8_t> packed = zstd_compress(extra == 0 ? s.cells : body, 3, "encode_snapshot");
-  std::vector<std::uint8_t> out = snapshot_header_bytes(s, version, snapshot_file_hash(s, s.hash(), version), packed.size());
+  std::vector<std::uint8_t> out = snapshot_header_bytes(s, version, snapshot_file_hash(s, s.hash(), version),
+                                                        packed.size(), layout, section.size());
   try {
     out.insert(out.end(), packed.begin(), packed.end());
   } catch (const std::bad_alloc&) {
@@ -147,8 +182,10 @@ std::vector<std::uint8_t> encode_snapshot(const WorldSnapshot& s) {
 }
 
 std::vector<std::uint8_t> snapshot_header_bytes(const WorldSnapshot& s, std::uint32_t version, std::uint64_t hash,
-                                                std::uint64_t packed_size) {
-  std::vector<std::uint8_t> out(kSnapshotHeaderSize + s.rules.size());
+                                                std::uint64_t packed_size, std::uint32_t layout,
+                                                std::uint64_t body_bytes) {
+  const bool bodies = version == kBodiesSnapshotVersion;
+  std::vector<std::uint8_t> out(kSnapshotHeaderSize + s.rules.size() + (bodies ? kSnapshotBodyHeaderSize : 0));
   std::uint8_t* h = out.data();
   std::copy(std::begin(kSnapshotMagic), std::end(kSnapshotMagic), h);
   put_u32(h + kVersionField.at, version);
@@ -163,8 +200,50 @@ std::vector<std::uint8_t> snapshot_header_bytes(const WorldSnapshot& s, std::uin
   put_u64(h + kHashField.at, hash);
   put_u64(h + kPackedSizeField.at, packed_size);
   std::memcpy(h + kSnapshotHeaderSize, s.rules.data(), s.rules.size());
+  if (bodies) {
+    std::uint8_t* b = h + kSnapshotHeaderSize + s.rules.size();
+    put_u32(b + kLayoutField.at, layout);
+    put_u32(b + kBodyCountField.at, std::uint32_t(s.bodies.bodies.size()));
+    put_u64(b + kBodyBytesField.at, body_bytes);
+  }
   return out;
 }
+
+namespace {
+
+/// Parses and checks the body header of a version-6 snapshot, at h.body_at of `bytes` (a file of
+/// `total` bytes whose grid holds `cells` cells), into `h`, and moves h.body_at past it.
+void parse_body_header(std::span<const std::uint8_t> bytes, std::uint64_t total, std::uint64_t cells,
+                       SnapshotHeader& h, const std::string& src) {
+  const std::size_t at = h.body_at;
+  auto text = [at](const Field& f) {
+    return std::string(f.name) + " (bytes " + std::to_string(at + f.at) + ".." + std::to_string(at + f.at + f.bytes - 1) +
+           ")";
+  };
+  if (total < at + kSnapshotBodyHeaderSize || bytes.size() < at + kSnapshotBodyHeaderSize)
+    throw ParseError(src + ": truncated body header: version " + std::to_string(kBodiesSnapshotVersion) + " has " +
+                     std::to_string(kSnapshotBodyHeaderSize) + " bytes after the rule set name, at byte " +
+                     std::to_string(at) + ", but the file has " + std::to_string(total));
+  h.layout = get_u32(bytes, at + kLayoutField.at);
+  if (h.layout != kSnapshotVersion && h.layout != kSideSnapshotVersion && h.layout != kFacesSnapshotVersion)
+    throw ParseError(src + ": body header field " + text(kLayoutField) + " = " + std::to_string(h.layout) + " is not " +
+                     std::to_string(kSnapshotVersion) + ", " + std::to_string(kSideSnapshotVersion) + " or " +
+                     std::to_string(kFacesSnapshotVersion));
+  h.body_count = get_u32(bytes, at + kBodyCountField.at);
+  if (h.body_count > kMaxBodies)
+    throw ParseError(src + ": body header field " + text(kBodyCountField) + " = " + std::to_string(h.body_count) +
+                     " is more than kMaxBodies (" + std::to_string(kMaxBodies) + ")");
+  h.body_bytes = get_u64(bytes, at + kBodyBytesField.at);
+  const std::uint64_t least = body_section_bytes(h.body_count, 0), most = body_section_bytes(h.body_count, cells);
+  if (h.body_bytes < least || h.body_bytes > most)
+    throw ParseError(src + ": body header field " + text(kBodyBytesField) + " = " + std::to_string(h.body_bytes) +
+                     " is outside " + std::to_string(least) + ".." + std::to_string(most) + " (" +
+                     std::to_string(h.body_count) + " bodies holding at most the grid's " + std::to_string(cells) +
+                     " cells)");
+  h.body_at = at + kSnapshotBodyHeaderSize;
+}
+
+}  // namespace
 
 SnapshotHeader parse_snapshot_header(std::span<const std::uint8_t> bytes, std::uint64_t total, const std::string& src) {
   const std::size_t magic_have = std::min<std::size_t>(bytes.size(), 4);
@@ -181,10 +260,10 @@ SnapshotHeader parse_snapshot_header(std::span<const std::uint8_t> bytes, std::u
   }
   SnapshotHeader h;
   h.version = get_u32(bytes, kVersionField.at);
-  if (h.version < kOneFrameSnapshotVersion || h.version > kFacesSnapshotVersion)
+  if (h.version < kOneFrameSnapshotVersion || h.version > kBodiesSnapshotVersion)
     throw ParseError(src + ": unsupported snapshot version " + std::to_string(h.version) + " (field " +
                      field_text(kVersionField) + "); this build reads versions " +
-                     std::to_string(kOneFrameSnapshotVersion) + ".." + std::to_string(kFacesSnapshotVersion));
+                     std::to_string(kOneFrameSnapshotVersion) + ".." + std::to_string(kBodiesSnapshotVersion));
   WorldSnapshot& s = h.meta;
   s.size = parse_extents(bytes, src);
   const std::uint32_t name_length = get_u32(bytes, kNameLengthField.at);
@@ -205,6 +284,9 @@ SnapshotHeader parse_snapshot_header(std::span<const std::uint8_t> bytes, std::u
   h.hash = get_u64(bytes, kHashField.at);
   h.packed_size = get_u64(bytes, kPackedSizeField.at);
   h.body_at = kSnapshotHeaderSize + name_length;
+  h.layout = h.version;
+  const std::uint64_t cells = std::uint64_t(s.size.x) * std::uint64_t(s.size.y) * std::uint64_t(s.size.z);
+  if (h.version == kBodiesSnapshotVersion) parse_body_header(bytes, total, cells, h, src);
   const std::uint64_t body = total - h.body_at;
   if (body < h.packed_size)
     throw ParseError(src + ": truncated body: header field " + field_text(kPackedSizeField) + " says " +
@@ -214,11 +296,12 @@ SnapshotHeader parse_snapshot_header(std::span<const std::uint8_t> bytes, std::u
     throw ParseError(src + ": " + std::to_string(body - h.packed_size) + " trailing bytes after the compressed cells: " +
                      "the file should be " + std::to_string(h.body_at + h.packed_size) + " bytes but it is " +
                      std::to_string(total));
-  const std::uint64_t cells = std::uint64_t(s.size.x) * std::uint64_t(s.size.y) * std::uint64_t(s.size.z);
-  const std::uint64_t extra = plane_bytes(h.version, s.size);  // the side or face plane after the cells
+  const std::uint64_t plane = plane_bytes(h.layout, s.size);  // the side or face plane after the cells
+  const std::uint64_t extra = plane + h.body_bytes;
   if (exceeds_expansion(cells + extra, h.packed_size, kMaxZstdExpansion))
     throw ParseError(src + ": header fields nx, ny, nz (" + to_string(s.size) + " = " + std::to_string(cells) +
-                     " cells" + (extra == 0 ? "" : ", and " + std::to_string(extra) + " bytes of its plane") +
+                     " cells" + (plane == 0 ? "" : ", and " + std::to_string(plane) + " bytes of its plane") +
+                     (h.body_bytes == 0 ? "" : ", and " + std::to_string(h.body_bytes) + " bytes of bodies") +
                      ") cannot come from " +
                      std::to_string(h.packed_size) + " bytes of compressed cells (zstd expands at most " +
                      std::to_string(kMaxZstdExpansion) + "-fold)");
@@ -241,12 +324,17 @@ namespace {
 WorldSnapshot decode_body(SnapshotHeader h, std::span<const std::uint8_t> packed, const std::string& src) {
   WorldSnapshot& s = h.meta;
   const std::uint64_t cells = std::uint64_t(s.size.x) * std::uint64_t(s.size.y) * std::uint64_t(s.size.z);
-  const std::uint64_t extra = plane_bytes(h.version, s.size);
+  const std::uint64_t plane = plane_bytes(h.layout, s.size);
+  const std::uint64_t extra = plane + h.body_bytes;
   s.cells = zstd_decompress(packed, cells + extra, src + ": the compressed cells at byte " + std::to_string(h.body_at),
                             h.version != kOneFrameSnapshotVersion);
-  if (h.version == kSideSnapshotVersion) s.side.assign(s.cells.begin() + std::ptrdiff_t(cells), s.cells.end());
-  if (h.version == kFacesSnapshotVersion) {
-    s.faces.resize(std::size_t(extra / 4));
+  if (h.version == kBodiesSnapshotVersion)
+    s.bodies = decode_body_section(std::span<const std::uint8_t>(s.cells).subspan(std::size_t(cells + plane)),
+                                   h.body_count, cells, src);
+  if (h.layout == kSideSnapshotVersion)
+    s.side.assign(s.cells.begin() + std::ptrdiff_t(cells), s.cells.begin() + std::ptrdiff_t(cells + plane));
+  if (h.layout == kFacesSnapshotVersion) {
+    s.faces.resize(std::size_t(plane / 4));
     for (std::size_t i = 0; i < s.faces.size(); ++i)
       s.faces[i] = std::int32_t(get_u32(std::span<const std::uint8_t>(s.cells), std::size_t(cells) + 4 * i));
   }
@@ -264,10 +352,10 @@ WorldSnapshot decode_body(SnapshotHeader h, std::span<const std::uint8_t> packed
 void check_snapshot_memory(const SnapshotHeader& h, double extra, const std::string& src) {
   const Int3 size = h.meta.size;
   const std::uint64_t cells = std::uint64_t(size.x) * std::uint64_t(size.y) * std::uint64_t(size.z);
-  // A snapshot with a side or face plane decodes the cells and the plane, then keeps both apart.
-  const double plane = double(plane_bytes(h.version, size));
+  // A snapshot with a side or face plane or bodies decodes the cells and the rest, then keeps them apart.
+  const double rest = double(plane_bytes(h.layout, size)) + double(h.body_bytes);
   check_grid_size(size, src + ": header fields nx, ny, nz (" + to_string(size) + " = " + std::to_string(cells) + " cells)",
-                  plane == 0 ? 1.0 : 2.0, extra + 2.0 * plane);
+                  rest == 0 ? 1.0 : 2.0, extra + 2.0 * rest);
 }
 
 }  // namespace
@@ -285,7 +373,8 @@ void save_snapshot(const WorldSnapshot& snapshot, const std::filesystem::path& p
 }
 
 SnapshotHeader read_snapshot_header(const ReadableFile& file) {
-  std::vector<std::uint8_t> head(std::size_t(std::min<std::uint64_t>(file.size(), kSnapshotHeaderSize + kMaxSnapshotRulesName)));
+  std::vector<std::uint8_t> head(std::size_t(
+      std::min<std::uint64_t>(file.size(), kSnapshotHeaderSize + kMaxSnapshotRulesName + kSnapshotBodyHeaderSize)));
   file.read_at(0, head);
   return parse_snapshot_header(head, file.size(), file.path().string());
 }

@@ -28,7 +28,20 @@ StrokeHistory::~StrokeHistory() {
   }
 }
 
-StrokeHistory::Mark StrokeHistory::mark_now() const { return Mark{world_.tick(), world_.tool_calls(), false, false}; }
+StrokeHistory::Mark StrokeHistory::mark_now() const {
+  return Mark{world_.tick(), world_.tool_calls(), false, false, world_.body_states()};
+}
+
+std::uint64_t StrokeHistory::mark_bytes(const Mark& m) {
+  std::uint64_t bytes = m.bodies.bodies.size() * sizeof(BodyState);
+  for (const BodyState& b : m.bodies.bodies) bytes += b.cells.size() * sizeof(std::uint64_t);
+  return bytes;
+}
+
+void StrokeHistory::push_mark() {
+  marks_.push_back(mark_now());
+  bytes_ += mark_bytes(marks_.back());
+}
 
 bool StrokeHistory::changed() const {
   const Mark& at = marks_[at_];
@@ -59,6 +72,7 @@ std::uint64_t StrokeHistory::delta_bytes(const Delta& d) const {
 
 void StrokeHistory::forget_redo() {
   while (marks_.size() > at_ + 1) {
+    bytes_ -= mark_bytes(marks_.back());
     marks_.pop_back();
     bytes_ -= delta_bytes(deltas_.back());
     deltas_.pop_back();
@@ -67,7 +81,7 @@ void StrokeHistory::forget_redo() {
 
 void StrokeHistory::record_tail() {
   if (marks_.empty()) {
-    marks_.push_back(mark_now());
+    push_mark();
     at_ = 0;
     settle();
     return;
@@ -82,7 +96,7 @@ void StrokeHistory::record_tail() {
   d.packed = zstd_compress(before, kPackLevel, "StrokeHistory");
   bytes_ += delta_bytes(d);
   deltas_.push_back(std::move(d));
-  marks_.push_back(mark_now());
+  push_mark();
   at_ = marks_.size() - 1;
   settle();
 }
@@ -138,6 +152,7 @@ std::optional<HistoryMove> StrokeHistory::undo() {
   if (moved) record_tail();  // what happened since the last mark, so that it is undone too
   HistoryMove move;
   for (std::size_t i = at_; i > target; --i) move.bricks += cross(i - 1, true);
+  world_.restore_bodies(marks_[target].bodies);
   at_ = target;
   settle();
   move.tick = world_.tick();
@@ -157,6 +172,7 @@ std::optional<HistoryMove> StrokeHistory::redo() {
   if (target == marks_.size()) return std::nullopt;
   HistoryMove move;
   for (std::size_t i = at_; i < target; ++i) move.bricks += cross(i, false);
+  world_.restore_bodies(marks_[target].bodies);
   at_ = target;
   settle();
   move.tick = world_.tick();
@@ -183,7 +199,7 @@ void StrokeHistory::enforce_bound() {
   // Drops marks [0, end) and the deltas between them.
   const auto drop_front = [this](std::size_t end) {
     for (std::size_t i = 0; i < end; ++i) {
-      bytes_ -= delta_bytes(deltas_.front());
+      bytes_ -= delta_bytes(deltas_.front()) + mark_bytes(marks_.front());
       deltas_.pop_front();
       marks_.pop_front();
     }

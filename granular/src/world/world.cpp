@@ -90,6 +90,23 @@ constexpr double kWorldExtraBytes = 128.0 * 1024 * 1024;
 }  // namespace
 
 
+namespace {
+
+/// Reads boxes of the cells of `snapshot` (its grid's bytes, x fastest).
+std::function<void(const Box&, std::span<std::uint8_t>)> snapshot_cells(const WorldSnapshot& snapshot) {
+  return [&snapshot](const Box& box, std::span<std::uint8_t> out) {
+    const Int3 n = snapshot.size;
+    std::size_t at = 0;
+    const std::size_t w = std::size_t(box.max.x - box.min.x);
+    for (int z = box.min.z; z < box.max.z; ++z)
+      for (int y = box.min.y; y < box.max.y; ++y, at += w)
+        std::copy_n(snapshot.cells.data() + std::size_t(box.min.x) + std::size_t(n.x) * (std::size_t(y) + std::size_t(n.y) * std::size_t(z)), w,
+                    out.data() + at);
+  };
+}
+
+}  // namespace
+
 World::World(const WorldDef& def) : def_(def) {
   // The initial grid and the backend's copy of it.
   check_grid_size(def.size, "WorldDef::size", 2.0, kWorldExtraBytes);
@@ -120,6 +137,8 @@ World::World(const WorldDef& def, const WorldSnapshot& snapshot) : def_(def) {
   Grid initial(snapshot.size);
   std::copy(snapshot.cells.begin(), snapshot.cells.end(), initial.cells().begin());
   init(initial, rules);
+  check_body_states(snapshot.bodies, "World: snapshot", snapshot_cells(snapshot));
+  put_bodies(snapshot.bodies);
   live().write_side(snapshot.side);
   live().write_faces(snapshot.faces);
   tick_ = snapshot.tick;
@@ -349,6 +368,7 @@ WorldSnapshot World::capture() const {
   s.tool_calls = tool_calls_;
   s.rules = rules().name;
   s.rule_fingerprint = rule_fingerprint_;
+  s.bodies = body_states();
   return s;
 }
 
@@ -369,7 +389,9 @@ void World::restore(const WorldSnapshot& snapshot) {
   check_cell_bytes(snapshot.cells, *rules_, "World::restore: snapshot", [&](std::size_t i) { return cell_text(i, size_); });
   check_side_bytes(snapshot.side, snapshot.cells, size_, *rules_, "World::restore");
   check_face_plane(snapshot.faces, size_, *rules_, "World::restore");
+  check_body_states(snapshot.bodies, "World::restore: snapshot", snapshot_cells(snapshot));
   write_grid(snapshot.cells, all_bricks(brick_counts()));
+  put_bodies(snapshot.bodies);
   live().write_side(snapshot.side);
   live().write_faces(snapshot.faces);
   tick_ = snapshot.tick;

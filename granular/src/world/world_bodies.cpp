@@ -53,10 +53,11 @@ void check_pose(const BodyPose& p, const std::string& who) {
                           " radians per tick; its length must be at most " + number_text(kMaxBodySpin));
 }
 
-void check_def(const BodyDef& def) {
-  auto size = [](double v, const char* field, bool zero_ok) {
+/// Throws InvalidArgument, starting with `who`, for a definition add_body refuses.
+void check_def(const BodyDef& def, const std::string& who) {
+  auto size = [&](double v, const char* field, bool zero_ok) {
     if (!(std::isfinite(v) && (zero_ok ? v >= 0 : v > 0) && v <= kMaxBodyHalfSize))
-      throw InvalidArgument(std::string("World::add_body: BodyDef::") + field + " = " + number_text(v) + "; use " +
+      throw InvalidArgument(who + ": BodyDef::" + field + " = " + number_text(v) + "; use " +
                             (zero_ok ? "0" : "a size above 0") + " .. " + number_text(kMaxBodyHalfSize) + " cells");
   };
   switch (def.shape) {
@@ -72,13 +73,13 @@ void check_def(const BodyDef& def) {
       size(def.radius, "radius", false);
       break;
     default:
-      throw InvalidArgument("World::add_body: BodyDef::shape = " + std::to_string(unsigned(def.shape)) +
+      throw InvalidArgument(who + ": BodyDef::shape = " + std::to_string(unsigned(def.shape)) +
                             " is not a BodyShape; use Box, Sphere or Capsule");
   }
   if (!(std::isfinite(def.density) && def.density > 0 && def.density <= 1e5))
-    throw InvalidArgument("World::add_body: BodyDef::density = " + number_text(def.density) +
+    throw InvalidArgument(who + ": BodyDef::density = " + number_text(def.density) +
                           "; use kg/m^3 above 0 and at most 100000");
-  check_pose(def.pose, "World::add_body: BodyDef::pose");
+  check_pose(def.pose, who + ": BodyDef::pose");
 }
 
 /// `q` turned by the rotation vector `w` (radians), normalised.
@@ -98,18 +99,28 @@ Quat turned(const Quat& q, const Vec3& w) {
 BodyId World::add_body(const BodyDef& def) {
   live();
   if (slab_tools_) throw StateError("World::add_body: a DistributedWorld's slab holds no bodies");
-  check_def(def);
-  const std::uint8_t m = to_cell(def_.body_material);
-  if (rules_->materials[m].behaviour != Behaviour::Static)
-    throw InvalidArgument("World::add_body: WorldDef::body_material = " + std::to_string(unsigned(m)) + " ('" +
-                          rules_->materials[m].name + "') is " + behaviour_name(rules_->materials[m].behaviour) +
-                          " in rule set '" + rules_->name + "'; a body's cells need a static material");
+  check_def(def, "World::add_body");
+  check_body_material("World::add_body");
   if (!bodies_) bodies_ = std::make_unique<Bodies>();
   if (bodies_->list.size() >= kMaxBodies)
     throw InvalidArgument("World::add_body: the world holds " + std::to_string(bodies_->list.size()) +
                           " bodies, the most it takes (kMaxBodies)");
+  bodies_->list.push_back(body_record(bodies_->next++, def));
+  note_body_change();
+  return bodies_->list.back().id;
+}
+
+void World::check_body_material(const std::string& who) const {
+  const std::uint8_t m = to_cell(def_.body_material);
+  if (rules_->materials[m].behaviour != Behaviour::Static)
+    throw InvalidArgument(who + ": WorldDef::body_material = " + std::to_string(unsigned(m)) + " ('" +
+                          rules_->materials[m].name + "') is " + behaviour_name(rules_->materials[m].behaviour) +
+                          " in rule set '" + rules_->name + "'; a body's cells need a static material");
+}
+
+BodyRecord World::body_record(BodyId id, const BodyDef& def) const {
   BodyRecord body;
-  body.id = bodies_->next++;
+  body.id = id;
   body.def = def;
   body.pose = def.pose;
   const double volume = shape_volume(def) * def_.cell_metres * def_.cell_metres * def_.cell_metres;
@@ -117,9 +128,10 @@ BodyId World::add_body(const BodyDef& def) {
   const double radius = std::cbrt(3 * volume / (4 * std::numbers::pi));
   body.moment = 0.4 * body.mass * radius * radius;
   body.sand.mass = body.mass;
-  bodies_->list.push_back(std::move(body));
-  return bodies_->list.back().id;
+  return body;
 }
+
+void World::note_body_change() { ++change_version_; }
 
 namespace {
 
@@ -141,6 +153,7 @@ void World::remove_body(BodyId id) {
   BodyRecord& body = find_body(bodies_.get(), id, "World::remove_body");
   release_body_cells(body.owned);
   bodies_->list.erase(bodies_->list.begin() + (&body - bodies_->list.data()));
+  note_body_change();
 }
 
 namespace {
@@ -191,6 +204,7 @@ void World::set_body_pose(BodyId id, const BodyPose& pose) {
   BodyRecord& body = find_body(bodies_.get(), id, "World::set_body_pose");
   check_pose(pose, "World::set_body_pose: pose");
   body.pose = pose;
+  note_body_change();
 }
 
 BodyPose World::body_pose(BodyId id) const {
@@ -217,6 +231,96 @@ std::vector<BodyId> World::body_ids() const {
   if (bodies_)
     for (const BodyRecord& b : bodies_->list) ids.push_back(b.id);
   return ids;
+}
+
+BodyStates World::body_states() const {
+  live();
+  BodyStates states;
+  if (!bodies_) return states;
+  states.next_id = bodies_->next;
+  states.bodies.reserve(bodies_->list.size());
+  for (const BodyRecord& b : bodies_->list) {
+    BodyState& state = states.bodies.emplace_back();
+    state.id = b.id;
+    state.def = b.def;
+    state.def.pose = b.pose;
+    state.cells = b.owned;
+  }
+  return states;
+}
+
+void World::check_body_states(const BodyStates& states, const std::string& who, const CellReader& read) const {
+  if (states.bodies.size() > kMaxBodies)
+    throw InvalidArgument(who + ": " + std::to_string(states.bodies.size()) + " bodies; a world holds at most " +
+                          std::to_string(kMaxBodies) + " (kMaxBodies)");
+  if (states.next_id == 0) throw InvalidArgument(who + ": BodyStates::next_id = 0; handles start at 1");
+  if (states.bodies.empty()) return;
+  if (slab_tools_) throw StateError(who + ": a DistributedWorld's slab holds no bodies");
+  check_body_material(who);
+  const std::uint64_t total = std::uint64_t(size_.x) * std::uint64_t(size_.y) * std::uint64_t(size_.z);
+  const std::uint8_t m = to_cell(def_.body_material);
+  std::vector<std::pair<std::uint64_t, std::size_t>> held;  // (cell, body) of every cell, to find one held twice
+  std::vector<std::uint8_t> bytes;
+  for (std::size_t i = 0; i < states.bodies.size(); ++i) {
+    const BodyState& b = states.bodies[i];
+    const std::string body = who + ": bodies[" + std::to_string(i) + "] (body " + std::to_string(b.id) + ")";
+    if (b.id == 0 || b.id >= states.next_id)
+      throw InvalidArgument(body + ": the handle " + std::to_string(b.id) + " is not one of 1.." +
+                            std::to_string(states.next_id - 1) + " (BodyStates::next_id = " +
+                            std::to_string(states.next_id) + ")");
+    check_def(b.def, body);
+    for (std::size_t k = 0; k < b.cells.size(); ++k) {
+      if (b.cells[k] >= total)
+        throw InvalidArgument(body + ": cells[" + std::to_string(k) + "] = " + std::to_string(b.cells[k]) +
+                              " is outside the " + to_string(size_) + " grid's " + std::to_string(total) + " cells");
+      if (k > 0 && b.cells[k] <= b.cells[k - 1])
+        throw InvalidArgument(body + ": cells[" + std::to_string(k) + "] = " + std::to_string(b.cells[k]) +
+                              " does not follow cells[" + std::to_string(k - 1) + "] = " +
+                              std::to_string(b.cells[k - 1]) + "; a body's cells are ascending grid indices");
+      held.emplace_back(b.cells[k], i);
+    }
+    if (b.cells.empty()) continue;
+    const Box box = bounds_of(b.cells, size_);
+    bytes.resize(std::size_t(box.volume()));
+    read(box, bytes);
+    for (std::size_t k = 0; k < b.cells.size(); ++k) {
+      const Int3 c = grid_cell(size_, b.cells[k]);
+      const std::uint8_t cell = bytes[grid_index(Int3{box.max.x - box.min.x, box.max.y - box.min.y, box.max.z - box.min.z}, c.x - box.min.x, c.y - box.min.y, c.z - box.min.z)];
+      if ((cell & kMaterialMask) != m)
+        throw InvalidArgument(body + ": cells[" + std::to_string(k) + "], cell " + to_string(c) + ", holds material " +
+                              std::to_string(unsigned(cell & kMaterialMask)) + ", not WorldDef::body_material " +
+                              std::to_string(unsigned(m)) + ": the grid is not the one these bodies were taken with");
+    }
+  }
+  std::vector<BodyId> ids;
+  for (const BodyState& b : states.bodies) ids.push_back(b.id);
+  std::sort(ids.begin(), ids.end());
+  if (const auto twice = std::adjacent_find(ids.begin(), ids.end()); twice != ids.end())
+    throw InvalidArgument(who + ": two bodies have the handle " + std::to_string(*twice));
+  std::sort(held.begin(), held.end());
+  for (std::size_t k = 1; k < held.size(); ++k)
+    if (held[k].first == held[k - 1].first)
+      throw InvalidArgument(who + ": cell " + to_string(grid_cell(size_, held[k].first)) + " is held by bodies[" +
+                            std::to_string(held[k - 1].second) + "] and bodies[" + std::to_string(held[k].second) + "]");
+}
+
+void World::put_bodies(const BodyStates& states) {
+  if (states.bodies.empty() && states.next_id == 1 && !bodies_) return;
+  if (!bodies_) bodies_ = std::make_unique<Bodies>();
+  bodies_->list.clear();
+  for (const BodyState& b : states.bodies) {
+    BodyRecord& body = bodies_->list.emplace_back(body_record(b.id, b.def));
+    body.owned = b.cells;
+  }
+  bodies_->next = states.next_id;
+  note_body_change();
+}
+
+void World::restore_bodies(const BodyStates& states) {
+  live();
+  check_body_states(states, "World::restore_bodies",
+                    [this](const Box& box, std::span<std::uint8_t> out) { live().read(box, out); });
+  put_bodies(states);
 }
 
 void World::stamp_bodies() {
