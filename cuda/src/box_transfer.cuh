@@ -5,14 +5,18 @@
 /// address space, which a kernel reads or writes directly (no copy call). A box is cut into chunks
 /// of at most kTransferChunkBytes cells; one kernel gathers (or scatters) each chunk between the
 /// grid and the staging. Reading a chunk waits for the device once; writing one waits for nothing
-/// but the staging being free of the last write.
+/// but the staging being free of the last write. Many small boxes (Backend::read_boxes and
+/// write_boxes) move as one batch: a table of their chunks, then their cells, in the staging, and
+/// one kernel whose block rows each copy one chunk.
 
 #include <cuda_runtime.h>
 
 #include <algorithm>
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <string>
+#include <vector>
 
 #include "cuda_check.cuh"
 #include "granular/errors.hpp"
@@ -71,14 +75,15 @@ __device__ inline std::uint64_t chunk_cell(const ChunkCopy& c, unsigned i) {
   return c.origin + std::uint64_t(x) + c.pitch_y * y + c.pitch_z * z;
 }
 
-/// packed[i] = the chunk's i-th cell.
-__global__ void gather_chunk_kernel(ChunkCopy c) {
+/// packed[i] = the chunk's i-th cell, for the i this thread strides over along x of the launch.
+__device__ inline void gather_cells(const ChunkCopy& c) {
   for (unsigned i = blockIdx.x * blockDim.x + threadIdx.x; i < c.count; i += gridDim.x * blockDim.x)
     c.packed[i] = c.cells[chunk_cell(c, i)];
 }
 
-/// The chunk's i-th cell = packed[i]; with a side plane, a cell that changes loses its velocity.
-__global__ void scatter_chunk_kernel(ChunkCopy c) {
+/// The chunk's i-th cell = packed[i], for the i this thread strides over along x of the launch; with
+/// a side plane, a cell that changes loses its velocity.
+__device__ inline void scatter_cells(const ChunkCopy& c) {
   for (unsigned i = blockIdx.x * blockDim.x + threadIdx.x; i < c.count; i += gridDim.x * blockDim.x) {
     const std::uint64_t at = chunk_cell(c, i);
     const std::uint8_t value = c.packed[i];
@@ -86,6 +91,48 @@ __global__ void scatter_chunk_kernel(ChunkCopy c) {
     c.cells[at] = value;
   }
 }
+
+/// Gathers one chunk into its packed bytes.
+__global__ void gather_chunk_kernel(ChunkCopy c) { gather_cells(c); }
+
+/// Scatters one chunk's packed bytes into the grid.
+__global__ void scatter_chunk_kernel(ChunkCopy c) { scatter_cells(c); }
+
+/// Gathers chunk copies[blockIdx.y] of a batch (Backend::read_boxes: many boxes, one launch).
+__global__ void gather_chunks_kernel(const ChunkCopy* copies) { gather_cells(copies[blockIdx.y]); }
+
+/// Scatters chunk copies[blockIdx.y] of a batch (Backend::write_boxes). Boxes of a batch that
+/// overlap carry the same bytes there, so the order the blocks run in does not matter.
+__global__ void scatter_chunks_kernel(const ChunkCopy* copies) { scatter_cells(copies[blockIdx.y]); }
+
+/// The most chunks one batch launch holds (its grid's y extent).
+inline constexpr std::size_t kMaxBatchChunks = 65535;
+
+/// Calls fn(chunks, bytes) for batches of the chunks of `boxes` (packed one after the other, each
+/// chunk's offset counted from the first box's first cell), each batch holding at most
+/// kTransferChunkBytes cells (or one chunk) and kMaxBatchChunks chunks; `bytes` is the cells of the batch.
+template <class Fn>
+void for_each_batch(std::span<const Box> boxes, Fn&& fn) {
+  std::vector<BoxChunk> batch;
+  std::uint64_t bytes = 0, box_offset = 0;
+  for (const Box& box : boxes) {
+    for_each_chunk(box, kTransferChunkBytes, [&](BoxChunk chunk) {
+      if (!batch.empty() && (bytes + chunk.cells() > kTransferChunkBytes || batch.size() == kMaxBatchChunks)) {
+        fn(std::span<const BoxChunk>(batch), bytes);
+        batch.clear();
+        bytes = 0;
+      }
+      chunk.offset += box_offset;
+      batch.push_back(chunk);
+      bytes += chunk.cells();
+    });
+    box_offset += std::uint64_t(box.volume());
+  }
+  if (!batch.empty()) fn(std::span<const BoxChunk>(batch), bytes);
+}
+
+/// Bytes of the table of `chunks` chunk copies at the start of a batch's staging (16-byte aligned).
+inline std::uint64_t batch_table_bytes(std::size_t chunks) { return (chunks * sizeof(ChunkCopy) + 15) / 16 * 16; }
 
 /// Threads per block of the chunk kernels.
 inline constexpr unsigned kChunkThreads = 256;

@@ -237,11 +237,61 @@ class CudaBackend final : public Backend {
   /// wait on the host to be woken all at once before the next step (enqueue_pending_wake).
   void write(const Box& box, std::span<const std::uint8_t> in, std::span<const std::uint32_t> wake_bricks) override {
     check_box(box, in.size(), "write");
-    for (const std::uint32_t b : wake_bricks)
-      if (b >= total_bricks_)
-        throw InvalidArgument("cuda backend: write: brick " + std::to_string(b) + " to wake is not one of the " +
-                              std::to_string(total_bricks_) + " bricks of the " + to_string(size_) + " grid");
+    check_wake(wake_bricks, "write");
     copy_in(box, in.data());
+    note_wake(wake_bricks);
+  }
+
+  /// One batch launch per kernel and up to kTransferChunkBytes cells (box_transfer.cuh), the
+  /// device waited for once per batch.
+  void read_boxes(std::span<const Box> boxes, std::span<std::uint8_t> out) const override {
+    check_boxes(boxes, out.size(), "read_boxes");
+    activate();
+    cudaStream_t s = stream_.get();
+    cuda::for_each_batch(boxes, [&](std::span<const cuda::BoxChunk> chunks, std::uint64_t bytes) {
+      staging_.wait_free();  // the host writes the chunk table into it
+      const cuda::ChunkCopy* table = fill_batch_table(chunks, bytes, nullptr);
+      cuda::gather_chunks_kernel<<<dim3(batch_blocks(chunks), unsigned(chunks.size())), cuda::kChunkThreads, 0, s>>>(
+          table);
+      cuda::check_launch("gather kernel launch (reading boxes)");
+      stream_.synchronize("read_boxes");
+      staging_.mark_free();
+      std::uint64_t at = cuda::batch_table_bytes(chunks.size());
+      for (const cuda::BoxChunk& chunk : chunks) {
+        std::memcpy(out.data() + chunk.offset, staging_.host() + at, chunk.cells());
+        at += chunk.cells();
+      }
+    });
+  }
+
+  /// As read_boxes, the other way: one scatter launch per batch, waiting for nothing but the
+  /// staging being free of the last one.
+  void write_boxes(std::span<const Box> boxes, std::span<const std::uint8_t> in,
+                   std::span<const std::uint32_t> wake_bricks) override {
+    check_boxes(boxes, in.size(), "write_boxes");
+    check_wake(wake_bricks, "write_boxes");
+    activate();
+    before_write();
+    cudaStream_t s = stream_.get();
+    cuda::for_each_batch(boxes, [&](std::span<const cuda::BoxChunk> chunks, std::uint64_t bytes) {
+      staging_.wait_free();
+      const cuda::ChunkCopy* table = fill_batch_table(chunks, bytes, side_.data());
+      std::uint64_t at = cuda::batch_table_bytes(chunks.size());
+      for (const cuda::BoxChunk& chunk : chunks) {
+        std::memcpy(staging_.host() + at, in.data() + chunk.offset, chunk.cells());
+        at += chunk.cells();
+      }
+      cuda::scatter_chunks_kernel<<<dim3(batch_blocks(chunks), unsigned(chunks.size())), cuda::kChunkThreads, 0, s>>>(
+          table);
+      cuda::check_launch("scatter kernel launch (writing boxes)");
+      staging_.read_until(s);
+    });
+    after_write();
+    note_wake(wake_bricks);
+  }
+
+  /// Notes that a write woke `wake_bricks` (already checked): they wake before the next step.
+  void note_wake(std::span<const std::uint32_t> wake_bricks) {
     if (!sparse_ || wake_bricks.empty()) return;
     asleep_ = false;
     // At most this many more are awake now (each wakes its neighbourhood, most of which a large
@@ -619,6 +669,52 @@ class CudaBackend final : public Backend {
       throw InvalidArgument(std::string("cuda backend: ") + what + ": the box must be a non-empty box inside the " +
                             to_string(size_) + " grid with as many cells as the buffer holds (" +
                             std::to_string(bytes) + ")");
+  }
+
+  /// Throws InvalidArgument unless every box of `boxes` is a non-empty in-grid box and together they
+  /// hold `bytes` cells.
+  void check_boxes(std::span<const Box> boxes, std::size_t bytes, const char* what) const {
+    std::uint64_t cells = 0;
+    for (const Box& box : boxes) {
+      check_box(box, std::size_t(box.volume()), what);
+      cells += std::uint64_t(box.volume());
+    }
+    if (cells != bytes)
+      throw InvalidArgument(std::string("cuda backend: ") + what + ": the boxes hold " + std::to_string(cells) +
+                            " cells but the buffer " + std::to_string(bytes) + " bytes");
+  }
+
+  /// Throws InvalidArgument unless every brick of `wake_bricks` is one of the grid's.
+  void check_wake(std::span<const std::uint32_t> wake_bricks, const char* what) const {
+    for (const std::uint32_t b : wake_bricks)
+      if (b >= total_bricks_)
+        throw InvalidArgument(std::string("cuda backend: ") + what + ": brick " + std::to_string(b) +
+                              " to wake is not one of the " + std::to_string(total_bricks_) + " bricks of the " +
+                              to_string(size_) + " grid");
+  }
+
+  /// Makes the staging hold a batch of `chunks` (`bytes` cells) and writes its table: each chunk's
+  /// copy of the grid (with `side`, the side plane a scatter clears, or null), its cells following
+  /// the table in order. Returns the table's device address. The staging must be free.
+  const cuda::ChunkCopy* fill_batch_table(std::span<const cuda::BoxChunk> chunks, std::uint64_t bytes,
+                                          std::uint8_t* side) const {
+    const std::uint64_t table = cuda::batch_table_bytes(chunks.size());
+    staging_.reserve(table + bytes, stream_.get());
+    auto* copies = reinterpret_cast<cuda::ChunkCopy*>(staging_.host());
+    std::uint64_t at = table;
+    for (std::size_t k = 0; k < chunks.size(); ++k) {
+      copies[k] = cuda::chunk_copy(cells_, size_, chunks[k], staging_.device() + at);
+      copies[k].side = side;
+      at += chunks[k].cells();
+    }
+    return reinterpret_cast<const cuda::ChunkCopy*>(staging_.device());
+  }
+
+  /// Blocks along x of a batch launch: enough for its largest chunk (the kernels loop over the rest).
+  static unsigned batch_blocks(std::span<const cuda::BoxChunk> chunks) {
+    std::uint64_t most = 0;
+    for (const cuda::BoxChunk& chunk : chunks) most = std::max(most, chunk.cells());
+    return cuda::chunk_blocks(unsigned(most));
   }
 
   /// The grid index of the first cell of `box` when its cells are one run of the grid's bytes of

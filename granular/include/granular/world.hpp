@@ -24,6 +24,7 @@
 namespace granular {
 
 class Backend;
+class TaskSystem;
 struct BodyRecord;
 class Lut;
 class RegionEdit;
@@ -312,6 +313,11 @@ class World {
   void check_body_states(const BodyStates& states, const std::string& who, const CellReader& read) const;
   // Replaces the bodies with `states` (checked), holding their cells, with empty reports.
   void put_bodies(const BodyStates& states);
+  // The threads the bodies are written into the grid on: WorldDef::task_system, else the backend's
+  // (Backend::host_tasks), else a pool of WorldDef::threads started at the first need.
+  TaskSystem& body_tasks();
+  // A buffer for the cells of `boxes`, one after the other; OutOfMemory naming them when it cannot be had.
+  std::vector<std::uint8_t> boxes_buffer(std::span<const Box> boxes) const;
   // The bodies (world_bodies.cpp).
   struct Bodies;
 

@@ -45,6 +45,7 @@ class CpuBackend final : public Backend {
   void read_checkpoint(const Box& box, std::span<std::uint8_t> out) const override;
   void drop_checkpoint() override;
   std::uint64_t checkpoint_bytes() const override { return checkpoint_.size(); }
+  TaskSystem* host_tasks() override { return &pool_; }
 
  private:
   // Copies the cells of `box` from `cells` (this grid's layout) into `out`, x fastest.

@@ -94,7 +94,14 @@ SlabLayout make_layout(const WorldDef& def, Communicator& comm, Int3 size) {
 
 /// `s` without its cells.
 WorldSnapshot snapshot_part(const WorldSnapshot& s) {
-  return WorldSnapshot{s.size, {}, s.tick, s.seed, s.tool_calls, s.rules, s.rule_fingerprint};
+  WorldSnapshot part;
+  part.size = s.size;
+  part.tick = s.tick;
+  part.seed = s.seed;
+  part.tool_calls = s.tool_calls;
+  part.rules = s.rules;
+  part.rule_fingerprint = s.rule_fingerprint;
+  return part;
 }
 
 /// The cells of the layers a slab keeps, out of the whole grid's `cells`.
@@ -364,8 +371,14 @@ WorldSnapshot DistributedWorld::capture(int root) {
 }
 
 WorldSnapshot DistributedWorld::meta() const {
-  return WorldSnapshot{layout_.size(), {},         slab_->tick(), slab_->def().seed, slab_->tool_calls(),
-                       slab_->rules().name, slab_->rule_fingerprint_};
+  WorldSnapshot m;
+  m.size = layout_.size();
+  m.tick = slab_->tick();
+  m.seed = slab_->def().seed;
+  m.tool_calls = slab_->tool_calls();
+  m.rules = slab_->rules().name;
+  m.rule_fingerprint = slab_->rule_fingerprint_;
+  return m;
 }
 
 template <class Local>

@@ -20,6 +20,8 @@
 #include "util/number_text.hpp"
 #include "world/region_edit.hpp"
 #include "world/world_scratch.hpp"
+#include "cpu/thread_pool.hpp"
+#include "granular/extend/threads.hpp"
 
 namespace granular {
 
@@ -323,6 +325,69 @@ void World::restore_bodies(const BodyStates& states) {
   put_bodies(states);
 }
 
+namespace {
+
+/// Sets every body's `group` to the first body of its group: bodies whose regions overlap, directly
+/// or through others (a sweep along x over the regions, joined by union-find).
+void group_bodies(std::vector<BodyStampWork>& work) {
+  std::vector<std::size_t> order;
+  for (std::size_t i = 0; i < work.size(); ++i) {
+    work[i].group = i;
+    if (!work[i].region.empty()) order.push_back(i);
+  }
+  auto root = [&](std::size_t i) {
+    while (work[i].group != i) i = work[i].group = work[work[i].group].group;
+    return i;
+  };
+  std::sort(order.begin(), order.end(),
+            [&](std::size_t a, std::size_t b) { return work[a].region.min.x < work[b].region.min.x; });
+  for (std::size_t k = 0; k < order.size(); ++k)
+    for (std::size_t l = k + 1; l < order.size() && work[order[l]].region.min.x < work[order[k]].region.max.x; ++l)
+      if (!intersect(work[order[k]].region, work[order[l]].region).empty()) {
+        const std::size_t a = root(order[k]), b = root(order[l]);
+        work[std::max(a, b)].group = std::min(a, b);
+      }
+  for (std::size_t i = 0; i < work.size(); ++i) work[i].group = root(i);
+}
+
+/// Copies the cells of `from`'s region that `to`'s region holds too into `to`: what an earlier body
+/// of the group wrote, before a later one is stamped.
+void copy_overlap(const RegionEdit& from, RegionEdit& to) {
+  const Box o = intersect(from.region(), to.region());
+  if (o.empty()) return;
+  const std::size_t w = std::size_t(o.max.x - o.min.x);
+  for (int z = o.min.z; z < o.max.z; ++z)
+    for (int y = o.min.y; y < o.max.y; ++y)
+      std::copy_n(from.cells().data() + from.row(y, z).cell(o.min.x), w,
+                  to.cells().data() + to.row(y, z).cell(o.min.x));
+}
+
+}  // namespace
+
+std::vector<std::uint8_t> World::boxes_buffer(std::span<const Box> boxes) const {
+  std::uint64_t cells = 0;
+  for (const Box& box : boxes) cells += std::uint64_t(box.volume());
+  try {
+    return std::vector<std::uint8_t>(std::size_t(cells));
+  } catch (const std::bad_alloc&) {
+    throw OutOfMemory("World: could not allocate " + std::to_string(cells) + " bytes for the regions of " +
+                      std::to_string(boxes.size()) + " bodies");
+  }
+}
+
+TaskSystem& World::body_tasks() {
+  Bodies& all = *bodies_;
+  if (!all.tasks) {
+    if (def_.task_system)
+      all.tasks = def_.task_system;
+    else if (TaskSystem* backend = live().host_tasks())
+      all.tasks = std::shared_ptr<TaskSystem>(std::shared_ptr<TaskSystem>(), backend);
+    else
+      all.tasks = std::make_shared<ThreadPool>(resolve_threads(def_.threads, "WorldDef::threads"));
+  }
+  return *all.tasks;
+}
+
 void World::stamp_bodies() {
   Bodies& all = *bodies_;
   const std::uint8_t body_material = to_cell(def_.body_material);
@@ -337,46 +402,140 @@ void World::stamp_bodies() {
           if (brick_version_[brick_index(bricks, x, y, z)] > version) return false;
     return true;
   };
-  for (BodyRecord& body : all.list) {
+  const std::size_t n = all.list.size();
+  all.work.resize(n);
+  // Each body's shape and region: its old and new cells and the reach of the pushes around them. A
+  // body that jumped farther than that leaves its old cells first, so the region stays its size.
+  for (std::size_t i = 0; i < n; ++i) {
+    BodyRecord& body = all.list[i];
+    BodyStampWork& work = all.work[i];
     const PlacedShape placed(body.def, body.pose);
-    placed.cells(size_, all.shape);
+    placed.cells(size_, work.shape);
     body.sand = BodySand{};
     body.sand.tick = tick_;
     body.sand.mass = body.mass;
-    if (all.shape.empty() && body.owned.empty()) continue;  // wholly outside the grid
-    // The region: the old and new cells and the reach of the pushes around them; a body that jumped
-    // farther than that leaves its old cells first, so the region stays the size of the body.
+    work.region = {};
+    if (work.shape.empty() && body.owned.empty()) continue;  // wholly outside the grid
     const Box old_cells = bounds_of(body.owned, size_);
-    const Box new_cells = all.shape.empty() ? Box{} : placed.bounds(size_);
+    const Box new_cells = work.shape.empty() ? Box{} : placed.bounds(size_);
     if (!old_cells.empty() && !new_cells.empty() &&
         intersect(grown(old_cells, kBodyReach), grown(new_cells, kBodyReach)).empty())
       release_body_cells(body.owned);
-    if (all.shape.empty() && body.owned.empty()) continue;
-    const Box region =
-        intersect(grown(joined(bounds_of(body.owned, size_), new_cells), kBodyReach), Box{{0, 0, 0}, size_});
-    // A body that holds its whole shape already, in a region nothing changed since its last stamp,
-    // would change nothing: its report comes from the bytes it kept, and no cell is read or written.
-    if (all.shape == body.owned && region == body.region && !body.region_bytes.empty() &&
-        unchanged(region, body.version)) {
-      sand_forces(region, body.region_bytes, size_, body.owned, rules_->materials, body.pose, body.mass, body.moment,
-                  scale, body.sand, all.forces);
-      continue;
+    if (work.shape.empty() && body.owned.empty()) continue;
+    work.region = intersect(grown(joined(bounds_of(body.owned, size_), new_cells), kBodyReach), Box{{0, 0, 0}, size_});
+  }
+  // A body at rest holds its whole shape in a region nothing changed since its last stamp. A group
+  // of bodies whose regions overlap is stamped in the order the bodies were added, each seeing what
+  // the ones before it wrote; a group whose bodies all rest would change nothing, and its reports
+  // come from the bytes they kept. Groups touch disjoint cells, so they are stamped at once.
+  for (std::size_t i = 0; i < n; ++i) {
+    const BodyRecord& body = all.list[i];
+    BodyStampWork& work = all.work[i];
+    work.at_rest = !work.region.empty() && work.shape == body.owned && work.region == body.region &&
+                   !body.region_bytes.empty() && unchanged(work.region, body.version);
+  }
+  group_bodies(all.work);
+  std::vector<std::uint8_t> group_moves(n, 0);
+  for (std::size_t i = 0; i < n; ++i)
+    if (!all.work[i].region.empty() && !all.work[i].at_rest) group_moves[all.work[i].group] = 1;
+  std::vector<std::vector<std::size_t>> groups;  // the bodies of each group, in the order added
+  std::vector<std::size_t> group_of(n, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (all.work[i].region.empty()) continue;
+    const std::size_t g = all.work[i].group;
+    if (g == i) {
+      group_of[i] = groups.size();
+      groups.emplace_back();
     }
-    RegionEdit& edit = begin_edit(region);
-    const StampResult stamped =
-        stamp_body(region, edit.cells(), size_, all.shape, body.owned, body_material, rules_->materials,
-                   body.pose.velocity, mix64(def_.seed ^ mix64(tick_ * 0x9E3779B97F4A7C15ull + body.id)), all.stamp);
-    edit.flag_written(all.stamp.written);  // their bricks wake and count as changed (write_edit)
-    body.sand.blocked = stamped.blocked;
-    body.sand.displaced = stamped.displaced;
-    sand_forces(region, edit.cells(), size_, body.owned, rules_->materials, body.pose, body.mass, body.moment, scale,
-                body.sand, all.forces);
-    body.region = region;
-    if (edit.cells().size() <= kMaxKeptRegion)
-      body.region_bytes.assign(edit.cells().begin(), edit.cells().end());
+    groups[group_of[g]].push_back(i);
+  }
+  // The regions of the groups that move, in one read (one round trip on a GPU).
+  std::vector<std::size_t> moving;  // the bodies of those groups, in the order added
+  std::vector<Box> boxes;
+  for (std::size_t i = 0; i < n; ++i)
+    if (!all.work[i].region.empty() && group_moves[all.work[i].group]) {
+      moving.push_back(i);
+      boxes.push_back(all.work[i].region);
+    }
+  std::vector<std::uint8_t> packed = boxes_buffer(boxes);
+  if (!boxes.empty()) live().read_boxes(boxes, packed);
+  for (std::size_t k = 0, at = 0; k < moving.size(); ++k) {
+    BodyStampWork& work = all.work[moving[k]];
+    work.edit.begin(work.region, size_, slab_tools_ ? slab_tools_->origin : Int3{});
+    std::copy_n(packed.data() + at, work.edit.cells().size(), work.edit.cells().data());
+    at += work.edit.cells().size();
+  }
+  TaskSystem& tasks = body_tasks();
+  const int task_count = int(std::min<std::size_t>(groups.size(), std::size_t(tasks.thread_count())));
+  all.stamp.resize(std::size_t(task_count));
+  all.forces.resize(std::size_t(task_count));
+  const MaterialTable& materials = rules_->materials;
+  const std::uint64_t seed = def_.seed, tick = tick_;
+  const Int3 grid = size_;
+  tasks.run(task_count, [&](int task) {
+    StampScratch& stamp = all.stamp[std::size_t(task)];
+    ForceScratch& forces = all.forces[std::size_t(task)];
+    for (std::size_t g = std::size_t(task); g < groups.size(); g += std::size_t(task_count)) {
+      const std::vector<std::size_t>& members = groups[g];
+      for (std::size_t k = 0; k < members.size(); ++k) {
+        BodyRecord& body = all.list[members[k]];
+        BodyStampWork& work = all.work[members[k]];
+        if (!group_moves[work.group]) {
+          sand_forces(work.region, body.region_bytes, grid, body.owned, materials, body.pose, body.mass, body.moment,
+                      scale, body.sand, forces);
+          continue;
+        }
+        for (std::size_t j = 0; j < k; ++j) copy_overlap(all.work[members[j]].edit, work.edit);
+        const StampResult stamped =
+            stamp_body(work.region, work.edit.cells(), grid, work.shape, body.owned, body_material, materials,
+                       body.pose.velocity, mix64(seed ^ mix64(tick * 0x9E3779B97F4A7C15ull + body.id)), stamp);
+        work.edit.flag_written(stamp.written);  // their bricks wake and count as changed
+        body.sand.blocked = stamped.blocked;
+        body.sand.displaced = stamped.displaced;
+        sand_forces(work.region, work.edit.cells(), grid, body.owned, materials, body.pose, body.mass, body.moment,
+                    scale, body.sand, forces);
+      }
+      // Every region of the group takes the cells its later bodies wrote, so that where regions
+      // overlap they agree (the grid after the group), and can be written in any order.
+      for (std::size_t k = members.size(); k-- > 0;)
+        if (group_moves[all.work[members[k]].group])
+          for (std::size_t j = k + 1; j < members.size(); ++j)
+            copy_overlap(all.work[members[j]].edit, all.work[members[k]].edit);
+    }
+  });
+  // The regions the stamps wrote, in one write (one launch on a GPU), waking the bricks they wrote.
+  boxes.clear();
+  std::vector<std::uint32_t> woken;
+  std::size_t bytes = 0;
+  for (const std::size_t i : moving) {
+    const std::span<const std::uint32_t> bricks = all.work[i].edit.bricks();
+    if (bricks.empty()) continue;
+    boxes.push_back(all.work[i].region);
+    woken.insert(woken.end(), bricks.begin(), bricks.end());
+    bytes += all.work[i].edit.cells().size();
+  }
+  if (!boxes.empty()) {
+    packed.resize(bytes);
+    std::size_t at = 0;
+    for (const std::size_t i : moving)
+      if (!all.work[i].edit.bricks().empty()) {
+        std::copy_n(all.work[i].edit.cells().data(), all.work[i].edit.cells().size(), packed.data() + at);
+        at += all.work[i].edit.cells().size();
+      }
+    std::sort(woken.begin(), woken.end());
+    woken.erase(std::unique(woken.begin(), woken.end()), woken.end());
+    mark_bricks(woken);
+    live().write_boxes(boxes, packed, woken);
+  }
+  for (const std::size_t i : moving) {
+    BodyRecord& body = all.list[i];
+    BodyStampWork& work = all.work[i];
+    body.region = work.region;
+    if (work.edit.cells().size() <= kMaxKeptRegion)
+      body.region_bytes.assign(work.edit.cells().begin(), work.edit.cells().end());
     else
       body.region_bytes.clear();
-    write_edit();
+    work.edit.trim();
     body.version = change_version_;
   }
 }

@@ -4,12 +4,15 @@
 /// last report, and the scratch of writing them into the grid.
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "bodies/body_forces.hpp"
 #include "bodies/body_stamp.hpp"
 #include "granular/body.hpp"
+#include "granular/task_system.hpp"
 #include "granular/world.hpp"
+#include "world/region_edit.hpp"
 
 namespace granular {
 
@@ -27,13 +30,23 @@ struct BodyRecord {
   std::uint64_t version = 0;               ///< World::change_version() after the stamp
 };
 
+/// One body's part of a tick's stamp (World::stamp_bodies), kept from tick to tick for its buffers.
+struct BodyStampWork {
+  std::vector<std::uint64_t> shape;  ///< the cells of its shape this tick
+  Box region;                        ///< the cells it reads and writes this tick (empty: none)
+  bool at_rest = false;              ///< it holds its shape in a region nothing changed since its last stamp
+  std::size_t group = 0;             ///< the first body of its group (bodies whose regions overlap)
+  RegionEdit edit;                   ///< its region's cells and the bricks its stamp wrote
+};
+
 /// The bodies of a World.
 struct World::Bodies {
-  std::vector<BodyRecord> list;      ///< in the order they were added
-  BodyId next = 1;                   ///< the next handle
-  std::vector<std::uint64_t> shape;  ///< scratch: the cells of a body's shape this tick
-  StampScratch stamp;
-  ForceScratch forces;
+  std::vector<BodyRecord> list;       ///< in the order they were added
+  BodyId next = 1;                    ///< the next handle
+  std::vector<BodyStampWork> work;    ///< per body of `list`, this tick's stamp
+  std::vector<StampScratch> stamp;    ///< per task of the stamp
+  std::vector<ForceScratch> forces;   ///< per task of the stamp
+  std::shared_ptr<TaskSystem> tasks;  ///< the threads the groups are stamped on (null until the first stamp)
 };
 
 }  // namespace granular

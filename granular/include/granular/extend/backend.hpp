@@ -5,6 +5,7 @@
 /// CPU backend; the CUDA library (granular_cuda, part of granular::granular) registers its own
 /// (backend_registry.hpp); a game may create its backend itself (WorldDef::backend_factory).
 
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -95,6 +96,33 @@ class Backend {
   virtual void drop_checkpoint() {}
   /// Bytes the checkpoint holds; 0 when there is none.
   virtual std::uint64_t checkpoint_bytes() const { return 0; }
+
+  /// Copies the cells of the in-grid boxes `boxes` into `out`, box after box, each x fastest (`out`
+  /// holds the sum of their volumes): the regions of a tick's bodies. The default reads them one by
+  /// one; a backend whose every read is a round trip (CUDA) moves them at once.
+  virtual void read_boxes(std::span<const Box> boxes, std::span<std::uint8_t> out) const {
+    std::size_t at = 0;
+    for (const Box& box : boxes) {
+      read(box, out.subspan(at, std::size_t(box.volume())));
+      at += std::size_t(box.volume());
+    }
+  }
+  /// Writes `in`, laid out as read_boxes gives it, into the boxes, waking `wake_bricks` as write()
+  /// does. Where boxes overlap their bytes agree, so the order of the writes does not matter. The
+  /// default writes them one by one.
+  virtual void write_boxes(std::span<const Box> boxes, std::span<const std::uint8_t> in,
+                           std::span<const std::uint32_t> wake_bricks) {
+    std::size_t at = 0;
+    for (std::size_t i = 0; i < boxes.size(); ++i) {
+      write(boxes[i], in.subspan(at, std::size_t(boxes[i].volume())),
+            i == 0 ? wake_bricks : std::span<const std::uint32_t>());
+      at += std::size_t(boxes[i].volume());
+    }
+  }
+
+  /// The threads the backend runs its host loops on, which World's own host work (writing bodies
+  /// into the grid) then shares; null (the default) when it has none, and World starts its own.
+  virtual TaskSystem* host_tasks() { return nullptr; }
 
  private:
   [[noreturn]] void throw_no_checkpoint() const {
