@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <stdexcept>
+#include <vector>
 
 #include "granular/engine/clock.hpp"
 #include "granular/engine/engine_loop.hpp"
@@ -153,4 +154,31 @@ TEST_CASE("GranularSubsystem pauses and single-steps") {
   CHECK(world.tick() == 3);
   sand.fixed_update(0.5 * sand.tick_seconds());
   CHECK(world.tick() == 4);
+}
+
+TEST_CASE("GranularSubsystem runs its ticks through a stepper, and checks it ran them all") {
+  granular::World world = make_world();
+  granular::engine::GranularSubsystem sand(world, 3);
+  std::vector<int> asked;
+  sand.set_stepper([&](int ticks) {
+    asked.push_back(ticks);
+    for (int i = 0; i < ticks; ++i) world.step(1);  // a tick at a time, as a physics engine in lockstep
+  });
+  sand.fixed_update(1.0 / 60.0);
+  sand.set_paused(true);
+  sand.fixed_update(1.0 / 60.0);  // paused: the stepper is not called
+  sand.request_step(2);
+  sand.fixed_update(1.0 / 60.0);
+  CHECK(asked == std::vector<int>{3, 2});
+  CHECK(world.tick() == 5);
+  CHECK(sand.simulated_seconds() == doctest::Approx(5 * sand.tick_seconds()));
+
+  sand.set_stepper([&](int) { world.step(1); });  // one tick short of what an update owes
+  sand.request_step(2);
+  CHECK_THROWS_WITH_AS(sand.fixed_update(1.0 / 60.0), doctest::Contains("not 2 ticks"), std::logic_error);
+
+  sand.set_stepper({});  // World::step again
+  sand.request_step(2);
+  sand.fixed_update(1.0 / 60.0);
+  CHECK(world.tick() == 8);
 }

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "granular/time_scale.hpp"
 
@@ -52,6 +53,8 @@ void GranularSubsystem::set_time_scale(double time_scale) {
   def_ = checked(def);
 }
 
+void GranularSubsystem::set_stepper(Stepper stepper) { stepper_ = std::move(stepper); }
+
 void GranularSubsystem::set_paused(bool paused) noexcept {
   paused_ = paused;
   requested_ticks_ = 0;
@@ -87,7 +90,16 @@ void GranularSubsystem::fixed_update(double dt) {
   last_update_ticks_ = ticks_owed(dt);
   if (last_update_ticks_ == 0) return;
   const auto start = std::chrono::steady_clock::now();
-  world_.step(last_update_ticks_);
+  if (stepper_) {
+    const std::uint64_t before = world_.tick();
+    stepper_(last_update_ticks_);
+    if (world_.tick() != before + std::uint64_t(last_update_ticks_))
+      throw std::logic_error("GranularSubsystem: the stepper ran the world from tick " + std::to_string(before) +
+                             " to " + std::to_string(world_.tick()) + ", not " +
+                             std::to_string(last_update_ticks_) + " ticks");
+  } else {
+    world_.step(last_update_ticks_);
+  }
   last_step_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   total_step_seconds_ += last_step_seconds_;
   ticks_run_ += std::uint64_t(last_update_ticks_);

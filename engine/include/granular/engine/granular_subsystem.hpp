@@ -3,6 +3,7 @@
 /// Plugs a granular::World into the EngineLoop (target granular::engine_granular).
 
 #include <cstdint>
+#include <functional>
 
 #include "granular/engine/subsystem.hpp"
 #include "granular/world.hpp"
@@ -56,6 +57,15 @@ class GranularSubsystem final : public Subsystem {
   /// The physical length of one world tick (granular::tick_seconds of the world's rules).
   double tick_seconds() const noexcept { return tick_seconds_; }
 
+  /// What runs an update's ticks: given the number of ticks (>= 1), it must advance the world by
+  /// exactly that many.
+  using Stepper = std::function<void(int ticks)>;
+  /// Runs the world's ticks through `stepper` from now on (a game that moves bodies by a physics
+  /// engine steps both in lockstep, a tick at a time); an empty one restores World::step(ticks), the
+  /// default. Throws std::logic_error when a stepper leaves the world at another tick than the
+  /// ticks it was given.
+  void set_stepper(Stepper stepper);
+
   /// Pauses (no ticks, no time owed) or resumes.
   void set_paused(bool paused) noexcept;
   /// True while paused.
@@ -82,6 +92,7 @@ class GranularSubsystem final : public Subsystem {
 
   granular::World& world_;
   GranularSubsystemDef def_;
+  Stepper stepper_;  ///< empty: World::step
   double tick_seconds_ = 0.0;
   double owed_seconds_ = 0.0;
   bool paused_ = false;
