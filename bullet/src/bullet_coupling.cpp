@@ -6,6 +6,7 @@
 #include <cmath>
 #include <string>
 
+#include "granular/bullet_body.hpp"
 #include "granular/errors.hpp"
 #include "granular/grid.hpp"
 #include "granular/rule_set.hpp"
@@ -56,35 +57,7 @@ BodyId BulletCoupling::add(btRigidBody& rigid) {
     if (c.rigid == &rigid) throw InvalidArgument("BulletCoupling::add: this rigid body is coupled already");
   if (rigid.getInvMass() == 0)
     throw InvalidArgument("BulletCoupling::add: a static or kinematic rigid body (mass 0) is not moved by the sand");
-  BodyDef def;
-  const btCollisionShape* shape = rigid.getCollisionShape();
-  const double to_cells = 1.0 / cell_m_;
-  switch (shape->getShapeType()) {
-    case BOX_SHAPE_PROXYTYPE: {
-      const btVector3 h = static_cast<const btBoxShape*>(shape)->getHalfExtentsWithMargin();
-      def.shape = BodyShape::Box;
-      def.half_extents = {h.x() * to_cells, h.y() * to_cells, h.z() * to_cells};
-      break;
-    }
-    case SPHERE_SHAPE_PROXYTYPE:
-      def.shape = BodyShape::Sphere;
-      def.radius = static_cast<const btSphereShape*>(shape)->getRadius() * to_cells;
-      break;
-    case CAPSULE_SHAPE_PROXYTYPE: {
-      const auto* capsule = static_cast<const btCapsuleShape*>(shape);
-      if (capsule->getUpAxis() != 2)
-        throw InvalidArgument("BulletCoupling::add: a capsule must lie along z (btCapsuleShapeZ)");
-      def.shape = BodyShape::Capsule;
-      def.radius = capsule->getRadius() * to_cells;
-      def.half_length = capsule->getHalfHeight() * to_cells;
-      break;
-    }
-    default:
-      throw InvalidArgument("BulletCoupling::add: collision shape type " + std::to_string(shape->getShapeType()) +
-                            " is not a btBoxShape, btSphereShape or btCapsuleShapeZ");
-  }
-  // Density from Bullet's mass and the shape's volume, so the World body has Bullet's mass.
-  def.density = (1.0 / rigid.getInvMass()) / (shape_volume(def) * cell_m_ * cell_m_ * cell_m_);
+  const BodyDef def = body_def_of(*rigid.getCollisionShape(), 1.0 / rigid.getInvMass(), cell_m_);
   const BodyId id = world_.add_body(def);
   coupled_.push_back({&rigid, id});
   write_poses();
@@ -102,6 +75,84 @@ BodyId BulletCoupling::body_of(const btRigidBody& rigid) const {
   for (const Coupled& c : coupled_)
     if (c.rigid == &rigid) return c.body;
   throw InvalidArgument("BulletCoupling::body_of: this rigid body is not coupled");
+}
+
+void BulletCoupling::couple(btRigidBody& rigid, BodyId body) {
+  for (const Coupled& c : coupled_) {
+    if (c.rigid == &rigid) throw InvalidArgument("BulletCoupling::couple: this rigid body is coupled already");
+    if (c.body == body)
+      throw InvalidArgument("BulletCoupling::couple: body " + std::to_string(body) + " has a rigid body already");
+  }
+  if (rigid.getInvMass() == 0)
+    throw InvalidArgument("BulletCoupling::couple: a static or kinematic rigid body (mass 0) is not moved by the sand");
+  if (!matches(rigid, world_.body_def(body)))  // body_def throws InvalidArgument for an unknown body
+    throw InvalidArgument("BulletCoupling::couple: the rigid body's shape or mass is not body " + std::to_string(body) +
+                          "'s (build it with make_bullet_body(world.body_def(id), ...))");
+  coupled_.push_back({&rigid, body});
+  read_pose(rigid, body);
+}
+
+CouplingSync BulletCoupling::sync() {
+  CouplingSync result;
+  std::vector<BodyId> ids = world_.body_ids();
+  std::sort(ids.begin(), ids.end());
+  std::vector<Coupled> kept;
+  for (const Coupled& c : coupled_) {
+    // A handle an undo or a restore gave back may name another body now: that one needs a rigid body of its own.
+    if (std::binary_search(ids.begin(), ids.end(), c.body) && matches(*c.rigid, world_.body_def(c.body))) {
+      kept.push_back(c);
+      read_pose(*c.rigid, c.body);
+    } else {
+      result.uncoupled.push_back(c.rigid);
+    }
+  }
+  coupled_ = std::move(kept);
+  for (const BodyId id : ids)
+    if (std::none_of(coupled_.begin(), coupled_.end(), [&](const Coupled& c) { return c.body == id; }))
+      result.unmatched.push_back(id);
+  return result;
+}
+
+bool BulletCoupling::matches(const btRigidBody& rigid, const BodyDef& want) const {
+  const BodyDef have = body_def_of(*rigid.getCollisionShape(), 1.0 / rigid.getInvMass(), cell_m_);
+  auto near = [](double a, double b) { return std::abs(a - b) <= 1e-4 * std::max(std::abs(a), std::abs(b)); };
+  if (have.shape != want.shape || !near(have.density, want.density)) return false;
+  switch (want.shape) {
+    case BodyShape::Box:
+      return near(have.half_extents.x, want.half_extents.x) && near(have.half_extents.y, want.half_extents.y) &&
+             near(have.half_extents.z, want.half_extents.z);
+    case BodyShape::Sphere: return near(have.radius, want.radius);
+    case BodyShape::Capsule: return near(have.radius, want.radius) && near(have.half_length, want.half_length);
+  }
+  return false;
+}
+
+std::vector<btRigidBody*> BulletCoupling::rigid_bodies() const {
+  std::vector<btRigidBody*> result;
+  for (const Coupled& c : coupled_) result.push_back(c.rigid);
+  return result;
+}
+
+void BulletCoupling::read_pose(btRigidBody& rigid, BodyId body) const {
+  const BodyPose pose = world_.body_pose(body);
+  const double per_second = cell_m_ / tick_s_;
+  btTransform at;
+  at.setOrigin(btVector3(btScalar(pose.position.x * cell_m_), btScalar(pose.position.y * cell_m_),
+                         btScalar(pose.position.z * cell_m_)));
+  at.setRotation(btQuaternion(btScalar(pose.orientation.x), btScalar(pose.orientation.y), btScalar(pose.orientation.z),
+                              btScalar(pose.orientation.w)));
+  rigid.setWorldTransform(at);
+  rigid.setInterpolationWorldTransform(at);
+  if (rigid.getMotionState()) rigid.getMotionState()->setWorldTransform(at);
+  rigid.setLinearVelocity(btVector3(btScalar(pose.velocity.x * per_second), btScalar(pose.velocity.y * per_second),
+                                    btScalar(pose.velocity.z * per_second)));
+  rigid.setAngularVelocity(btVector3(btScalar(pose.angular_velocity.x / tick_s_),
+                                     btScalar(pose.angular_velocity.y / tick_s_),
+                                     btScalar(pose.angular_velocity.z / tick_s_)));
+  rigid.setInterpolationLinearVelocity(rigid.getLinearVelocity());
+  rigid.setInterpolationAngularVelocity(rigid.getAngularVelocity());
+  rigid.clearForces();
+  rigid.activate(true);
 }
 
 void BulletCoupling::write_poses() {
@@ -140,6 +191,13 @@ void BulletCoupling::rebuild_statics() {
   for (const Coupled& c : coupled_) {
     btVector3 lo, hi;
     c.rigid->getAabb(lo, hi);
+    // The box the body sweeps over the coming tick (up to 256 cells of it), so that a fast body
+    // meets the static cells in its path.
+    btVector3 path = c.rigid->getLinearVelocity() * btScalar(tick_s_);
+    const btScalar longest = btScalar(256 * cell_m_);
+    if (path.length() > longest) path *= longest / path.length();
+    lo.setMin(lo + path);
+    hi.setMax(hi + path);
     const int m = def_.static_margin;
     const Box want{{int(std::floor(lo.x() / cell_m_)) - m, int(std::floor(lo.y() / cell_m_)) - m,
                     int(std::floor(lo.z() / cell_m_)) - m},
@@ -213,6 +271,7 @@ void BulletCoupling::step() {
   apply_forces();
   rebuild_statics();
   dynamics_.stepSimulation(btScalar(tick_s_), def_.substeps, btScalar(tick_s_ / def_.substeps));
+  write_poses();  // between steps the World holds Bullet's poses: what capture() and an undo keep
 }
 
 std::size_t BulletCoupling::static_boxes() const { return boxes_.size(); }
