@@ -56,6 +56,12 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
   StampResult result;
   const BodyRegion region(box);
   s.written.clear();
+  // A body that holds its whole shape, every cell still its own, writes nothing: most ticks of a
+  // body moving less than a cell a tick.
+  if (shape == owned && std::all_of(owned.begin(), owned.end(), [&](std::uint64_t g) {
+        return (bytes[region.local(grid_cell(grid, g))] & kMaterialMask) == body_material;
+      }))
+    return result;
   auto put = [&](std::uint32_t i, std::uint8_t byte) {
     bytes[i] = byte;
     s.written.push_back(i);
@@ -128,19 +134,28 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
   // for none within the region. A search that finds none marks the cells it reached `s.dead`: targets
   // are only used up while the body is written, so a later search from one of them finds none either.
   enum Target { kNot, kNearby, kFar };
+  if (s.push.empty() && s.left.empty()) {
+    owned.swap(s.taken);
+    return result;
+  }
   s.parent.assign(region.volume(), kUnseen);
   s.dead.assign(region.volume(), 0);
   s.queue.clear();
   // Per cell, a bit for each of its six neighbours that lies outside the region (Step's order), so
   // that a search steps by index.
-  s.edges.resize(region.volume());
-  for (std::uint32_t i = 0; i < region.volume(); ++i) {
-    const Int3 c = region.cell(i);
-    s.edges[i] = std::uint8_t((c.x + 1 == region.box.max.x) | (c.x == region.box.min.x) << 1 |
-                              (c.y + 1 == region.box.max.y) << 2 | (c.y == region.box.min.y) << 3 |
-                              (c.z + 1 == region.box.max.z) << 4 | (c.z == region.box.min.z) << 5);
-  }
   const std::int64_t row = region.e.x, layer = std::int64_t(region.e.x) * region.e.y;
+  s.edges.assign(region.volume(), 0);
+  for (std::int64_t z = 0; z < region.e.z; ++z)
+    for (std::int64_t y = 0; y < region.e.y; ++y) {
+      const std::int64_t first = z * layer + y * row, last = first + row - 1;
+      s.edges[std::size_t(first)] |= 2;
+      s.edges[std::size_t(last)] |= 1;
+      if (y == 0 || y + 1 == region.e.y || z == 0 || z + 1 == region.e.z) {
+        const std::uint8_t bits = std::uint8_t((y + 1 == region.e.y) << 2 | (y == 0) << 3 |
+                                               (z + 1 == region.e.z) << 4 | (z == 0) << 5);
+        for (std::int64_t i = first; i <= last; ++i) s.edges[std::size_t(i)] |= bits;
+      }
+    }
   // A direction as the search takes it: the edge bit that forbids it and the step of the index.
   struct Step {
     std::uint8_t edge;
@@ -212,10 +227,17 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
     // follows it down; where it leads to a void an earlier push has filled, or nowhere, a search from
     // there ends in the nearest void outside the shape, and the distances are searched anew once such
     // searches grow.
+    // The search stops once it has reached every push still to come: a push follows distances
+    // below its start's only, all of which are known by then.
     const std::array<Step, 6> field_steps = steps_of(directions({}, 0));
+    std::size_t next_push = 0;  // the pushes before it are done
     auto field = [&] {
       s.distance.assign(region.volume(), -1);
       s.front.clear();
+      std::size_t to_reach = s.push.size() - next_push;  // pushes to come whose start it has not reached
+      s.pending.assign(region.volume(), 0);
+      for (std::size_t k = next_push; k < s.push.size(); ++k) s.pending[region.local(grid_cell(grid, s.push[k]))] = 1;
+      auto reached = [&](std::uint32_t j) { return s.pending[j] && --to_reach == 0; };
       for (std::uint32_t i = 0; i < region.volume(); ++i)
         if (free_cell(i)) {
           s.distance[i] = 0;
@@ -229,6 +251,7 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
           if (s.distance[j] >= 0 || !through(j)) continue;
           s.distance[j] = s.distance[i] + 1;
           s.front.push_back(j);
+          if (reached(j)) return;
         }
       }
     };
@@ -236,7 +259,8 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
     s.on_route.assign(region.volume(), 0);
     auto off_route = [&](std::uint32_t i) { return !s.on_route[i] && through(i); };
     auto void_found = [&](std::uint32_t i) { return material(i) == 0 && outside(i) ? kFar : kNot; };
-    for (const std::uint64_t g : s.push) {
+    for (; next_push < s.push.size(); ++next_push) {
+      const std::uint64_t g = s.push[next_push];
       const std::uint32_t start = region.local(grid_cell(grid, g));
       const Int3 c = grid_cell(grid, g);
       const std::array<Step, 6> steps =

@@ -35,6 +35,7 @@ struct StampScratch {
   std::vector<std::uint8_t> dead;      ///< per cell: a search from it finds nothing
   std::vector<std::uint8_t> edges;     ///< per cell: which of its neighbours lie outside the region
   std::vector<std::int32_t> distance;  ///< per cell: steps to the nearest void a push may end in
+  std::vector<std::uint8_t> pending;   ///< per cell: the start of a push still to come
   std::vector<std::uint32_t> front;    ///< that search's cells, in the order reached
   std::vector<std::uint32_t> route;    ///< one push's cells, from the shape to the void
   std::vector<std::uint8_t> on_route;  ///< per cell: on the route being built
