@@ -36,12 +36,13 @@ struct WorldDef {
   BackendKind backend = BackendKind::Auto;  ///< compute backend
   BackendFactory backend_factory;  ///< when set, creates the backend instead (wins over `backend`):
                                    ///< a backend of the game's own, or one chosen its own way
-  int threads = 0;              ///< threads of the CPU backend's own pool; 0 = all hardware threads,
-                                ///< at most max_threads() (threads.hpp); with a task_system, its
-                                ///< thread_count() counts instead
+  int threads = 0;              ///< threads of the CPU backend's own pool (and of the pool a world on
+                                ///< another backend starts for its bodies' stamps, at its first tick
+                                ///< with bodies); 0 = all hardware threads, at most max_threads()
+                                ///< (threads.hpp); with a task_system, its thread_count() counts instead
   std::shared_ptr<TaskSystem> task_system;  ///< the game's threads (task_system.hpp): when set, the
-                                            ///< CPU backend runs every parallel loop of a step on it
-                                            ///< and starts no threads for stepping (creating the world
+                                            ///< CPU backend runs every parallel loop of a step on it,
+                                            ///< and the bodies' stamps too, and starts no threads for stepping (creating the world
                                             ///< still builds its tables on short-lived threads, up to
                                             ///< thread_count() of them); null = its own pool of `threads`
   bool use_lut_cache = true;    ///< load/save the transition table from/to the on-disk cache
