@@ -404,20 +404,34 @@ void World::stamp_bodies() {
   };
   const std::size_t n = all.list.size();
   all.work.resize(n);
-  // Each body's shape and region: its old and new cells and the reach of the pushes around them. A
-  // body that jumped farther than that leaves its old cells first, so the region stays its size.
-  for (std::size_t i = 0; i < n; ++i) {
+  TaskSystem& tasks = body_tasks();
+  // Runs fn(i) for every body i, on the world's threads.
+  auto for_each_body = [&](auto&& fn) {
+    const int count = int(std::min<std::size_t>(n, std::size_t(tasks.thread_count())));
+    tasks.run(count, [&](int task) {
+      for (std::size_t i = std::size_t(task); i < n; i += std::size_t(count)) fn(i);
+    });
+  };
+  // Each body's shape (its cells and their bounds), then its region: its old and new cells and the
+  // reach of the pushes around them. A body that jumped farther than that leaves its old cells
+  // first, so the region stays its size.
+  for_each_body([&](std::size_t i) {
     BodyRecord& body = all.list[i];
     BodyStampWork& work = all.work[i];
     const PlacedShape placed(body.def, body.pose);
     placed.cells(size_, work.shape);
+    work.bounds = work.shape.empty() ? Box{} : placed.bounds(size_);
     body.sand = BodySand{};
     body.sand.tick = tick_;
     body.sand.mass = body.mass;
+  });
+  for (std::size_t i = 0; i < n; ++i) {
+    BodyRecord& body = all.list[i];
+    BodyStampWork& work = all.work[i];
     work.region = {};
     if (work.shape.empty() && body.owned.empty()) continue;  // wholly outside the grid
     const Box old_cells = bounds_of(body.owned, size_);
-    const Box new_cells = work.shape.empty() ? Box{} : placed.bounds(size_);
+    const Box new_cells = work.bounds;
     if (!old_cells.empty() && !new_cells.empty() &&
         intersect(grown(old_cells, kBodyReach), grown(new_cells, kBodyReach)).empty())
       release_body_cells(body.owned);
@@ -428,12 +442,12 @@ void World::stamp_bodies() {
   // of bodies whose regions overlap is stamped in the order the bodies were added, each seeing what
   // the ones before it wrote; a group whose bodies all rest would change nothing, and its reports
   // come from the bytes they kept. Groups touch disjoint cells, so they are stamped at once.
-  for (std::size_t i = 0; i < n; ++i) {
+  for_each_body([&](std::size_t i) {
     const BodyRecord& body = all.list[i];
     BodyStampWork& work = all.work[i];
     work.at_rest = !work.region.empty() && work.shape == body.owned && work.region == body.region &&
                    !body.region_bytes.empty() && unchanged(work.region, body.version);
-  }
+  });
   group_bodies(all.work);
   std::vector<std::uint8_t> group_moves(n, 0);
   for (std::size_t i = 0; i < n; ++i)
@@ -465,7 +479,6 @@ void World::stamp_bodies() {
     std::copy_n(packed.data() + at, work.edit.cells().size(), work.edit.cells().data());
     at += work.edit.cells().size();
   }
-  TaskSystem& tasks = body_tasks();
   const int task_count = int(std::min<std::size_t>(groups.size(), std::size_t(tasks.thread_count())));
   all.stamp.resize(std::size_t(task_count));
   all.forces.resize(std::size_t(task_count));
@@ -497,10 +510,18 @@ void World::stamp_bodies() {
       }
       // Every region of the group takes the cells its later bodies wrote, so that where regions
       // overlap they agree (the grid after the group), and can be written in any order.
-      for (std::size_t k = members.size(); k-- > 0;)
-        if (group_moves[all.work[members[k]].group])
-          for (std::size_t j = k + 1; j < members.size(); ++j)
-            copy_overlap(all.work[members[j]].edit, all.work[members[k]].edit);
+      for (std::size_t k = members.size(); k-- > 0;) {
+        if (!group_moves[all.work[members[k]].group]) continue;
+        BodyStampWork& work = all.work[members[k]];
+        for (std::size_t j = k + 1; j < members.size(); ++j) copy_overlap(all.work[members[j]].edit, work.edit);
+        // The bytes it keeps for a tick at rest: its region as the group leaves it.
+        BodyRecord& body = all.list[members[k]];
+        body.region = work.region;
+        if (work.edit.cells().size() <= kMaxKeptRegion)
+          body.region_bytes.assign(work.edit.cells().begin(), work.edit.cells().end());
+        else
+          body.region_bytes.clear();
+      }
     }
   });
   // The regions the stamps wrote, in one write (one launch on a GPU), waking the bricks they wrote.
@@ -528,15 +549,8 @@ void World::stamp_bodies() {
     live().write_boxes(boxes, packed, woken);
   }
   for (const std::size_t i : moving) {
-    BodyRecord& body = all.list[i];
-    BodyStampWork& work = all.work[i];
-    body.region = work.region;
-    if (work.edit.cells().size() <= kMaxKeptRegion)
-      body.region_bytes.assign(work.edit.cells().begin(), work.edit.cells().end());
-    else
-      body.region_bytes.clear();
-    work.edit.trim();
-    body.version = change_version_;
+    all.work[i].edit.trim();
+    all.list[i].version = change_version_;
   }
 }
 
