@@ -24,6 +24,9 @@ enum class Command {
   FrameContent,    ///< frame every non-void cell
   CycleLeftTool,   ///< the left button's next tool
   ChooseMaterial,  ///< the material of state `argument` for the right button
+#ifdef GRANULAR_SANDBOX_BODIES
+  ThrowBody,       ///< throw the HUD's body from the camera along the cursor's ray (built with Bullet)
+#endif
   PauseResume,     ///< pause or resume the simulation
   Step,            ///< one fixed update while paused
   ChangeTicks,     ///< ticks per fixed update by `argument` (-1 or +1)
@@ -99,8 +102,16 @@ struct Control {
   std::array<Binding, kMaxBindings> bindings;  ///< the inputs and the commands they trigger
 };
 
+/// Whether this sandbox throws bodies: built with Bullet (granular::bullet), which moves them. Without
+/// it the table has no throw row and the HUD no bodies section.
+#ifdef GRANULAR_SANDBOX_BODIES
+inline constexpr bool kThrowsBodies = true;
+#else
+inline constexpr bool kThrowsBodies = false;
+#endif
+
 /// Every control of the windowed sandbox.
-inline constexpr std::array<Control, 26> kControls{{
+inline constexpr std::array<Control, 26 + (kThrowsBodies ? 1 : 0)> kControls{{
     {{"left button", "dig (removes every mobile material: granular, liquid, gas; static ones stay) / erase (removes everything) / shake (sets the grains and liquids moving at the rules' highest motion level) where the cursor's ray hits"},
      {click(GLFW_MOUSE_BUTTON_LEFT, Command::UseLeftTool)}},
     {{"right button", "the chosen material: pour it above the hit point (granular, liquid, gas) / paint it as a sphere of structure in front of the hit face (static)"},
@@ -123,6 +134,10 @@ inline constexpr std::array<Control, 26> kControls{{
       press(GLFW_KEY_3, Command::ChooseMaterial, 0, 3), press(GLFW_KEY_4, Command::ChooseMaterial, 0, 4),
       press(GLFW_KEY_5, Command::ChooseMaterial, 0, 5), press(GLFW_KEY_6, Command::ChooseMaterial, 0, 6),
       press(GLFW_KEY_7, Command::ChooseMaterial, 0, 7)}},
+#ifdef GRANULAR_SANDBOX_BODIES
+    {{"T", "throw a body (sandboxes built with Bullet): the HUD's ball or box, size and density, from just in front of the camera along the cursor's ray; it falls, lands, and floats or sinks by its density (drawn in the body material's colour, state7 in the presets)"},
+     {press(GLFW_KEY_T, Command::ThrowBody)}},
+#endif
     {{"Space", "pause / resume"}, {press(GLFW_KEY_SPACE, Command::PauseResume)}},
     {{"N", "single step (while paused)"}, {press(GLFW_KEY_N, Command::Step)}},
     {{"[ / ]", "fewer / more ticks per fixed update"},
@@ -136,7 +151,7 @@ inline constexpr std::array<Control, 26> kControls{{
     {{"P", "screenshot: the current frame to granular-screenshot-N.png (N: the first free number)"},
      {press(GLFW_KEY_P, Command::Screenshot)}},
     {{"R", "reset the scene"}, {press(GLFW_KEY_R, Command::Reset)}},
-    {{"Ctrl+Z", "undo the last stroke (a tool from press to release): the world as it was when the stroke began, ticks since included; then pauses"},
+    {{"Ctrl+Z", "undo the last stroke (a tool from press to release, or a throw): the world as it was when the stroke began, ticks since included; then pauses"},
      {press(GLFW_KEY_Z, Command::Undo, GLFW_MOD_CONTROL)}},
     {{"Ctrl+Shift+Z, or Ctrl+Y", "redo: the world as it was when the stroke ended (while nothing changed since the undo)"},
      {press(GLFW_KEY_Z, Command::Redo, GLFW_MOD_CONTROL | GLFW_MOD_SHIFT), press(GLFW_KEY_Y, Command::Redo, GLFW_MOD_CONTROL)}},

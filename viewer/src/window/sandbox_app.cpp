@@ -49,6 +49,11 @@
 #include "vulkan/vulkan_context.hpp"
 #include "session/world_files.hpp"
 #include "renderers/world_renderer.hpp"
+#ifdef GRANULAR_SANDBOX_BODIES
+#include "bodies/body_throw.hpp"
+#include "bodies/sandbox_bodies.hpp"
+#include "window/body_panel.hpp"
+#endif
 
 namespace viewer {
 namespace {
@@ -57,6 +62,9 @@ namespace {
 struct Session {
   std::unique_ptr<SharedCells> shared;  ///< CUDA interop; declared first so the world goes first
   SandboxWorld sandbox;
+#ifdef GRANULAR_SANDBOX_BODIES
+  std::unique_ptr<SandboxBodies> bodies;  ///< the thrown bodies in Bullet; steps the world (the simulation's stepper)
+#endif
   std::unique_ptr<ToolSubsystem> tools;
   std::unique_ptr<granular::engine::GranularSubsystem> simulation;
   std::unique_ptr<granular::StrokeHistory> history;  ///< undo and redo of the tools' strokes
@@ -180,6 +188,9 @@ class SandboxApp final : public granular::engine::Subsystem {
     pick();
     handle_events();
     controls_.dispatch_held(input_, frame_seconds, claims());
+#ifdef GRANULAR_SANDBOX_BODIES
+    for (const std::string& line : session_->bodies->take_lines()) report("%s", line.c_str());
+#endif
   }
 
   void render(double) override {
@@ -260,6 +271,7 @@ class SandboxApp final : public granular::engine::Subsystem {
     const int ticks = session_ ? session_->simulation->ticks_per_fixed_update() : options_.ticks_per_frame;
     const bool paused = session_ && session_->simulation->paused();
     const ToolState tool_state = session_ ? session_->tools->state() : ToolState{};
+    const granular::Int3 old_size = session_ ? session_->sandbox.world->size() : granular::Int3{};  // {} at start
     session_.reset();
     auto session = std::make_unique<Session>();
     session->sandbox = std::move(fresh);
@@ -271,6 +283,11 @@ class SandboxApp final : public granular::engine::Subsystem {
     stroke_.reset();
     session->simulation = std::make_unique<granular::engine::GranularSubsystem>(*session->sandbox.world, ticks);
     session->simulation->set_paused(paused);
+#ifdef GRANULAR_SANDBOX_BODIES
+    // Bullet steps with the world, a tick at a time (BulletCoupling::step), in every fixed update.
+    session->bodies = std::make_unique<SandboxBodies>(*session->sandbox.world);
+    session->simulation->set_stepper([bodies = session->bodies.get()](int ticks) { bodies->step(ticks); });
+#endif
     session->tools->set_running([simulation = session->simulation.get()] { return !simulation->paused(); });
     session->history = std::make_unique<granular::StrokeHistory>(*session->sandbox.world,
                                                                  std::uint64_t(options_.undo_mib) << 20);
@@ -299,6 +316,12 @@ class SandboxApp final : public granular::engine::Subsystem {
     loop_->add(*session_->simulation);
     loop_->add(*this);
     counts_age_ = 1e9;
+#ifdef GRANULAR_SANDBOX_BODIES
+    if (!(old_size == world().size())) throw_choice_.half_size = default_half_size(world().size());
+    sync_bodies();  // a loaded snapshot's bodies get their rigid bodies
+#else
+    (void)old_size;
+#endif
   }
 
   /// Loads the world file `path` (a snapshot, or a .raw/.vox grid) and reports it; a file that
@@ -334,12 +357,76 @@ class SandboxApp final : public granular::engine::Subsystem {
     const auto move = session_->history->undo();
     if (move) session_->simulation->set_paused(true);
     report("%s", undo_line(move, world()).c_str());
+    sync_bodies();
   }
 
   void redo() {
     if (stroke_) return;  // a stroke in progress is what redo would overwrite
     report("%s", redo_line(session_->history->redo(), world()).c_str());
+    sync_bodies();
   }
+
+  /// Brings Bullet's rigid bodies in line with the World's bodies after an undo, a redo or a load,
+  /// and says what changed ("bodies: 0 (1 removed, 0 added)").
+  void sync_bodies() {
+#ifdef GRANULAR_SANDBOX_BODIES
+    const BodiesSynced synced = session_->bodies->sync();
+    if (synced.removed > 0 || synced.added > 0)
+      report("bodies: %zu (%zu removed, %zu added)", session_->bodies->count(), synced.removed, synced.added);
+#endif
+  }
+
+#ifdef GRANULAR_SANDBOX_BODIES
+  /// Throws the HUD's body from just in front of the camera along the ray through the cursor, as one
+  /// stroke of the history (Ctrl+Z takes it back).
+  void throw_body() {
+    SandboxBodies& bodies = *session_->bodies;
+    if (bodies.count() >= kMaxSandboxBodies) {
+      report("throw: refused: %zu bodies already, the sandbox's most (Ctrl+Z or R takes them away)", bodies.count());
+      return;  // before the history's stroke: a refused throw is nothing to undo
+    }
+    const VkExtent2D extent = swapchain_.target().extent();
+    const Ray ray =
+        ray_through_pixel(camera_, float(input_.x()), float(input_.y()), float(extent.width), float(extent.height));
+    const double cell = world().def().cell_metres;
+    const double tick = granular::tick_seconds(world().rules(), cell);
+    std::optional<granular::BodyDef> def;
+    double speed = 0;
+    try {
+      speed = throw_speed(world().size(), cell);
+      def = aim_throw(throw_choice_, {ray.origin.x, ray.origin.y, ray.origin.z},
+                      {ray.direction.x, ray.direction.y, ray.direction.z}, world().size(), speed, cell, tick);
+    } catch (const std::invalid_argument& e) {
+      report("throw: refused: %s", e.what());
+      return;
+    }
+    if (!def) {
+      report("throw: refused: the ray through the cursor passes no point of the grid with room for a %s of half "
+             "size %.0f",
+             shape_name(throw_choice_.shape), throw_choice_.half_size);
+      return;
+    }
+    if (stroke_) end_stroke();
+    const std::uint64_t tick_at_start = world().tick();
+    granular::BodyId id = 0;
+    try {
+      session_->history->begin_stroke();
+      id = bodies.add(*def);
+      session_->history->end_stroke();
+    } catch (const granular::Error& e) {
+      session_->history->end_stroke();
+      report("throw: failed: %s", e.what());
+      return;
+    }
+    const granular::Vec3 p = def->pose.position, v = def->pose.velocity;
+    report("throw: body %u, a %s of half size %.0f cells and %.0f kg/m^3 (%s), from (%.1f, %.1f, %.1f) at %.2f m/s = "
+           "(%.2f, %.2f, %.2f) cells/tick at tick %llu (ticks of %.2f ms, cells of %.1f mm); %zu bodies%s",
+           unsigned(id), shape_name(def->shape), throw_choice_.half_size, def->density,
+           density_effect(def->density).c_str(), p.x, p.y, p.z, speed, v.x, v.y, v.z,
+           static_cast<unsigned long long>(tick_at_start), tick * 1e3, cell * 1e3, bodies.count(),
+           session_->simulation->paused() ? " (paused: it flies when the simulation runs)" : "");
+  }
+#endif
 
   void recreate_swapchain(VkExtent2D extent) {
     if (extent.width == 0 || extent.height == 0) return;
@@ -398,6 +485,9 @@ class SandboxApp final : public granular::engine::Subsystem {
     controls_.handle(Command::ChooseMaterial, [this](const Activation& a) {
       if (const auto choice = choice_of_key(offered_materials_, a.argument)) choose(session_->tools->state(), *choice);
     });
+#ifdef GRANULAR_SANDBOX_BODIES
+    controls_.handle(Command::ThrowBody, [this](const Activation&) { throw_body(); });
+#endif
     controls_.handle(Command::PauseResume, [this](const Activation&) {
       session_->simulation->set_paused(!session_->simulation->paused());
       report("%s", session_->simulation->paused() ? "paused" : "running");
@@ -433,7 +523,12 @@ class SandboxApp final : public granular::engine::Subsystem {
 
   /// Which inputs this frame the HUD takes, and which button holds a stroke.
   InputClaims claims() const {
-    return InputClaims{hud_.wants_keyboard(), hud_.wants_mouse(), stroke_ ? stroke_->button : -1};
+    // Dear ImGui decides whether it wants the mouse when the HUD is drawn, after this frame's input: a
+    // click right after the cursor moved onto the HUD would reach the tools too, so the HUD's last
+    // rectangle claims the mouse as well.
+    const bool over_hud = input_.x() >= hud_min_.x && input_.x() < hud_max_.x && input_.y() >= hud_min_.y &&
+                          input_.y() < hud_max_.y;
+    return InputClaims{hud_.wants_keyboard(), hud_.wants_mouse() || over_hud, stroke_ ? stroke_->button : -1};
   }
 
   /// This frame's key presses, typed characters, button presses and releases and dropped files, in
@@ -531,6 +626,8 @@ class SandboxApp final : public granular::engine::Subsystem {
     // No keyboard navigation in the HUD: Tab is the sandbox's key, and Dear ImGui would also take it
     // to focus the next widget (the ticks slider, which then holds the keyboard as a text field).
     ImGui::Begin("granular sandbox", nullptr, ImGuiWindowFlags_NoNavInputs);
+    hud_min_ = ImGui::GetWindowPos();
+    hud_max_ = ImVec2(hud_min_.x + ImGui::GetWindowSize().x, hud_min_.y + ImGui::GetWindowSize().y);
     ImGui::Text("%.1f FPS, frame %.2f ms", fps_, frame_seconds_ * 1e3);
     const int ticks = session_->simulation->ticks_per_fixed_update();
     ImGui::Text("simulation %.3f ms/tick (%d ticks per fixed update)", session_->simulation->last_step_seconds() * 1e3 / ticks, ticks);
@@ -552,6 +649,10 @@ class SandboxApp final : public granular::engine::Subsystem {
     ImGui::Text("snapshot file: %s (Ctrl+S / Ctrl+O)", snapshot_file_.c_str());
     if (const auto clicked = draw_material_panel(offered_materials_, tool.material, counts_))
       choose(session_->tools->state(), choice_of(offered_materials_, *clicked));
+#ifdef GRANULAR_SANDBOX_BODIES
+    draw_body_panel(throw_choice_, session_->bodies->count(),
+                    world().rules().materials[granular::to_cell(world().def().body_material)]);
+#endif
     int kind = int(kind_);
     ImGui::Text("renderer");
     for (RendererKind k : {RendererKind::Cubes, RendererKind::Marching, RendererKind::Raymarch}) {
@@ -605,6 +706,10 @@ class SandboxApp final : public granular::engine::Subsystem {
   std::optional<Stroke> stroke_;
   Tool left_tool_ = Tool::Dig;  ///< the left button's tool, one of left_button_tools(world().rules())
   std::vector<MaterialChoice> offered_materials_;  ///< the materials of the world's table, on keys 1..7
+#ifdef GRANULAR_SANDBOX_BODIES
+  ThrowChoice throw_choice_;  ///< the body key T throws next (the HUD's bodies section)
+#endif
+  ImVec2 hud_min_{0, 0}, hud_max_{0, 0};  ///< the HUD window's rectangle when it was last drawn, in pixels
   double frame_seconds_ = 0;
   double fps_ = 0;
   double counts_age_ = 1e9;
