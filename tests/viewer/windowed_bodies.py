@@ -72,9 +72,7 @@ def run(command, folder):
         print(f"[{time.monotonic() - started:5.1f} s] {text}", flush=True)
 
     step("starting " + " ".join(command))
-    sandbox = Sandbox(command)
-    sandbox.deadline = time.monotonic() + SESSION_SECONDS
-    try:
+    with Sandbox(command, SESSION_SECONDS) as sandbox:
         if not sandbox.wait_for(r"^window\s+\d+x\d+", timeout=60):
             return "the sandbox did not open its window within 60 s"
         listed = sandbox.wait_for(r"^materials\s+(.*) \(number keys", timeout=1)
@@ -274,10 +272,6 @@ def run(command, folder):
             return f"the sandbox exited with status {status}"
         step("Esc: closed with exit status 0")
         return None
-    finally:
-        if sandbox.process.poll() is None:
-            sandbox.process.kill()
-            sandbox.process.wait(timeout=10)
 
 
 def main():

@@ -44,15 +44,25 @@ SWATCH_SQUARE = 10  # a swatch (14 pixels) holds a square of this side of its ex
 
 
 class Sandbox:
-    """The launched process and the lines it printed so far."""
+    """The launched process and the lines it printed so far; as a context manager, the process is
+    killed on leaving it if it still runs."""
 
-    def __init__(self, command):
-        self.deadline = time.monotonic() + SESSION_SECONDS
+    def __init__(self, command, seconds=SESSION_SECONDS):
+        self.deadline = time.monotonic() + seconds
         self.process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, bufsize=1)
         self.lines = []
         self.ended = False  # its output closed
         self.changed = threading.Condition()
         threading.Thread(target=self._read, daemon=True).start()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        if self.process.poll() is None:
+            self.process.kill()
+            self.process.wait(timeout=10)
+        return False
 
     def _read(self):
         for line in self.process.stdout:
@@ -110,8 +120,7 @@ def run(command, screenshot, screenshot_dir, snapshot):
         print(f"[{time.monotonic() - started:5.1f} s] {text}", flush=True)
 
     step("starting " + " ".join(command))
-    sandbox = Sandbox(command)
-    try:
+    with Sandbox(command) as sandbox:
         if not sandbox.wait_for(r"^window\s+\d+x\d+", timeout=60):
             return "the sandbox did not open its window within 60 s"
         listed = sandbox.wait_for(r"^materials\s+(.*) \(number keys", timeout=1)
@@ -340,10 +349,6 @@ def run(command, screenshot, screenshot_dir, snapshot):
             return "the HUD of the last frame shows no colour swatch of " + ", ".join(missing)
         step("the last frame's HUD shows the swatch of each of the 7 materials")
         return None
-    finally:
-        if sandbox.process.poll() is None:
-            sandbox.process.kill()
-            sandbox.process.wait(timeout=10)
 
 
 def main():
