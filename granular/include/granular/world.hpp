@@ -127,6 +127,10 @@ class World {
   /// What a body is: the BodyDef it was added with, its pose the one body_pose() gives (how a physics
   /// engine adapter builds its own body for a World body). Throws InvalidArgument for an unknown id.
   BodyDef body_def(BodyId id) const;
+  /// The grid indices (x fastest, ascending) of the cells a body holds now, valid until the next
+  /// call that changes bodies or steps (how an engine adapter tells a body's cells from the body
+  /// material's other cells). Throws InvalidArgument for an unknown id.
+  std::span<const std::uint64_t> body_cells(BodyId id) const;
   /// What the sand did with a body and to it at the start of the last tick (tick 0 and no cells
   /// before its first). Throws InvalidArgument for an unknown id.
   const BodySand& body_sand(BodyId id) const;

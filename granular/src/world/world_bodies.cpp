@@ -222,6 +222,11 @@ BodyDef World::body_def(BodyId id) const {
   return def;
 }
 
+std::span<const std::uint64_t> World::body_cells(BodyId id) const {
+  live();
+  return find_body(bodies_.get(), id, "World::body_cells").owned;
+}
+
 const BodySand& World::body_sand(BodyId id) const {
   live();
   return find_body(bodies_.get(), id, "World::body_sand").sand;
@@ -328,8 +333,9 @@ void World::restore_bodies(const BodyStates& states) {
 namespace {
 
 /// Sets every body's `group` to the first body of its group: bodies whose regions overlap, directly
-/// or through others (a sweep along x over the regions, joined by union-find).
-void group_bodies(std::vector<BodyStampWork>& work) {
+/// or through others (a sweep along x over the regions, joined by union-find). Returns the bodies
+/// of each group, in the order added; bodies without a region are in none.
+std::vector<std::vector<std::size_t>> group_bodies(std::vector<BodyStampWork>& work) {
   std::vector<std::size_t> order;
   for (std::size_t i = 0; i < work.size(); ++i) {
     work[i].group = i;
@@ -348,6 +354,17 @@ void group_bodies(std::vector<BodyStampWork>& work) {
         work[std::max(a, b)].group = std::min(a, b);
       }
   for (std::size_t i = 0; i < work.size(); ++i) work[i].group = root(i);
+  std::vector<std::vector<std::size_t>> groups;
+  std::vector<std::size_t> group_of(work.size(), 0);  // where a group's first body's group is in `groups`
+  for (std::size_t i = 0; i < work.size(); ++i) {
+    if (work[i].region.empty()) continue;
+    if (work[i].group == i) {
+      group_of[i] = groups.size();
+      groups.emplace_back();
+    }
+    groups[group_of[work[i].group]].push_back(i);
+  }
+  return groups;
 }
 
 /// Copies the cells of `from`'s region that `to`'s region holds too into `to`: what an earlier body
@@ -448,21 +465,10 @@ void World::stamp_bodies() {
     work.at_rest = !work.region.empty() && work.shape == body.owned && work.region == body.region &&
                    !body.region_bytes.empty() && unchanged(work.region, body.version);
   });
-  group_bodies(all.work);
-  std::vector<std::uint8_t> group_moves(n, 0);
+  const std::vector<std::vector<std::size_t>> groups = group_bodies(all.work);
+  std::vector<std::uint8_t> group_moves(n, 0);  // per group's first body
   for (std::size_t i = 0; i < n; ++i)
     if (!all.work[i].region.empty() && !all.work[i].at_rest) group_moves[all.work[i].group] = 1;
-  std::vector<std::vector<std::size_t>> groups;  // the bodies of each group, in the order added
-  std::vector<std::size_t> group_of(n, 0);
-  for (std::size_t i = 0; i < n; ++i) {
-    if (all.work[i].region.empty()) continue;
-    const std::size_t g = all.work[i].group;
-    if (g == i) {
-      group_of[i] = groups.size();
-      groups.emplace_back();
-    }
-    groups[group_of[g]].push_back(i);
-  }
   // The regions of the groups that move, in one read (one round trip on a GPU).
   std::vector<std::size_t> moving;  // the bodies of those groups, in the order added
   std::vector<Box> boxes;
