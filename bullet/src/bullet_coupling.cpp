@@ -186,6 +186,14 @@ void BulletCoupling::rebuild_statics() {
   const Int3 n = world_.size();
   const MaterialTable& materials = world_.rules().materials;
   const std::uint8_t body = to_cell(world_.def().body_material);
+  // The cells the coupled bodies hold (Bullet has those bodies); every other cell of the body
+  // material (a game's structure, a body it moves itself) is static.
+  std::vector<std::uint64_t> held;
+  for (const Coupled& c : coupled_) {
+    const std::span<const std::uint64_t> own = world_.body_cells(c.body);
+    held.insert(held.end(), own.begin(), own.end());
+  }
+  std::sort(held.begin(), held.end());
   std::vector<std::uint64_t> cells;
   std::vector<std::uint8_t> region;
   for (const Coupled& c : coupled_) {
@@ -219,7 +227,10 @@ void BulletCoupling::rebuild_statics() {
       const std::uint8_t m8 =
           region[(std::size_t(z - inside.min.z) * std::size_t(e.y) + std::size_t(y - inside.min.y)) * std::size_t(e.x) +
                  std::size_t(x - inside.min.x)];
-      return m8 != body && materials[m8].behaviour == Behaviour::Static;
+      if (materials[m8].behaviour != Behaviour::Static) return false;
+      return m8 != body ||
+             !std::binary_search(held.begin(), held.end(),
+                                 std::uint64_t(x) + std::uint64_t(n.x) * (std::uint64_t(y) + std::uint64_t(n.y) * std::uint64_t(z)));
     };
     for (int z = want.min.z; z < want.max.z; ++z)
       for (int y = want.min.y; y < want.max.y; ++y)

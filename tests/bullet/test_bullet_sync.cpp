@@ -8,6 +8,7 @@
 #include <btBulletDynamicsCommon.h>
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <memory>
 #include <vector>
 
@@ -214,4 +215,27 @@ TEST_CASE("bullet sync: a handle a restore gives back to a body of another shape
   const CouplingSync back = s.coupling->sync();
   CHECK(back.uncoupled.size() == 1);
   REQUIRE(back.unmatched == std::vector<BodyId>{crate_id});
+}
+
+TEST_CASE("bullet statics: a wall painted in the body material stops a body Bullet throws at it") {
+  Scene scene;
+  // A wall of state 7, the body material, across the world at x = 24..27, over the bed.
+  scene.world->paint(Box{{24, 0, 12}, {28, 40, 36}}, Material::State7);
+  BodyDef ball;
+  ball.shape = BodyShape::Sphere;
+  ball.radius = 3;
+  ball.density = 2000;
+  ball.pose.position = {12, 20, 28};
+  const BodyId id = scene.world->add_body(ball);
+  btRigidBody& rigid = scene.rigid_for(id);
+  scene.coupling->couple(rigid, id);
+  rigid.setLinearVelocity(btVector3(btScalar(3 * scene.cell / scene.tick), 0, 0));  // 3 cells a tick along x
+  double farthest = 0;
+  for (int t = 0; t < 60; ++t) {
+    scene.coupling->step();
+    farthest = std::max(farthest, scene.world->body_pose(id).position.x);
+  }
+  MESSAGE("ball thrown at the wall: farthest centre x " << farthest << " (wall from x = 24; radius 3)");
+  CHECK(farthest < 24 - 3 + 1);  // stopped within a cell of touching the wall
+  CHECK(scene.coupling->static_boxes() > 0);
 }

@@ -81,7 +81,8 @@ class BulletCoupling {
   /// One fixed tick: each rigid body's pose and velocity go to its World body, the World steps one
   /// tick (writing the bodies into the grid and pushing the sand aside), each rigid body feels its
   /// BodySand force and torque, the static cells near the bodies (and their paths over the tick)
-  /// become Bullet's collision boxes, Bullet steps the tick's length (tick_seconds of the World's
+  /// become Bullet's collision boxes (the body material's cells among them, but for those the
+  /// coupled bodies hold: a game's structure of that material, or a body it moves itself, collides), Bullet steps the tick's length (tick_seconds of the World's
   /// rules) in `substeps` steps, and each World body takes its rigid body's new pose and velocity, so
   /// that between steps the World's bodies (body_pose, capture(), a StrokeHistory) are Bullet's.
   void step();
