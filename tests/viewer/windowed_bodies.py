@@ -30,11 +30,10 @@ import math
 import os
 import re
 import sys
-import tempfile
 import time
 
 from png_pixels import read_png
-from windowed_session import Sandbox, find_window, xdotool
+from windowed_session import Sandbox, find_window, session_main, xdotool
 
 SESSION_SECONDS = 540  # every wait ends by then (ctest allows 600)
 SETTLED_TICK = 240  # the bowl's sand has fallen into the lower half by then
@@ -275,17 +274,8 @@ def run(command, folder):
 
 
 def main():
-    if len(sys.argv) < 2:
-        print(__doc__, file=sys.stderr)
-        return 2
-    with tempfile.TemporaryDirectory(prefix="windowed-bodies-") as folder:
-        failure = run(sys.argv[1:] + ["--screenshot-dir", folder, "--save", os.path.join(folder, "bodies.gsnap")],
-                      folder)
-    if failure:
-        print("FAILED: " + failure, flush=True)
-        return 1
-    print("PASSED", flush=True)
-    return 0
+    return session_main(__doc__, "windowed-bodies-", lambda command, folder: run(
+        command + ["--screenshot-dir", folder, "--save", os.path.join(folder, "bodies.gsnap")], folder))
 
 
 if __name__ == "__main__":

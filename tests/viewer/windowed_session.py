@@ -351,20 +351,31 @@ def run(command, screenshot, screenshot_dir, snapshot):
         return None
 
 
-def main():
+def session_main(usage, prefix, run_in):
+    """The main of a scripted session: `usage` without a command, else run_in(command, folder) in a
+    fresh temporary folder named from `prefix`, then "PASSED" or "FAILED: why"; the exit status."""
     if len(sys.argv) < 2:
-        print(__doc__, file=sys.stderr)
+        print(usage, file=sys.stderr)
         return 2
-    with tempfile.TemporaryDirectory(prefix="windowed-session-") as folder:
-        screenshot = os.path.join(folder, "last-frame.png")
-        snapshot = os.path.join(folder, "session.gsnap")
-        failure = run(sys.argv[1:] + ["--screenshot", screenshot, "--screenshot-dir", folder, "--save", snapshot],
-                      screenshot, folder, snapshot)
+    with tempfile.TemporaryDirectory(prefix=prefix) as folder:
+        failure = run_in(sys.argv[1:], folder)
     if failure:
         print("FAILED: " + failure, flush=True)
         return 1
     print("PASSED", flush=True)
     return 0
+
+
+def run_in_folder(command, folder):
+    """The session, its screenshot and snapshot in `folder`."""
+    screenshot = os.path.join(folder, "last-frame.png")
+    snapshot = os.path.join(folder, "session.gsnap")
+    return run(command + ["--screenshot", screenshot, "--screenshot-dir", folder, "--save", snapshot], screenshot,
+               folder, snapshot)
+
+
+def main():
+    return session_main(__doc__, "windowed-session-", run_in_folder)
 
 
 if __name__ == "__main__":
