@@ -92,16 +92,17 @@ SlabLayout make_layout(const WorldDef& def, Communicator& comm, Int3 size) {
   return std::move(*layout);
 }
 
-/// `s` without its cells.
-WorldSnapshot snapshot_part(const WorldSnapshot& s) {
-  WorldSnapshot part;
-  part.size = s.size;
-  part.tick = s.tick;
-  part.seed = s.seed;
-  part.tool_calls = s.tool_calls;
-  part.rules = s.rules;
-  part.rule_fingerprint = s.rule_fingerprint;
-  return part;
+/// A snapshot of no cells: the header fields.
+WorldSnapshot snapshot_header(Int3 size, std::uint64_t tick, std::uint64_t seed, std::uint64_t tool_calls,
+                              const std::string& rules, std::uint64_t rule_fingerprint) {
+  WorldSnapshot h;
+  h.size = size;
+  h.tick = tick;
+  h.seed = seed;
+  h.tool_calls = tool_calls;
+  h.rules = rules;
+  h.rule_fingerprint = rule_fingerprint;
+  return h;
 }
 
 /// The cells of the layers a slab keeps, out of the whole grid's `cells`.
@@ -136,7 +137,8 @@ DistributedWorld::DistributedWorld(const WorldDef& def, Communicator& comm, cons
           throw InvalidArgument(std::string("DistributedWorld: WorldSnapshot::") +
                                 (snapshot.side.empty() ? "faces" : "side") +
                                 " holds a plane (MotionParams::momentum or shallow), which a DistributedWorld cannot step");
-        WorldSnapshot part = snapshot_part(snapshot);
+        WorldSnapshot part = snapshot_header(snapshot.size, snapshot.tick, snapshot.seed, snapshot.tool_calls,
+                                             snapshot.rules, snapshot.rule_fingerprint);
         part.size = local.size;
         const std::span<const std::uint8_t> kept = kept_cells(snapshot.cells, size, slab);
         part.cells.assign(kept.begin(), kept.end());
@@ -371,14 +373,8 @@ WorldSnapshot DistributedWorld::capture(int root) {
 }
 
 WorldSnapshot DistributedWorld::meta() const {
-  WorldSnapshot m;
-  m.size = layout_.size();
-  m.tick = slab_->tick();
-  m.seed = slab_->def().seed;
-  m.tool_calls = slab_->tool_calls();
-  m.rules = slab_->rules().name;
-  m.rule_fingerprint = slab_->rule_fingerprint_;
-  return m;
+  return snapshot_header(layout_.size(), slab_->tick(), slab_->def().seed, slab_->tool_calls(), slab_->rules().name,
+                         slab_->rule_fingerprint_);
 }
 
 template <class Local>
