@@ -532,11 +532,13 @@ void World::stamp_bodies() {
   });
   // The regions the stamps wrote, in one write (one launch on a GPU), waking the bricks they wrote.
   boxes.clear();
+  std::vector<std::size_t> written;  // the moving bodies whose stamp wrote a cell
   std::vector<std::uint32_t> woken;
   std::size_t bytes = 0;
   for (const std::size_t i : moving) {
     const std::span<const std::uint32_t> bricks = all.work[i].edit.bricks();
     if (bricks.empty()) continue;
+    written.push_back(i);
     boxes.push_back(all.work[i].region);
     woken.insert(woken.end(), bricks.begin(), bricks.end());
     bytes += all.work[i].edit.cells().size();
@@ -544,11 +546,10 @@ void World::stamp_bodies() {
   if (!boxes.empty()) {
     packed.resize(bytes);
     std::size_t at = 0;
-    for (const std::size_t i : moving)
-      if (!all.work[i].edit.bricks().empty()) {
-        std::copy_n(all.work[i].edit.cells().data(), all.work[i].edit.cells().size(), packed.data() + at);
-        at += all.work[i].edit.cells().size();
-      }
+    for (const std::size_t i : written) {
+      std::copy_n(all.work[i].edit.cells().data(), all.work[i].edit.cells().size(), packed.data() + at);
+      at += all.work[i].edit.cells().size();
+    }
     std::sort(woken.begin(), woken.end());
     woken.erase(std::unique(woken.begin(), woken.end()), woken.end());
     mark_bricks(woken);
