@@ -14,7 +14,9 @@
 /// --half sets the bodies' half size in cells (default N/32, at least 2).
 ///
 /// Prints ms per tick with and without the bodies, their difference, and the real-time factor
-/// (simulated seconds per wall second) of the world with bodies. Figures in bench/RESULTS.md.
+/// (simulated seconds per wall second) of the world with bodies; then, per tick, the phases of the
+/// world with bodies (World::profile: the step of the cells, and the bodies' own work) and the
+/// bricks each world stepped. Figures in bench/RESULTS.md.
 
 #include <algorithm>
 #include <cstdio>
@@ -25,6 +27,7 @@
 
 #include "granular/body.hpp"
 #include "granular/errors.hpp"
+#include "granular/step_profile.hpp"
 #include "granular/time_scale.hpp"
 #include "granular/world.hpp"
 #include "timed_step.hpp"
@@ -114,6 +117,8 @@ int main(int argc, char** argv) try {
     ids.push_back(with.add_body(def));
   }
   double with_s = 0, without_s = 0;
+  StepProfile phases;  // the world with bodies, summed over the ticks
+  std::uint64_t awake = 0, awake_without = 0;  // bricks stepped, summed over the ticks
   for (int t = 0; t < o.ticks; ++t) {
     if (t % 25 == 0)
       for (const BodyId id : ids) {
@@ -130,6 +135,15 @@ int main(int argc, char** argv) try {
       }
     with_s += bench::timed_step(with, 1);
     without_s += bench::timed_step(without, 1);
+    const StepProfile& p = with.profile();
+    phases.step += p.step;
+    phases.bodies += p.bodies;
+    phases.bodies_shapes += p.bodies_shapes;
+    phases.bodies_read += p.bodies_read;
+    phases.bodies_stamp += p.bodies_stamp;
+    phases.bodies_write += p.bodies_write;
+    awake += with.activity().brick_ticks;
+    awake_without += without.activity().brick_ticks;
   }
   const double tick_s = tick_seconds(with.rules(), with.def().cell_metres);
   const double with_ms = 1e3 * with_s / o.ticks, without_ms = 1e3 * without_s / o.ticks;
@@ -137,6 +151,12 @@ int main(int argc, char** argv) try {
               with.backend_description().c_str(), o.n, o.n, o.n / 2, o.rules.c_str(), o.bodies, half, o.ticks);
   std::printf("  with bodies %.3f ms/tick (%.2fx real time), without %.3f ms/tick, bodies add %.3f ms/tick\n", with_ms,
               tick_s * 1e3 / with_ms, without_ms, with_ms - without_ms);
+  const double per_tick = 1.0 / o.ticks;
+  std::printf("  with bodies, per tick: step %.3f ms (%.0f bricks awake; %.0f without), bodies %.3f ms: shapes %.3f, "
+              "read %.3f, stamp and forces %.3f, write %.3f\n",
+              phases.step * per_tick, double(awake) * per_tick, double(awake_without) * per_tick,
+              phases.bodies * per_tick, phases.bodies_shapes * per_tick, phases.bodies_read * per_tick,
+              phases.bodies_stamp * per_tick, phases.bodies_write * per_tick);
   return 0;
 } catch (const std::exception& e) {
   std::fprintf(stderr, "%s\n", e.what());

@@ -17,6 +17,7 @@
 #include "granular/geometry.hpp"
 #include "granular/grid.hpp"
 #include "granular/material.hpp"
+#include "granular/step_profile.hpp"
 #include "granular/change_report.hpp"
 #include "granular/world_def.hpp"
 #include "granular/world_snapshot.hpp"
@@ -223,6 +224,8 @@ class World {
   Int3 brick_counts() const { return granular::brick_counts(size_); }
   /// How much of the grid the last step() call stepped: its last tick, and sums over its ticks.
   ActivityStats activity() const;
+  /// Where the last step() call's time went, phase by phase (host wall time).
+  const StepProfile& profile() const { return profile_; }
 
   /// Bytes a buffer shared with share_cells() must hold (the cells, x fastest, padded to whole
   /// 8-byte words); 0 when the backend cannot share its cells (the CPU backend).
@@ -347,6 +350,7 @@ class World {
   mutable std::vector<std::uint64_t> brick_version_;  ///< per brick: change_version_ when it last changed
   mutable std::vector<std::uint8_t> changed_flags_;   ///< scratch: per brick, changed by steps
   mutable bool step_changes_pending_ = false;         ///< steps ran since the flags were last taken
+  StepProfile profile_{};  ///< the last step() call's
   mutable ActivityStats activity_{};
   mutable bool activity_pending_ = false;  ///< a step ran since activity_ was read from the backend
 };

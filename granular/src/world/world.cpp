@@ -22,6 +22,7 @@
 #include "world/tool_region.hpp"
 #include "world/world_def_validation.hpp"
 #include "world/world_scratch.hpp"
+#include "util/stopwatch.hpp"
 
 namespace granular {
 
@@ -211,17 +212,24 @@ void World::step(int ticks) {
   if (std::uint64_t(ticks) > std::numeric_limits<std::uint64_t>::max() - tick_)
     throw StateError("World::step: ticks = " + std::to_string(ticks) + " from tick " + std::to_string(tick_) +
                      " would wrap the 64-bit tick counter");
+  profile_ = StepProfile{};
+  profile_.ticks = std::uint64_t(ticks);
+  Stopwatch whole, watch;
   if (bodies_ && !bodies_->list.empty()) {
     for (int t = 0; t < ticks; ++t) {
-      stamp_bodies();
+      stamp_bodies();  // times its own phases
+      watch.lap();
       live().step(tick_, 1);
+      profile_.step += watch.lap();
       ++tick_;
       advance_bodies();
     }
   } else {
     live().step(tick_, ticks);
+    profile_.step = watch.lap();
     tick_ += std::uint64_t(ticks);
   }
+  profile_.total = whole.lap();
   activity_pending_ = true;
   step_changes_pending_ = true;
 }

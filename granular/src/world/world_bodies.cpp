@@ -18,6 +18,7 @@
 #include "step/brick_grid.hpp"
 #include "granular/world.hpp"
 #include "util/number_text.hpp"
+#include "util/stopwatch.hpp"
 #include "world/region_edit.hpp"
 #include "world/world_scratch.hpp"
 #include "cpu/thread_pool.hpp"
@@ -407,6 +408,7 @@ TaskSystem& World::body_tasks() {
 
 void World::stamp_bodies() {
   Bodies& all = *bodies_;
+  Stopwatch whole, watch;
   const std::uint8_t body_material = to_cell(def_.body_material);
   const BodyScale scale{def_.cell_metres, tick_seconds(*rules_, def_.cell_metres), kStandardGravity};
   take_step_changes();  // the bricks the last tick changed, for the bodies at rest below
@@ -478,6 +480,7 @@ void World::stamp_bodies() {
       boxes.push_back(all.work[i].region);
     }
   std::vector<std::uint8_t> packed = boxes_buffer(boxes);
+  profile_.bodies_shapes += watch.lap();
   if (!boxes.empty()) live().read_boxes(boxes, packed);
   for (std::size_t k = 0, at = 0; k < moving.size(); ++k) {
     BodyStampWork& work = all.work[moving[k]];
@@ -485,6 +488,7 @@ void World::stamp_bodies() {
     std::copy_n(packed.data() + at, work.edit.cells().size(), work.edit.cells().data());
     at += work.edit.cells().size();
   }
+  profile_.bodies_read += watch.lap();
   const int task_count = int(std::min<std::size_t>(groups.size(), std::size_t(tasks.thread_count())));
   all.stamp.resize(std::size_t(task_count));
   all.forces.resize(std::size_t(task_count));
@@ -530,6 +534,7 @@ void World::stamp_bodies() {
       }
     }
   });
+  profile_.bodies_stamp += watch.lap();
   // The regions the stamps wrote, in one write (one launch on a GPU), waking the bricks they wrote.
   boxes.clear();
   std::vector<std::size_t> written;  // the moving bodies whose stamp wrote a cell
@@ -559,6 +564,8 @@ void World::stamp_bodies() {
     all.work[i].edit.trim();
     all.list[i].version = change_version_;
   }
+  profile_.bodies_write += watch.lap();
+  profile_.bodies += whole.lap();
 }
 
 void World::advance_bodies() {
