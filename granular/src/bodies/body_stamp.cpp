@@ -321,9 +321,18 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
       const std::uint32_t j = std::uint32_t(i + std::uint32_t(layer));
       return outside(j) && (material(j) == 0 || materials[material(j)].behaviour == Behaviour::Gas);
     };
+    // The first cell over the highest layer that holds a surface (0: none): a wake cell at or over
+    // that layer has none to fill it (a fill only lowers a surface), nor have the cells after it.
+    std::uint32_t over_top = 0;
+    for (std::uint32_t i = std::uint32_t(region.volume()); i-- > 0;)
+      if (liquid(i) && open_above(i)) {
+        over_top = std::uint32_t((std::int64_t(i) / layer + 1) * layer);
+        break;
+      }
     std::fill(s.dead.begin(), s.dead.end(), std::uint8_t(0));
     bool nearby_will_do = false;
     for (const std::uint32_t wake : s.left) {
+      if (wake + std::uint32_t(layer) >= over_top) break;
       if (material(wake) != 0) continue;
       const Int3 at = region.cell(wake);
       const std::uint32_t above_wake =

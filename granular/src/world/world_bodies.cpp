@@ -3,6 +3,7 @@
 /// start of each tick (docs/design/bodies.md).
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <numbers>
 #include <string>
@@ -495,11 +496,23 @@ void World::stamp_bodies() {
   const MaterialTable& materials = rules_->materials;
   const std::uint64_t seed = def_.seed, tick = tick_;
   const Int3 grid = size_;
+  // The groups are taken one at a time by whichever task is free, the costliest first (the most
+  // cells to stamp), so that a few costly groups do not all fall to one thread. Groups touch
+  // disjoint cells and each task has its own scratch: the cells do not depend on who takes what.
+  std::vector<std::size_t> by_cost(groups.size());
+  std::vector<std::uint64_t> cost(groups.size(), 0);
+  for (std::size_t g = 0; g < groups.size(); ++g) {
+    by_cost[g] = g;
+    for (const std::size_t i : groups[g])
+      if (group_moves[all.work[i].group]) cost[g] += std::uint64_t(all.work[i].region.volume());
+  }
+  std::stable_sort(by_cost.begin(), by_cost.end(), [&](std::size_t a, std::size_t b) { return cost[a] > cost[b]; });
+  std::atomic<std::size_t> next_group{0};
   tasks.run(task_count, [&](int task) {
     StampScratch& stamp = all.stamp[std::size_t(task)];
     ForceScratch& forces = all.forces[std::size_t(task)];
-    for (std::size_t g = std::size_t(task); g < groups.size(); g += std::size_t(task_count)) {
-      const std::vector<std::size_t>& members = groups[g];
+    for (std::size_t taken = next_group++; taken < groups.size(); taken = next_group++) {
+      const std::vector<std::size_t>& members = groups[by_cost[taken]];
       for (std::size_t k = 0; k < members.size(); ++k) {
         BodyRecord& body = all.list[members[k]];
         BodyStampWork& work = all.work[members[k]];
