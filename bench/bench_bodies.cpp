@@ -16,7 +16,8 @@
 /// Prints ms per tick with and without the bodies, their difference, and the real-time factor
 /// (simulated seconds per wall second) of the world with bodies; then, per tick, the phases of the
 /// world with bodies (World::profile: the step of the cells, and the bodies' own work) and the
-/// bricks each world stepped. Figures in bench/RESULTS.md.
+/// bricks each world stepped; and the hash of the world with bodies, the same on every backend and
+/// thread count, so that two builds can be checked to write the bodies alike. Figures in bench/RESULTS.md.
 
 #include <algorithm>
 #include <cstdio>
@@ -157,6 +158,7 @@ int main(int argc, char** argv) try {
               phases.step * per_tick, double(awake) * per_tick, double(awake_without) * per_tick,
               phases.bodies * per_tick, phases.bodies_shapes * per_tick, phases.bodies_read * per_tick,
               phases.bodies_stamp * per_tick, phases.bodies_write * per_tick);
+  std::printf("  the world with bodies ends with hash %016llx\n", static_cast<unsigned long long>(with.hash()));
   return 0;
 } catch (const std::exception& e) {
   std::fprintf(stderr, "%s\n", e.what());

@@ -42,7 +42,17 @@ Int3 lead_of(const Vec3& motion) {
 }
 
 /// Cells a push's search from a filled void may reach before the distances are searched anew.
-constexpr std::size_t kSearchBeforeRefresh = 64;
+constexpr std::size_t kSearchBeforeRefresh = 512;
+
+/// A cell's class (StampScratch::cls): what the searches ask of it.
+enum Class : std::uint8_t {
+  kPass = 1,       ///< a push may pass through it: void or mobile, and not yet the body's
+  kFree = 2,       ///< a push may end in it: void, outside the shape and its surroundings
+  kVoidOut = 4,    ///< void outside the shape
+  kLiquidOut = 8,  ///< liquid outside the shape
+  kOpenOut = 16,   ///< void or gas outside the shape
+  kSurface = 32,   ///< liquid outside the shape under a kOpenOut cell of the region
+};
 
 /// A cell no search has reached.
 constexpr std::uint32_t kUnseen = 0xFFFFFFFFu;
@@ -62,10 +72,6 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
         return (bytes[region.local(grid_cell(grid, g))] & kMaterialMask) == body_material;
       }))
     return result;
-  auto put = [&](std::uint32_t i, std::uint8_t byte) {
-    bytes[i] = byte;
-    s.written.push_back(i);
-  };
   auto material = [&](std::uint32_t i) { return std::uint8_t(bytes[i] & kMaterialMask); };
   auto mobile = [&](std::uint8_t m) {
     const Behaviour b = materials[m].behaviour;
@@ -76,6 +82,38 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
   // kNear outside it but within kRingWidth cells beside a cell of it in the same layer (the
   // surroundings its buoyancy reads, sand_forces).
   constexpr std::uint8_t kShape = 1, kTaken = 2, kNear = 3;
+  const std::int64_t row = region.e.x, layer = std::int64_t(region.e.x) * region.e.y;
+  // Once the searches begin, each cell's class (s.cls, Class bits) is kept with its byte and
+  // s.in_shape, so that a search tests one byte a cell.
+  std::array<std::uint8_t, kMaterialCount> behaviour_bits{};  // per material: 1 mobile, 2 liquid, 4 gas
+  for (std::size_t m = 0; m < kMaterialCount; ++m) {
+    const Behaviour b = materials[m].behaviour;
+    behaviour_bits[m] = std::uint8_t((b == Behaviour::Granular || b == Behaviour::Liquid || b == Behaviour::Gas) |
+                                     (b == Behaviour::Liquid) << 1 | (b == Behaviour::Gas) << 2);
+  }
+  auto classify = [&](std::uint32_t i) {
+    const std::uint8_t m = std::uint8_t(bytes[i] & kMaterialMask), in = s.in_shape[i], bits = behaviour_bits[m];
+    const bool out = in == 0 || in == kNear;
+    s.cls[i] = std::uint8_t((s.cls[i] & kSurface) | (in != kTaken && (m == 0 || (bits & 1)) ? kPass : 0) |
+                            (m == 0 && in == 0 ? kFree : 0) | (m == 0 && out ? kVoidOut : 0) |
+                            (out && (bits & 2) ? kLiquidOut : 0) | (out && (m == 0 || (bits & 4)) ? kOpenOut : 0));
+  };
+  auto classify_surface = [&](std::uint32_t i) {
+    const bool on = (s.cls[i] & kLiquidOut) && !(s.edges[i] & 16) && (s.cls[i + std::uint32_t(layer)] & kOpenOut);
+    s.cls[i] = std::uint8_t(on ? s.cls[i] | kSurface : s.cls[i] & ~kSurface);
+  };
+  bool classed = false;
+  auto reclassify = [&](std::uint32_t i) {
+    classify(i);
+    classify_surface(i);
+    if (!(s.edges[i] & 32)) classify_surface(i - std::uint32_t(layer));
+  };
+  auto put = [&](std::uint32_t i, std::uint8_t byte) {
+    bytes[i] = byte;
+    s.written.push_back(i);
+    if (classed) reclassify(i);
+  };
+
   s.in_shape.assign(region.volume(), 0);
   for (const std::uint64_t g : shape) s.in_shape[region.local(grid_cell(grid, g))] = kShape;
   auto in_shape_at = [&](Int3 c) {
@@ -143,7 +181,6 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
   s.queue.clear();
   // Per cell, a bit for each of its six neighbours that lies outside the region (Step's order), so
   // that a search steps by index.
-  const std::int64_t row = region.e.x, layer = std::int64_t(region.e.x) * region.e.y;
   s.edges.assign(region.volume(), 0);
   for (std::int64_t z = 0; z < region.e.z; ++z)
     for (std::int64_t y = 0; y < region.e.y; ++y) {
@@ -151,11 +188,15 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
       s.edges[std::size_t(first)] |= 2;
       s.edges[std::size_t(last)] |= 1;
       if (y == 0 || y + 1 == region.e.y || z == 0 || z + 1 == region.e.z) {
-        const std::uint8_t bits = std::uint8_t((y + 1 == region.e.y) << 2 | (y == 0) << 3 |
-                                               (z + 1 == region.e.z) << 4 | (z == 0) << 5);
+        const std::uint8_t bits =
+            std::uint8_t((y + 1 == region.e.y) << 2 | (y == 0) << 3 | (z + 1 == region.e.z) << 4 | (z == 0) << 5);
         for (std::int64_t i = first; i <= last; ++i) s.edges[std::size_t(i)] |= bits;
       }
     }
+  s.cls.assign(region.volume(), 0);
+  for (std::uint32_t i = 0; i < region.volume(); ++i) classify(i);
+  for (std::uint32_t i = 0; i < region.volume(); ++i) classify_surface(i);
+  classed = true;
   // A direction as the search takes it: the edge bit that forbids it and the step of the index.
   struct Step {
     std::uint8_t edge;
@@ -206,6 +247,56 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
       if (at == from) break;
     }
   };
+  // Every cell's distance to the nearest cell `is_target` accepts (0 there), searched from all of
+  // them at once through cells `through` lets pass, into s.distance (-1: not reached), its cells in
+  // s.front. The search stops once it has reached the `wanted` cells s.pending marks, which it
+  // reaches but does not pass unless `through` lets it: a walk down the distances from one of them
+  // reads only lower distances, all known by then.
+  const std::array<Step, 6> field_steps = steps_of(directions({}, 0));
+  auto distances = [&](auto&& is_target, auto&& through, std::size_t wanted) {
+    s.distance.assign(region.volume(), -1);
+    s.front.clear();
+    for (std::uint32_t i = 0; i < region.volume(); ++i)
+      if (is_target(i)) {
+        s.distance[i] = 0;
+        s.front.push_back(i);
+      }
+    for (std::size_t head = 0; head < s.front.size(); ++head) {
+      const std::uint32_t i = s.front[head];
+      for (const Step& step : field_steps) {
+        if (s.edges[i] & step.edge) continue;
+        const std::uint32_t j = std::uint32_t(std::int64_t(i) + step.delta);
+        if (s.distance[j] >= 0) continue;
+        const bool pass = through(j);
+        if (!pass && !s.pending[j]) continue;
+        s.distance[j] = s.distance[i] + 1;
+        if (pass) s.front.push_back(j);
+        if (s.pending[j] && --wanted == 0) return;
+      }
+    }
+  };
+  // Walks from `start` down the distances through cells `through` lets pass, ties to the first of
+  // `steps`, into s.route (start first); ends at a distance of 0, at a cell `ends` accepts, or where
+  // no lower distance is next.
+  auto descend = [&](std::uint32_t start, const std::array<Step, 6>& steps, auto&& through, auto&& ends) {
+    s.route.assign(1, start);
+    std::int32_t above = INT32_MAX;
+    for (std::uint32_t at = start; above != 0;) {
+      std::int64_t best = -1;
+      for (const Step& step : steps) {
+        if (s.edges[at] & step.edge) continue;
+        const std::uint32_t j = std::uint32_t(std::int64_t(at) + step.delta);
+        if (s.distance[j] >= 0 && s.distance[j] < above && through(j)) {
+          best = j;
+          above = s.distance[j];
+        }
+      }
+      if (best < 0) break;
+      at = std::uint32_t(best);
+      s.route.push_back(at);
+      if (ends(at)) break;
+    }
+  };
 
   if (!s.push.empty()) {
     const Int3 lead = lead_of(motion);
@@ -219,70 +310,31 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
     // A push passes through mobile cells and voids, crossing cells of the shape that wait for their
     // own push (it moves what they hold on by one cell), and ends in the nearest void away from the
     // body's surroundings (so that its buoyancy does not jump with what it pushed).
-    auto through = [&](std::uint32_t i) {
-      return s.in_shape[i] != kTaken && (material(i) == 0 || mobile(material(i)));
-    };
-    auto free_cell = [&](std::uint32_t i) { return material(i) == 0 && s.in_shape[i] == 0; };
+    auto through = [&](std::uint32_t i) { return (s.cls[i] & kPass) != 0; };
+    auto free_cell = [&](std::uint32_t i) { return (s.cls[i] & kFree) != 0; };
     // Every cell's distance to the nearest such void, searched from all of them at once. A push
     // follows it down; where it leads to a void an earlier push has filled, or nowhere, a search from
     // there ends in the nearest void outside the shape, and the distances are searched anew once such
     // searches grow.
     // The search stops once it has reached every push still to come: a push follows distances
     // below its start's only, all of which are known by then.
-    const std::array<Step, 6> field_steps = steps_of(directions({}, 0));
     std::size_t next_push = 0;  // the pushes before it are done
     auto field = [&] {
-      s.distance.assign(region.volume(), -1);
-      s.front.clear();
-      std::size_t to_reach = s.push.size() - next_push;  // pushes to come whose start it has not reached
       s.pending.assign(region.volume(), 0);
       for (std::size_t k = next_push; k < s.push.size(); ++k) s.pending[region.local(grid_cell(grid, s.push[k]))] = 1;
-      auto reached = [&](std::uint32_t j) { return s.pending[j] && --to_reach == 0; };
-      for (std::uint32_t i = 0; i < region.volume(); ++i)
-        if (free_cell(i)) {
-          s.distance[i] = 0;
-          s.front.push_back(i);
-        }
-      for (std::size_t head = 0; head < s.front.size(); ++head) {
-        const std::uint32_t i = s.front[head];
-        for (const Step& step : field_steps) {
-          if (s.edges[i] & step.edge) continue;
-          const std::uint32_t j = std::uint32_t(std::int64_t(i) + step.delta);
-          if (s.distance[j] >= 0 || !through(j)) continue;
-          s.distance[j] = s.distance[i] + 1;
-          s.front.push_back(j);
-          if (reached(j)) return;
-        }
-      }
+      distances(free_cell, through, s.push.size() - next_push);
     };
     field();
     s.on_route.assign(region.volume(), 0);
     auto off_route = [&](std::uint32_t i) { return !s.on_route[i] && through(i); };
-    auto void_found = [&](std::uint32_t i) { return material(i) == 0 && outside(i) ? kFar : kNot; };
+    auto void_found = [&](std::uint32_t i) { return s.cls[i] & kVoidOut ? kFar : kNot; };
     for (; next_push < s.push.size(); ++next_push) {
       const std::uint64_t g = s.push[next_push];
       const std::uint32_t start = region.local(grid_cell(grid, g));
       const Int3 c = grid_cell(grid, g);
       const std::array<Step, 6> steps =
           steps_of(directions(lead, unsigned(mix64(salt ^ grid_index(grid, c.x, c.y, c.z)) & 3)));
-      // Down the distances, ties to the first of `steps`.
-      s.route.assign(1, start);
-      std::int32_t above = INT32_MAX;
-      for (std::uint32_t at = start;;) {
-        std::int64_t best = -1;
-        for (const Step& step : steps) {
-          if (s.edges[at] & step.edge) continue;
-          const std::uint32_t j = std::uint32_t(std::int64_t(at) + step.delta);
-          if (s.distance[j] >= 0 && s.distance[j] < above && through(j)) {
-            best = j;
-            above = s.distance[j];
-          }
-        }
-        if (best < 0) break;
-        at = std::uint32_t(best);
-        s.route.push_back(at);
-        if (free_cell(at) || above == 0) break;
-      }
+      descend(start, steps, through, free_cell);
       if (!free_cell(s.route.back())) {  // the distances led to a filled void, or nowhere: search on
         for (const std::uint32_t i : s.route) s.on_route[i] = 1;
         const std::uint32_t from = s.route.back();
@@ -301,8 +353,8 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
       }
       ++result.displaced[material(start)];
       for (std::size_t k = s.route.size() - 1; k > 0; --k) put(s.route[k], material(s.route[k - 1]));
-      put(start, body_material);
       s.in_shape[start] = kTaken;
+      put(start, body_material);
       s.taken.push_back(g);
     }
     std::sort(s.taken.begin(), s.taken.end());
@@ -315,17 +367,12 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
   // Grains are left to topple into the wake by the rules: a furrow stays open as far as sand stands.
   if (!s.left.empty()) {
     std::sort(s.left.begin(), s.left.end());  // local indices: z, then y, then x
-    auto liquid = [&](std::uint32_t i) { return outside(i) && materials[material(i)].behaviour == Behaviour::Liquid; };
-    auto open_above = [&](std::uint32_t i) {
-      if (s.edges[i] & 16) return false;  // the region's top layer
-      const std::uint32_t j = std::uint32_t(i + std::uint32_t(layer));
-      return outside(j) && (material(j) == 0 || materials[material(j)].behaviour == Behaviour::Gas);
-    };
+    auto liquid = [&](std::uint32_t i) { return (s.cls[i] & kLiquidOut) != 0; };
     // The first cell over the highest layer that holds a surface (0: none): a wake cell at or over
     // that layer has none to fill it (a fill only lowers a surface), nor have the cells after it.
     std::uint32_t over_top = 0;
     for (std::uint32_t i = std::uint32_t(region.volume()); i-- > 0;)
-      if (liquid(i) && open_above(i)) {
+      if (s.cls[i] & kSurface) {
         over_top = std::uint32_t((std::int64_t(i) / layer + 1) * layer);
         break;
       }
@@ -338,7 +385,7 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
       const std::uint32_t above_wake =
           std::uint32_t((std::int64_t(wake) / layer + 1) * layer);  // first cell over its layer
       auto surface = [&](std::uint32_t j) {
-        if (j < above_wake || !open_above(j)) return kNot;
+        if (j < above_wake || !(s.cls[j] & kSurface)) return kNot;
         return s.in_shape[j] == 0 ? kFar : kNearby;
       };
       const std::int64_t found =

@@ -441,6 +441,7 @@ void World::stamp_bodies() {
     const PlacedShape placed(body.def, body.pose);
     placed.cells(size_, work.shape);
     work.bounds = work.shape.empty() ? Box{} : placed.bounds(size_);
+    work.held = bounds_of(body.owned, size_);
     body.sand = BodySand{};
     body.sand.tick = tick_;
     body.sand.mass = body.mass;
@@ -450,13 +451,14 @@ void World::stamp_bodies() {
     BodyStampWork& work = all.work[i];
     work.region = {};
     if (work.shape.empty() && body.owned.empty()) continue;  // wholly outside the grid
-    const Box old_cells = bounds_of(body.owned, size_);
     const Box new_cells = work.bounds;
-    if (!old_cells.empty() && !new_cells.empty() &&
-        intersect(grown(old_cells, kBodyReach), grown(new_cells, kBodyReach)).empty())
+    if (!work.held.empty() && !new_cells.empty() &&
+        intersect(grown(work.held, kBodyReach), grown(new_cells, kBodyReach)).empty()) {
       release_body_cells(body.owned);
+      work.held = {};
+    }
     if (work.shape.empty() && body.owned.empty()) continue;
-    work.region = intersect(grown(joined(bounds_of(body.owned, size_), new_cells), kBodyReach), Box{{0, 0, 0}, size_});
+    work.region = intersect(grown(joined(work.held, new_cells), kBodyReach), Box{{0, 0, 0}, size_});
   }
   // A body at rest holds its whole shape in a region nothing changed since its last stamp. A group
   // of bodies whose regions overlap is stamped in the order the bodies were added, each seeing what

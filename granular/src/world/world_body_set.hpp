@@ -34,6 +34,7 @@ struct BodyRecord {
 struct BodyStampWork {
   std::vector<std::uint64_t> shape;  ///< the cells of its shape this tick
   Box bounds;                        ///< their bounds (empty: none in the grid)
+  Box held;                          ///< the bounds of the cells it holds (empty: none)
   Box region;                        ///< the cells it reads and writes this tick (empty: none)
   bool at_rest = false;              ///< it holds its shape in a region nothing changed since its last stamp
   std::size_t group = 0;             ///< the first body of its group (bodies whose regions overlap)
