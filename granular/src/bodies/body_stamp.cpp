@@ -301,12 +301,14 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
   if (!s.push.empty()) {
     const Int3 lead = lead_of(motion);
     // The front of the body first: the cells farthest along its motion.
-    auto ahead = [&](std::uint64_t g) {
+    s.ahead.clear();
+    for (const std::uint64_t g : s.push) {
       const Int3 c = grid_cell(grid, g);
-      return c.x * motion.x + c.y * motion.y + c.z * motion.z;
-    };
-    std::stable_sort(s.push.begin(), s.push.end(),
-                     [&](std::uint64_t a, std::uint64_t b) { return ahead(a) > ahead(b); });
+      s.ahead.emplace_back(c.x * motion.x + c.y * motion.y + c.z * motion.z, g);
+    }
+    std::stable_sort(s.ahead.begin(), s.ahead.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+    for (std::size_t k = 0; k < s.push.size(); ++k) s.push[k] = s.ahead[k].second;
+    const std::size_t kept = s.taken.size();  // the cells taken before the pushes, ascending
     // A push passes through mobile cells and voids, crossing cells of the shape that wait for their
     // own push (it moves what they hold on by one cell), and ends in the nearest void away from the
     // body's surroundings (so that its buoyancy does not jump with what it pushed).
@@ -357,7 +359,8 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
       put(start, body_material);
       s.taken.push_back(g);
     }
-    std::sort(s.taken.begin(), s.taken.end());
+    std::sort(s.taken.begin() + std::ptrdiff_t(kept), s.taken.end());
+    std::inplace_merge(s.taken.begin(), s.taken.begin() + std::ptrdiff_t(kept), s.taken.end());
   }
 
   // The wake: each cell the body left that holds no liquid is filled from the nearest surface of

@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "granular/geometry.hpp"
@@ -29,6 +30,7 @@ struct StampScratch {
   std::vector<std::uint8_t> in_shape;  ///< per cell of the region: outside the shape, in it, or the body's
   std::vector<std::uint32_t> queue;    ///< the last search's cells, in the order reached
   std::vector<std::uint64_t> push;     ///< grid indices of the shape's cells to empty
+  std::vector<std::pair<double, std::uint64_t>> ahead;  ///< the pushes with how far ahead they lie, to sort
   std::vector<std::uint64_t> taken;    ///< grid indices of the cells the body holds after the stamp
   std::vector<std::uint32_t> left;     ///< local indices of the cells the body left
   std::vector<std::uint32_t> parent;   ///< per cell: where the last search reached it from
