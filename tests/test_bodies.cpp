@@ -5,7 +5,8 @@
 /// density of sand or water floats half submerged and one of twice sinks to the floor, moved by a
 /// game's own few lines of physics; a ball rolled over a bed leaves a groove and stops sooner in
 /// deeper sand; a capsule walked through a dune leaves it whole; bodies half out of the grid,
-/// leaving it, jumping far and overlapping keep every cell; bad input is refused by name.
+/// leaving it, jumping far and overlapping keep every cell; bad input is refused by name; World::profile
+/// times the bodies' phases.
 
 #include <doctest/doctest.h>
 
@@ -17,6 +18,7 @@
 #include "body_scene.hpp"
 #include "granular/body.hpp"
 #include "granular/errors.hpp"
+#include "granular/step_profile.hpp"
 #include "granular/time_scale.hpp"
 #include "granular/world.hpp"
 #include "test_support.hpp"
@@ -151,6 +153,30 @@ TEST_CASE("a body is written as cells of the body material, and the cells it lea
   w.remove_body(id);
   CHECK(cells_of(w, Material::State7) == 0);
   CHECK(w.body_ids().empty());
+}
+
+TEST_CASE("World::profile gives the phases of the last step call, the bodies' among them") {
+  World w(test_def({48, 48, 40}, kRules));
+  w.paint(Box{{0, 0, 0}, {48, 48, 12}}, Material::Granular);
+  w.step(3);
+  StepProfile p = w.profile();
+  CHECK(p.ticks == 3);
+  CHECK(p.step > 0);
+  CHECK(p.bodies == 0);
+  CHECK(p.total >= p.step);
+  granular::test::WanderingBodies bodies(w);
+  for (int call = 0; call < 2; ++call) {
+    w.step(2 - call);
+    p = w.profile();
+    CHECK(p.ticks == std::uint64_t(2 - call));  // the last call's, not a sum over calls
+    CHECK(p.bodies > 0);
+    CHECK(p.bodies_shapes > 0);
+    CHECK(p.bodies_read > 0);
+    CHECK(p.bodies_stamp > 0);
+    CHECK(p.bodies_write >= 0);
+    CHECK(p.bodies_shapes + p.bodies_read + p.bodies_stamp + p.bodies_write <= p.bodies * (1 + 1e-9));
+    CHECK(p.total >= (p.step + p.bodies) * (1 - 1e-9));
+  }
 }
 
 TEST_CASE("bodies moving through sand and water conserve every material, and are deterministic") {
