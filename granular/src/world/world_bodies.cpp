@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <string>
 
@@ -498,15 +499,16 @@ void World::stamp_bodies() {
   const MaterialTable& materials = rules_->materials;
   const std::uint64_t seed = def_.seed, tick = tick_;
   const Int3 grid = size_;
-  // The groups are taken one at a time by whichever task is free, the costliest first (the most
-  // cells to stamp), so that a few costly groups do not all fall to one thread. Groups touch
-  // disjoint cells and each task has its own scratch: the cells do not depend on who takes what.
+  // The groups are taken one at a time by whichever task is free, the costliest first (by what
+  // their bodies took last tick; a body new to the stamp first of all), so that a few costly groups
+  // do not all fall to one thread. Groups touch disjoint cells and each task has its own scratch:
+  // the cells do not depend on who takes what, nor on the times.
   std::vector<std::size_t> by_cost(groups.size());
-  std::vector<std::uint64_t> cost(groups.size(), 0);
+  std::vector<double> cost(groups.size(), 0);
   for (std::size_t g = 0; g < groups.size(); ++g) {
     by_cost[g] = g;
     for (const std::size_t i : groups[g])
-      if (group_moves[all.work[i].group]) cost[g] += std::uint64_t(all.work[i].region.volume());
+      cost[g] += all.work[i].last_ms >= 0 ? all.work[i].last_ms : std::numeric_limits<double>::infinity();
   }
   std::stable_sort(by_cost.begin(), by_cost.end(), [&](std::size_t a, std::size_t b) { return cost[a] > cost[b]; });
   std::atomic<std::size_t> next_group{0};
@@ -518,9 +520,11 @@ void World::stamp_bodies() {
       for (std::size_t k = 0; k < members.size(); ++k) {
         BodyRecord& body = all.list[members[k]];
         BodyStampWork& work = all.work[members[k]];
+        Stopwatch took;
         if (!group_moves[work.group]) {
           sand_forces(work.region, body.region_bytes, grid, body.owned, materials, body.pose, body.mass, body.moment,
                       scale, body.sand, forces);
+          work.last_ms = took.lap();
           continue;
         }
         for (std::size_t j = 0; j < k; ++j) copy_overlap(all.work[members[j]].edit, work.edit);
@@ -532,6 +536,7 @@ void World::stamp_bodies() {
         body.sand.displaced = stamped.displaced;
         sand_forces(work.region, work.edit.cells(), grid, body.owned, materials, body.pose, body.mass, body.moment,
                     scale, body.sand, forces);
+        work.last_ms = took.lap();
       }
       // Every region of the group takes the cells its later bodies wrote, so that where regions
       // overlap they agree (the grid after the group), and can be written in any order.

@@ -39,6 +39,7 @@ struct BodyStampWork {
   bool at_rest = false;              ///< it holds its shape in a region nothing changed since its last stamp
   std::size_t group = 0;             ///< the first body of its group (bodies whose regions overlap)
   RegionEdit edit;                   ///< its region's cells and the bricks its stamp wrote
+  double last_ms = -1;               ///< host time its stamp and forces took last tick (-1: none yet), to schedule by
 };
 
 /// The bodies of a World.
