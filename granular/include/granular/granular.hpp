@@ -26,6 +26,7 @@
 #include "granular/rule_presets.hpp"
 #include "granular/rule_set.hpp"
 #include "granular/scene.hpp"
+#include "granular/step_profile.hpp"
 #include "granular/stroke_history.hpp"
 #include "granular/task_system.hpp"
 #include "granular/time_scale.hpp"
