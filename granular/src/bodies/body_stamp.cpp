@@ -247,56 +247,6 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
       if (at == from) break;
     }
   };
-  // Every cell's distance to the nearest cell `is_target` accepts (0 there), searched from all of
-  // them at once through cells `through` lets pass, into s.distance (-1: not reached), its cells in
-  // s.front. The search stops once it has reached the `wanted` cells s.pending marks, which it
-  // reaches but does not pass unless `through` lets it: a walk down the distances from one of them
-  // reads only lower distances, all known by then.
-  const std::array<Step, 6> field_steps = steps_of(directions({}, 0));
-  auto distances = [&](auto&& is_target, auto&& through, std::size_t wanted) {
-    s.distance.assign(region.volume(), -1);
-    s.front.clear();
-    for (std::uint32_t i = 0; i < region.volume(); ++i)
-      if (is_target(i)) {
-        s.distance[i] = 0;
-        s.front.push_back(i);
-      }
-    for (std::size_t head = 0; head < s.front.size(); ++head) {
-      const std::uint32_t i = s.front[head];
-      for (const Step& step : field_steps) {
-        if (s.edges[i] & step.edge) continue;
-        const std::uint32_t j = std::uint32_t(std::int64_t(i) + step.delta);
-        if (s.distance[j] >= 0) continue;
-        const bool pass = through(j);
-        if (!pass && !s.pending[j]) continue;
-        s.distance[j] = s.distance[i] + 1;
-        if (pass) s.front.push_back(j);
-        if (s.pending[j] && --wanted == 0) return;
-      }
-    }
-  };
-  // Walks from `start` down the distances through cells `through` lets pass, ties to the first of
-  // `steps`, into s.route (start first); ends at a distance of 0, at a cell `ends` accepts, or where
-  // no lower distance is next.
-  auto descend = [&](std::uint32_t start, const std::array<Step, 6>& steps, auto&& through, auto&& ends) {
-    s.route.assign(1, start);
-    std::int32_t above = INT32_MAX;
-    for (std::uint32_t at = start; above != 0;) {
-      std::int64_t best = -1;
-      for (const Step& step : steps) {
-        if (s.edges[at] & step.edge) continue;
-        const std::uint32_t j = std::uint32_t(std::int64_t(at) + step.delta);
-        if (s.distance[j] >= 0 && s.distance[j] < above && through(j)) {
-          best = j;
-          above = s.distance[j];
-        }
-      }
-      if (best < 0) break;
-      at = std::uint32_t(best);
-      s.route.push_back(at);
-      if (ends(at)) break;
-    }
-  };
 
   if (!s.push.empty()) {
     const Int3 lead = lead_of(motion);
@@ -320,11 +270,30 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
     // searches grow.
     // The search stops once it has reached every push still to come: a push follows distances
     // below its start's only, all of which are known by then.
+    const std::array<Step, 6> field_steps = steps_of(directions({}, 0));
     std::size_t next_push = 0;  // the pushes before it are done
     auto field = [&] {
+      s.distance.assign(region.volume(), -1);
+      s.front.clear();
+      std::size_t to_reach = s.push.size() - next_push;  // pushes to come whose start it has not reached
       s.pending.assign(region.volume(), 0);
       for (std::size_t k = next_push; k < s.push.size(); ++k) s.pending[region.local(grid_cell(grid, s.push[k]))] = 1;
-      distances(free_cell, through, s.push.size() - next_push);
+      for (std::uint32_t i = 0; i < region.volume(); ++i)
+        if (free_cell(i)) {
+          s.distance[i] = 0;
+          s.front.push_back(i);
+        }
+      for (std::size_t head = 0; head < s.front.size(); ++head) {
+        const std::uint32_t i = s.front[head];
+        for (const Step& step : field_steps) {
+          if (s.edges[i] & step.edge) continue;
+          const std::uint32_t j = std::uint32_t(std::int64_t(i) + step.delta);
+          if (s.distance[j] >= 0 || !through(j)) continue;
+          s.distance[j] = s.distance[i] + 1;
+          s.front.push_back(j);
+          if (s.pending[j] && --to_reach == 0) return;
+        }
+      }
     };
     field();
     s.on_route.assign(region.volume(), 0);
@@ -336,7 +305,24 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
       const Int3 c = grid_cell(grid, g);
       const std::array<Step, 6> steps =
           steps_of(directions(lead, unsigned(mix64(salt ^ grid_index(grid, c.x, c.y, c.z)) & 3)));
-      descend(start, steps, through, free_cell);
+      // Down the distances, ties to the first of `steps`.
+      s.route.assign(1, start);
+      std::int32_t above = INT32_MAX;
+      for (std::uint32_t at = start;;) {
+        std::int64_t best = -1;
+        for (const Step& step : steps) {
+          if (s.edges[at] & step.edge) continue;
+          const std::uint32_t j = std::uint32_t(std::int64_t(at) + step.delta);
+          if (s.distance[j] >= 0 && s.distance[j] < above && through(j)) {
+            best = j;
+            above = s.distance[j];
+          }
+        }
+        if (best < 0) break;
+        at = std::uint32_t(best);
+        s.route.push_back(at);
+        if (free_cell(at) || above == 0) break;
+      }
       if (!free_cell(s.route.back())) {  // the distances led to a filled void, or nowhere: search on
         for (const std::uint32_t i : s.route) s.on_route[i] = 1;
         const std::uint32_t from = s.route.back();
