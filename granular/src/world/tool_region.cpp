@@ -7,25 +7,14 @@
 #include "granular/errors.hpp"
 #include "granular/grid.hpp"
 #include "granular/rule_set.hpp"
+#include "util/number_text.hpp"
 
 namespace granular {
-
-namespace {
-
-std::string format_vec(const Vec3& v) {
-  return "(" + std::to_string(v.x) + ", " + std::to_string(v.y) + ", " + std::to_string(v.z) + ")";
-}
-
-}  // namespace
 
 std::string box_string(const Box& b) {
   return "[" + std::to_string(b.min.x) + "," + std::to_string(b.min.y) + "," + std::to_string(b.min.z) + ")-[" +
          std::to_string(b.max.x) + "," + std::to_string(b.max.y) + "," + std::to_string(b.max.z) + ")";
 }
-
-namespace {
-
-}  // namespace
 
 void check_tool_material(Material m, const char* tool) {
   if (!is_valid_material_value(to_cell(m)))
@@ -36,9 +25,9 @@ void check_tool_material(Material m, const char* tool) {
 Box sphere_region(const Sphere& s, Int3 size, const char* tool, bool& clipped) {
   const Vec3& c = s.center;
   if (!std::isfinite(c.x) || !std::isfinite(c.y) || !std::isfinite(c.z))
-    throw InvalidArgument(std::string(tool) + ": sphere centre " + format_vec(c) + " is not finite");
+    throw InvalidArgument(std::string(tool) + ": sphere centre " + vec_text(c) + " is not finite");
   if (!std::isfinite(s.radius) || s.radius <= 0)
-    throw InvalidArgument(std::string(tool) + ": sphere radius " + std::to_string(s.radius) + " must be > 0");
+    throw InvalidArgument(std::string(tool) + ": sphere radius " + number_text(s.radius) + " must be > 0");
   const double centre[3] = {c.x, c.y, c.z};
   const int n[3] = {size.x, size.y, size.z};
   int bmin[3], bmax[3];
@@ -49,8 +38,8 @@ Box sphere_region(const Sphere& s, Int3 size, const char* tool, bool& clipped) {
     if (lo < 0 || hi > n[a]) clipped = true;
     const double first = std::max(lo, 0.0), last = std::min(hi, double(n[a]));
     if (!(first < last))
-      throw InvalidArgument(std::string(tool) + ": sphere at " + format_vec(c) + " with radius " +
-                            std::to_string(s.radius) + " covers no cell of the " + to_string(size) + " grid");
+      throw InvalidArgument(std::string(tool) + ": sphere at " + vec_text(c) + " with radius " +
+                            number_text(s.radius) + " covers no cell of the " + to_string(size) + " grid");
     bmin[a] = int(first);
     bmax[a] = int(last);
   }
