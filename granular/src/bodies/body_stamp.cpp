@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <climits>
 #include <cmath>
 
@@ -54,6 +55,20 @@ enum Class : std::uint8_t {
   kSurface = 32,   ///< liquid outside the shape under a kOpenOut cell of the region
 };
 
+/// The cells `cells` (ascending grid indices of a grid of `grid`) as coordinates, into `out`: one
+/// division per run of cells along x, not one per cell.
+void cells_at(const std::vector<std::uint64_t>& cells, Int3 grid, std::vector<Int3>& out) {
+  out.resize(cells.size());
+  Int3 c{};
+  for (std::size_t k = 0; k < cells.size(); ++k) {
+    if (k > 0 && cells[k] - cells[k - 1] < std::uint64_t(grid.x - c.x))
+      c.x += int(cells[k] - cells[k - 1]);
+    else
+      c = grid_cell(grid, cells[k]);
+    out[k] = c;
+  }
+}
+
 /// A cell no search has reached.
 constexpr std::uint32_t kUnseen = 0xFFFFFFFFu;
 
@@ -66,12 +81,13 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
   StampResult result;
   const BodyRegion region(box);
   s.written.clear();
+  cells_at(owned, grid, s.owned_at);
   // A body that holds its whole shape, every cell still its own, writes nothing: most ticks of a
   // body moving less than a cell a tick.
-  if (shape == owned && std::all_of(owned.begin(), owned.end(), [&](std::uint64_t g) {
-        return (bytes[region.local(grid_cell(grid, g))] & kMaterialMask) == body_material;
-      }))
+  if (shape == owned && std::all_of(s.owned_at.begin(), s.owned_at.end(),
+                                    [&](Int3 c) { return (bytes[region.local(c)] & kMaterialMask) == body_material; }))
     return result;
+  cells_at(shape, grid, s.shape_at);
   auto material = [&](std::uint32_t i) { return std::uint8_t(bytes[i] & kMaterialMask); };
   auto mobile = [&](std::uint8_t m) {
     const Behaviour b = materials[m].behaviour;
@@ -115,12 +131,11 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
   };
 
   s.in_shape.assign(region.volume(), 0);
-  for (const std::uint64_t g : shape) s.in_shape[region.local(grid_cell(grid, g))] = kShape;
+  for (const Int3 c : s.shape_at) s.in_shape[region.local(c)] = kShape;
   auto in_shape_at = [&](Int3 c) {
     return region.inside(c) && s.in_shape[region.local(c)] != 0 && s.in_shape[region.local(c)] != kNear;
   };
-  for (const std::uint64_t g : shape) {
-    const Int3 c = grid_cell(grid, g);
+  for (const Int3 c : s.shape_at) {
     if (in_shape_at({c.x + 1, c.y, c.z}) && in_shape_at({c.x - 1, c.y, c.z}) && in_shape_at({c.x, c.y + 1, c.z}) &&
         in_shape_at({c.x, c.y - 1, c.z}))
       continue;  // inside its layer
@@ -134,8 +149,8 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
 
   // The cells the body left.
   s.left.clear();
-  for (const std::uint64_t g : owned) {
-    const std::uint32_t i = region.local(grid_cell(grid, g));
+  for (const Int3 c : s.owned_at) {
+    const std::uint32_t i = region.local(c);
     if (outside(i) && material(i) == body_material) {
       put(i, 0);
       s.left.push_back(i);
@@ -146,10 +161,11 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
   s.taken.clear();
   s.push.clear();
   auto was_owned = owned.begin();
-  for (const std::uint64_t g : shape) {
+  for (std::uint32_t k = 0; k < shape.size(); ++k) {
+    const std::uint64_t g = shape[k];
     while (was_owned != owned.end() && *was_owned < g) ++was_owned;
     const bool kept = was_owned != owned.end() && *was_owned == g;
-    const std::uint32_t i = region.local(grid_cell(grid, g));
+    const std::uint32_t i = region.local(s.shape_at[k]);
     const std::uint8_t m = material(i);
     if (m == body_material && kept) {
       s.in_shape[i] = kTaken;
@@ -159,7 +175,7 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
       s.in_shape[i] = kTaken;
       s.taken.push_back(g);
     } else if (mobile(m)) {
-      s.push.push_back(g);
+      s.push.push_back(k);
     } else {
       ++result.blocked;
     }
@@ -252,9 +268,9 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
     const Int3 lead = lead_of(motion);
     // The front of the body first: the cells farthest along its motion.
     s.ahead.clear();
-    for (const std::uint64_t g : s.push) {
-      const Int3 c = grid_cell(grid, g);
-      s.ahead.emplace_back(c.x * motion.x + c.y * motion.y + c.z * motion.z, g);
+    for (const std::uint32_t k : s.push) {
+      const Int3 c = s.shape_at[k];
+      s.ahead.emplace_back(c.x * motion.x + c.y * motion.y + c.z * motion.z, k);
     }
     std::stable_sort(s.ahead.begin(), s.ahead.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
     for (std::size_t k = 0; k < s.push.size(); ++k) s.push[k] = s.ahead[k].second;
@@ -268,31 +284,72 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
     // follows it down; where it leads to a void an earlier push has filled, or nowhere, a search from
     // there ends in the nearest void outside the shape, and the distances are searched anew once such
     // searches grow.
-    // The search stops once it has reached every push still to come: a push follows distances
-    // below its start's only, all of which are known by then.
-    const std::array<Step, 6> field_steps = steps_of(directions({}, 0));
+    // The search goes a distance at a time over bit rows (a bit a cell, x along a row of 64-bit
+    // words): the cells at the next distance are the neighbours of those at this one, shifted along
+    // x and taken from the rows beside, that a push may pass and no distance has reached yet. It
+    // works only the layers next to the last distance's cells, and stops once it has reached every
+    // push still to come: a push follows distances below its start's only, all known by then.
+    const std::size_t words = (std::size_t(region.e.x) + 63) / 64, rows = std::size_t(region.e.y) * region.e.z;
+    const std::size_t row_step = words, layer_step = words * std::size_t(region.e.y);
     std::size_t next_push = 0;  // the pushes before it are done
     auto field = [&] {
       s.distance.assign(region.volume(), -1);
-      s.front.clear();
-      std::size_t to_reach = s.push.size() - next_push;  // pushes to come whose start it has not reached
       s.pending.assign(region.volume(), 0);
-      for (std::size_t k = next_push; k < s.push.size(); ++k) s.pending[region.local(grid_cell(grid, s.push[k]))] = 1;
-      for (std::uint32_t i = 0; i < region.volume(); ++i)
-        if (free_cell(i)) {
-          s.distance[i] = 0;
-          s.front.push_back(i);
+      for (std::size_t k = next_push; k < s.push.size(); ++k) s.pending[region.local(s.shape_at[s.push[k]])] = 1;
+      std::size_t to_reach = s.push.size() - next_push;  // pushes to come whose start it has not reached
+      s.passable.assign(rows * words, 0);
+      s.reached.assign(rows * words, 0);
+      s.at_distance.assign(rows * words, 0);
+      s.next_distance.assign(rows * words, 0);
+      int low = region.e.z, high = -1;  // the layers of the cells at the current distance
+      for (std::uint32_t i = 0, r = 0; r < rows; ++r)
+        for (int x = 0; x < region.e.x; ++x, ++i) {
+          const std::uint64_t bit = std::uint64_t(1) << (x & 63);
+          if (through(i)) s.passable[r * words + std::size_t(x >> 6)] |= bit;
+          if (free_cell(i)) {
+            s.at_distance[r * words + std::size_t(x >> 6)] |= bit;
+            s.distance[i] = 0;
+            low = std::min(low, int(r / std::uint32_t(region.e.y)));
+            high = std::max(high, int(r / std::uint32_t(region.e.y)));
+          }
         }
-      for (std::size_t head = 0; head < s.front.size(); ++head) {
-        const std::uint32_t i = s.front[head];
-        for (const Step& step : field_steps) {
-          if (s.edges[i] & step.edge) continue;
-          const std::uint32_t j = std::uint32_t(std::int64_t(i) + step.delta);
-          if (s.distance[j] >= 0 || !through(j)) continue;
-          s.distance[j] = s.distance[i] + 1;
-          s.front.push_back(j);
-          if (s.pending[j] && --to_reach == 0) return;
-        }
+      s.reached = s.at_distance;
+      for (std::int32_t d = 1; to_reach > 0 && low <= high; ++d) {
+        const int from = std::max(0, low - 1), to = std::min(region.e.z - 1, high + 1);
+        int next_low = region.e.z, next_high = -1;
+        for (int z = from; z <= to; ++z)
+          for (int y = 0; y < region.e.y; ++y)
+            for (std::size_t w = 0; w < words; ++w) {
+              const std::size_t at = (std::size_t(z) * region.e.y + std::size_t(y)) * words + w;
+              const std::uint64_t* f = s.at_distance.data();
+              std::uint64_t grown = f[at] << 1 | f[at] >> 1;
+              if (w > 0) grown |= f[at - 1] >> 63;
+              if (w + 1 < words) grown |= f[at + 1] << 63;
+              if (y > 0) grown |= f[at - row_step];
+              if (y + 1 < region.e.y) grown |= f[at + row_step];
+              if (z > 0) grown |= f[at - layer_step];
+              if (z + 1 < region.e.z) grown |= f[at + layer_step];
+              std::uint64_t fresh = grown & s.passable[at] & ~s.reached[at];
+              s.next_distance[at] = fresh;
+              if (fresh == 0) continue;
+              s.reached[at] |= fresh;
+              next_low = std::min(next_low, z);
+              next_high = std::max(next_high, z);
+              const std::uint32_t first =
+                  std::uint32_t((std::size_t(z) * region.e.y + std::size_t(y)) * region.e.x + w * 64);
+              for (; fresh != 0; fresh &= fresh - 1) {
+                const std::uint32_t i = first + std::uint32_t(std::countr_zero(fresh));
+                s.distance[i] = d;
+                if (s.pending[i]) --to_reach;
+              }
+            }
+        // The cells at this distance are done with: their rows are cleared, the next distance's kept.
+        for (int z = std::max(0, low); z <= high; ++z)
+          std::fill_n(s.at_distance.begin() + std::ptrdiff_t(std::size_t(z) * layer_step), layer_step,
+                      std::uint64_t(0));
+        std::swap(s.at_distance, s.next_distance);
+        low = next_low;
+        high = next_high;
       }
     };
     field();
@@ -300,9 +357,9 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
     auto off_route = [&](std::uint32_t i) { return !s.on_route[i] && through(i); };
     auto void_found = [&](std::uint32_t i) { return s.cls[i] & kVoidOut ? kFar : kNot; };
     for (; next_push < s.push.size(); ++next_push) {
-      const std::uint64_t g = s.push[next_push];
-      const std::uint32_t start = region.local(grid_cell(grid, g));
-      const Int3 c = grid_cell(grid, g);
+      const std::uint64_t g = shape[s.push[next_push]];
+      const Int3 c = s.shape_at[s.push[next_push]];
+      const std::uint32_t start = region.local(c);
       const std::array<Step, 6> steps =
           steps_of(directions(lead, unsigned(mix64(salt ^ grid_index(grid, c.x, c.y, c.z)) & 3)));
       // Down the distances, ties to the first of `steps`.

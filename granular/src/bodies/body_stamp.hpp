@@ -29,20 +29,25 @@ struct StampResult {
 struct StampScratch {
   std::vector<std::uint8_t> in_shape;  ///< per cell of the region: outside the shape, in it, or the body's
   std::vector<std::uint32_t> queue;    ///< the last search's cells, in the order reached
-  std::vector<std::uint64_t> push;     ///< grid indices of the shape's cells to empty
-  std::vector<std::pair<double, std::uint64_t>> ahead;  ///< the pushes with how far ahead they lie, to sort
-  std::vector<std::uint64_t> taken;    ///< grid indices of the cells the body holds after the stamp
-  std::vector<std::uint32_t> left;     ///< local indices of the cells the body left
-  std::vector<std::uint32_t> parent;   ///< per cell: where the last search reached it from
-  std::vector<std::uint8_t> dead;      ///< per cell: a search from it finds nothing
-  std::vector<std::uint8_t> edges;     ///< per cell: which of its neighbours lie outside the region
-  std::vector<std::uint8_t> cls;       ///< per cell: what the searches ask of it (void, liquid, passable...)
-  std::vector<std::int32_t> distance;  ///< per cell: steps to the nearest void a push may end in
-  std::vector<std::uint8_t> pending;   ///< per cell: the start of a push still to come
-  std::vector<std::uint32_t> front;    ///< that search's cells, in the order reached
-  std::vector<std::uint32_t> route;    ///< one push's cells, from the shape to the void
-  std::vector<std::uint8_t> on_route;  ///< per cell: on the route being built
-  std::vector<std::uint32_t> written;  ///< local indices of the cells the stamp wrote (some twice)
+  std::vector<Int3> shape_at;          ///< the shape's cells as coordinates
+  std::vector<Int3> owned_at;          ///< the held cells as coordinates
+  std::vector<std::uint32_t> push;     ///< the shape's cells to empty, as indices into it
+  std::vector<std::pair<double, std::uint32_t>> ahead;  ///< the pushes with how far ahead they lie, to sort
+  std::vector<std::uint64_t> taken;                     ///< grid indices of the cells the body holds after the stamp
+  std::vector<std::uint32_t> left;                      ///< local indices of the cells the body left
+  std::vector<std::uint32_t> parent;                    ///< per cell: where the last search reached it from
+  std::vector<std::uint8_t> dead;                       ///< per cell: a search from it finds nothing
+  std::vector<std::uint8_t> edges;                      ///< per cell: which of its neighbours lie outside the region
+  std::vector<std::uint8_t> cls;             ///< per cell: what the searches ask of it (void, liquid, passable...)
+  std::vector<std::int32_t> distance;        ///< per cell: steps to the nearest void a push may end in
+  std::vector<std::uint8_t> pending;         ///< per cell: the start of a push still to come
+  std::vector<std::uint64_t> passable;       ///< that search's bit rows: the cells a push may pass
+  std::vector<std::uint64_t> reached;        ///< the cells it has reached
+  std::vector<std::uint64_t> at_distance;    ///< the cells at the distance it is at
+  std::vector<std::uint64_t> next_distance;  ///< the cells at the next one
+  std::vector<std::uint32_t> route;          ///< one push's cells, from the shape to the void
+  std::vector<std::uint8_t> on_route;        ///< per cell: on the route being built
+  std::vector<std::uint32_t> written;        ///< local indices of the cells the stamp wrote (some twice)
 };
 
 /// Writes a body into `bytes`, the cell bytes (x fastest) of `region`, which (inside a grid of `grid`)
