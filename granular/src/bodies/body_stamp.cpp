@@ -89,10 +89,13 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
     return result;
   cells_at(shape, grid, s.shape_at);
   auto material = [&](std::uint32_t i) { return std::uint8_t(bytes[i] & kMaterialMask); };
-  auto mobile = [&](std::uint8_t m) {
+  std::array<std::uint8_t, kMaterialCount> behaviour_bits{};  // per material: 1 mobile, 2 liquid, 4 gas
+  for (std::size_t m = 0; m < kMaterialCount; ++m) {
     const Behaviour b = materials[m].behaviour;
-    return b == Behaviour::Granular || b == Behaviour::Liquid || b == Behaviour::Gas;
-  };
+    behaviour_bits[m] = std::uint8_t((b == Behaviour::Granular || b == Behaviour::Liquid || b == Behaviour::Gas) |
+                                     (b == Behaviour::Liquid) << 1 | (b == Behaviour::Gas) << 2);
+  }
+  auto mobile = [&](std::uint8_t m) { return (behaviour_bits[m] & 1) != 0; };
 
   // Per cell of the region: 0 outside the shape, kShape inside it, kTaken once the body holds it,
   // kNear outside it but within kRingWidth cells beside a cell of it in the same layer (the
@@ -101,16 +104,10 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
   const std::int64_t row = region.e.x, layer = std::int64_t(region.e.x) * region.e.y;
   // Once the searches begin, each cell's class (s.cls, Class bits) is kept with its byte and
   // s.in_shape, so that a search tests one byte a cell.
-  std::array<std::uint8_t, kMaterialCount> behaviour_bits{};  // per material: 1 mobile, 2 liquid, 4 gas
-  for (std::size_t m = 0; m < kMaterialCount; ++m) {
-    const Behaviour b = materials[m].behaviour;
-    behaviour_bits[m] = std::uint8_t((b == Behaviour::Granular || b == Behaviour::Liquid || b == Behaviour::Gas) |
-                                     (b == Behaviour::Liquid) << 1 | (b == Behaviour::Gas) << 2);
-  }
   auto classify = [&](std::uint32_t i) {
     const std::uint8_t m = std::uint8_t(bytes[i] & kMaterialMask), in = s.in_shape[i], bits = behaviour_bits[m];
     const bool out = in == 0 || in == kNear;
-    s.cls[i] = std::uint8_t((s.cls[i] & kSurface) | (in != kTaken && (m == 0 || (bits & 1)) ? kPass : 0) |
+    s.cls[i] = std::uint8_t((s.cls[i] & kSurface) | (in != kTaken && (m == 0 || mobile(m)) ? kPass : 0) |
                             (m == 0 && in == 0 ? kFree : 0) | (m == 0 && out ? kVoidOut : 0) |
                             (out && (bits & 2) ? kLiquidOut : 0) | (out && (m == 0 || (bits & 4)) ? kOpenOut : 0));
   };
