@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <array>
 #include <exception>
-#include <chrono>
 #include <cstring>
 #include <limits>
 #include <optional>
@@ -17,6 +16,7 @@
 #include "granular/world_snapshot.hpp"
 #include "world/region_edit.hpp"
 #include "world/tool_region.hpp"
+#include "util/stopwatch.hpp"
 
 namespace granular {
 
@@ -214,9 +214,9 @@ void DistributedWorld::exchange_halos() {
     to_above[1] = changed_since_exchange(s.z1, s.z1 + halo);  // my halo above
   }
   const auto timed = [](double& seconds, auto&& fn) {
-    const auto start = std::chrono::steady_clock::now();
+    Stopwatch watch;
     fn();
-    seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    seconds += watch.lap() / 1e3;
   };
   timed(exchange_.message_seconds, [&] {
     comm_.send_receive(below, below != Communicator::kNoRank ? std::span<const std::uint8_t>(to_below) : std::span<const std::uint8_t>{},
@@ -257,9 +257,9 @@ void DistributedWorld::step(int ticks) {
   if (ticks < 0) throw InvalidArgument("DistributedWorld::step: ticks = " + std::to_string(ticks) + "; use 0 or more");
   exchange_ = HaloExchangeStats{};
   for (int t = 0; t < ticks; ++t) {
-    const auto start = std::chrono::steady_clock::now();
+    Stopwatch watch;
     if (comm_.size() > 1) exchange_halos();
-    exchange_.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    exchange_.seconds += watch.lap() / 1e3;
     slab_->step(1);
   }
 }

@@ -1,6 +1,6 @@
 #pragma once
 /// @file stopwatch.hpp
-/// Host wall time, lap by lap, for StepProfile.
+/// Host wall time, lap by lap: StepProfile's phases and a DistributedWorld's halo exchange.
 
 #include <chrono>
 
