@@ -44,15 +44,15 @@ void sand_forces(const Box& box, std::span<const std::uint8_t> bytes, Int3 grid,
   // A cell outside the region lies outside the grid (the region holds the body and a margin where the
   // grid has one), and reads as static there, as it does to the rules.
   constexpr std::uint8_t kOutside = to_cell(Material::Solid);
-  auto material_at = [&](Int3 c) {
-    return region.inside(c) ? std::uint8_t(bytes[region.local(c)] & kMaterialMask) : kOutside;
-  };
-  auto is_static = [&](std::uint8_t m) { return m == kOutside || materials[m].behaviour == Behaviour::Static; };
+  std::array<bool, kMaterialCount> static_material{};
+  for (std::size_t m = 0; m < kMaterialCount; ++m) static_material[m] = materials[m].behaviour == Behaviour::Static;
+  static_material[kOutside] = true;  // past the grid, and every solid cell
+  auto is_static = [&](std::uint8_t m) { return static_material[m]; };
 
   s.owned.assign(volume, 0);
   s.ring.assign(volume, 0);
-  for (const std::uint64_t g : owned) s.owned[region.local(grid_cell(grid, g))] = 1;
-  auto held = [&](Int3 c) { return region.inside(c) && s.owned[region.local(c)] != 0; };
+  cells_at(owned, grid, s.owned_at);
+  for (const Int3 c : s.owned_at) s.owned[region.local(c)] = 1;
 
   const double cell_volume = scale.cell_m * scale.cell_m * scale.cell_m;
   const double face_area = scale.cell_m * scale.cell_m;
@@ -63,37 +63,47 @@ void sand_forces(const Box& box, std::span<const std::uint8_t> bytes, Int3 grid,
   const double slow = std::sqrt(scale.gravity * scale.cell_m);  // m/s
   constexpr std::array<Int3, 6> kFaces{Int3{1, 0, 0},  Int3{-1, 0, 0}, Int3{0, 1, 0},
                                        Int3{0, -1, 0}, Int3{0, 0, 1},  Int3{0, 0, -1}};
+  const std::array<std::int64_t, 6> face_step{
+      1, -1, region.e.x, -region.e.x, std::int64_t(region.e.x) * region.e.y, -std::int64_t(region.e.x) * region.e.y};
 
   std::vector<Layer> layers(std::size_t(region.e.z));
   sand.cells = std::int64_t(owned.size());
   sand.below = {};
   sand.submerged = {};
   Vec3 drag{}, drag_torque{};
-  for (const std::uint64_t g : owned) {
-    const Int3 c = grid_cell(grid, g);
+  for (const Int3 c : s.owned_at) {
     Layer& layer = layers[std::size_t(c.z - box.min.z)];
     ++layer.cells;
     layer.sum_x += c.x + 0.5;
     layer.sum_y += c.y + 0.5;
+    // Per face (kFaces): the cell beside it, whether the body holds it, and its material.
+    const std::uint32_t at = region.local(c);
+    const Int3 l{c.x - box.min.x, c.y - box.min.y, c.z - box.min.z};
+    const std::array<bool, 6> in{l.x + 1 < region.e.x, l.x > 0, l.y + 1 < region.e.y, l.y > 0,
+                                 l.z + 1 < region.e.z, l.z > 0};
+    auto held = [&](int k) { return in[k] && s.owned[std::size_t(at + face_step[k])] != 0; };
+    auto material_at = [&](int k) {
+      return in[k] ? std::uint8_t(bytes[std::size_t(at + face_step[k])] & kMaterialMask) : kOutside;
+    };
     // The layer's surroundings: the cells of the layer within kRingWidth cells (in x and y) of a
     // cell of it on its edge, so that a grain toppling beside the body changes them by little.
-    const bool edge = !held({c.x + 1, c.y, c.z}) || !held({c.x - 1, c.y, c.z}) || !held({c.x, c.y + 1, c.z}) ||
-                      !held({c.x, c.y - 1, c.z});
-    for (int dy = -kRingWidth; edge && dy <= kRingWidth; ++dy)
-      for (int dx = -kRingWidth; dx <= kRingWidth; ++dx) {
-        const Int3 n{c.x + dx, c.y + dy, c.z};
-        if (!region.inside(n) || s.owned[region.local(n)] || s.ring[region.local(n)]) continue;
-        s.ring[region.local(n)] = 1;
-        const std::uint8_t m = material_at(n);
-        if (is_static(m)) continue;
-        ++layer.beside[m];
-        ++layer.beside_total;
-      }
-    if (!held({c.x, c.y, c.z - 1})) ++sand.below[material_at({c.x, c.y, c.z - 1})];
-    for (const Int3& f : kFaces) {  // the drag of the faces against a material
-      const Int3 n{c.x + f.x, c.y + f.y, c.z + f.z};
-      if (held(n)) continue;
-      const std::uint8_t m = material_at(n);
+    const bool edge = !held(0) || !held(1) || !held(2) || !held(3);
+    if (edge)
+      region.for_each_row_beside(c, kRingWidth, [&](std::uint32_t first, int count) {
+        for (std::uint32_t i = first; i < first + std::uint32_t(count); ++i) {
+          if (s.owned[i] || s.ring[i]) continue;
+          s.ring[i] = 1;
+          const std::uint8_t m = std::uint8_t(bytes[i] & kMaterialMask);
+          if (is_static(m)) continue;
+          ++layer.beside[m];
+          ++layer.beside_total;
+        }
+      });
+    if (!held(5)) ++sand.below[material_at(5)];
+    for (int face = 0; face < 6; ++face) {  // the drag of the faces against a material
+      if (held(face)) continue;
+      const Int3 f = kFaces[std::size_t(face)];
+      const std::uint8_t m = material_at(face);
       if (is_static(m)) continue;
       const BodyCoupling& k = materials[m].body;
       if (k.bulk_density <= 0 || k.drag <= 0) continue;
@@ -114,7 +124,7 @@ void sand_forces(const Box& box, std::span<const std::uint8_t> bytes, Int3 grid,
   // layer's (the shape's centre above the centroid of its cells), and the lift changes smoothly with
   // the pose instead of by whole layers.
   double sum_z = 0;
-  for (const std::uint64_t g : owned) sum_z += grid_cell(grid, g).z + 0.5;
+  for (const Int3 c : s.owned_at) sum_z += c.z + 0.5;
   const double shift = owned.empty() ? 0.0 : std::clamp(pose.position.z - sum_z / double(owned.size()), -0.5, 0.5);
   // The share of material m beside layer z, reading the nearest layer with surroundings past the ends.
   auto share = [&](std::ptrdiff_t z, int m) {

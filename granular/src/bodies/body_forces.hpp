@@ -26,6 +26,7 @@ struct BodyScale {
 struct ForceScratch {
   std::vector<std::uint8_t> owned;  ///< per cell of the region: held by the body
   std::vector<std::uint8_t> ring;   ///< per cell: counted in its layer's surroundings
+  std::vector<Int3> owned_at;       ///< the held cells as coordinates
 };
 
 /// Fills `sand`'s cells, submerged, below, buoyancy, drag, force and torque for a body holding the

@@ -53,24 +53,9 @@ enum Class : std::uint8_t {
   kLiquidOut = 8,  ///< liquid outside the shape
   kOpenOut = 16,   ///< void or gas outside the shape
   kSurface = 32,   ///< liquid outside the shape under a kOpenOut cell of the region
+  kSeen = 64,      ///< the last search reached it
+  kOnRoute = 128,  ///< on the route of the push being made
 };
-
-/// The cells `cells` (ascending grid indices of a grid of `grid`) as coordinates, into `out`: one
-/// division per run of cells along x, not one per cell.
-void cells_at(const std::vector<std::uint64_t>& cells, Int3 grid, std::vector<Int3>& out) {
-  out.resize(cells.size());
-  Int3 c{};
-  for (std::size_t k = 0; k < cells.size(); ++k) {
-    if (k > 0 && cells[k] - cells[k - 1] < std::uint64_t(grid.x - c.x))
-      c.x += int(cells[k] - cells[k - 1]);
-    else
-      c = grid_cell(grid, cells[k]);
-    out[k] = c;
-  }
-}
-
-/// A cell no search has reached.
-constexpr std::uint32_t kUnseen = 0xFFFFFFFFu;
 
 }  // namespace
 
@@ -104,12 +89,20 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
   const std::int64_t row = region.e.x, layer = std::int64_t(region.e.x) * region.e.y;
   // Once the searches begin, each cell's class (s.cls, Class bits) is kept with its byte and
   // s.in_shape, so that a search tests one byte a cell.
+  // class_of[in_shape][material]: the class bits a cell's byte and mark give.
+  std::array<std::array<std::uint8_t, kMaterialCount>, 4> class_of{};
+  for (std::uint8_t in = 0; in < 4; ++in)
+    for (std::uint8_t m = 0; m < kMaterialCount; ++m) {
+      const std::uint8_t bits = behaviour_bits[m];
+      const bool out = in == 0 || in == kNear;
+      class_of[in][m] =
+          std::uint8_t((in != kTaken && (m == 0 || mobile(m)) ? kPass : 0) | (m == 0 && in == 0 ? kFree : 0) |
+                       (m == 0 && out ? kVoidOut : 0) | (out && (bits & 2) ? kLiquidOut : 0) |
+                       (out && (m == 0 || (bits & 4)) ? kOpenOut : 0));
+    }
   auto classify = [&](std::uint32_t i) {
-    const std::uint8_t m = std::uint8_t(bytes[i] & kMaterialMask), in = s.in_shape[i], bits = behaviour_bits[m];
-    const bool out = in == 0 || in == kNear;
-    s.cls[i] = std::uint8_t((s.cls[i] & kSurface) | (in != kTaken && (m == 0 || mobile(m)) ? kPass : 0) |
-                            (m == 0 && in == 0 ? kFree : 0) | (m == 0 && out ? kVoidOut : 0) |
-                            (out && (bits & 2) ? kLiquidOut : 0) | (out && (m == 0 || (bits & 4)) ? kOpenOut : 0));
+    s.cls[i] =
+        std::uint8_t((s.cls[i] & (kSurface | kSeen | kOnRoute)) | class_of[s.in_shape[i]][bytes[i] & kMaterialMask]);
   };
   auto classify_surface = [&](std::uint32_t i) {
     const bool on = (s.cls[i] & kLiquidOut) && !(s.edges[i] & 16) && (s.cls[i + std::uint32_t(layer)] & kOpenOut);
@@ -136,11 +129,10 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
     if (in_shape_at({c.x + 1, c.y, c.z}) && in_shape_at({c.x - 1, c.y, c.z}) && in_shape_at({c.x, c.y + 1, c.z}) &&
         in_shape_at({c.x, c.y - 1, c.z}))
       continue;  // inside its layer
-    for (int dy = -kRingWidth; dy <= kRingWidth; ++dy)
-      for (int dx = -kRingWidth; dx <= kRingWidth; ++dx) {
-        const Int3 n{c.x + dx, c.y + dy, c.z};
-        if (region.inside(n) && s.in_shape[region.local(n)] == 0) s.in_shape[region.local(n)] = kNear;
-      }
+    region.for_each_row_beside(c, kRingWidth, [&](std::uint32_t first, int count) {
+      for (std::uint8_t *at = s.in_shape.data() + first, *end = at + count; at != end; ++at)
+        if (*at == 0) *at = kNear;
+    });
   }
   auto outside = [&](std::uint32_t i) { return s.in_shape[i] == 0 || s.in_shape[i] == kNear; };
 
@@ -178,18 +170,19 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
     }
   }
 
-  // The breadth-first search both the pushes and the wake's fill make: from `from`, through cells
-  // `through` lets pass, trying neighbours in `order`, to the nearest cell `target` calls kFar (away
-  // from the body's surroundings), else the nearest it calls kNearby, or with `nearby_will_do` the
-  // nearest of either; s.parent then leads back from the cell found to `from`. Returns the cell, or -1
-  // for none within the region. A search that finds none marks the cells it reached `s.dead`: targets
-  // are only used up while the body is written, so a later search from one of them finds none either.
+  // The breadth-first search both the pushes and the wake's fill make: from `from`, through cells of
+  // the class `pass` (not on the push's route), trying neighbours in `order`, to the nearest cell
+  // `target` calls kFar (away from the body's surroundings), else the nearest it calls kNearby, or
+  // with `nearby_will_do` the nearest of either; s.parent then leads back from the cell found to
+  // `from`. Returns the cell, or -1 for none within the region. A search that finds none marks the
+  // cells it reached `s.dead`: targets are only used up while the body is written, so a later search
+  // from one of them finds none either. The cells the last search reached are marked kSeen.
   enum Target { kNot, kNearby, kFar };
   if (s.push.empty() && s.left.empty()) {
     owned.swap(s.taken);
     return result;
   }
-  s.parent.assign(region.volume(), kUnseen);
+  s.parent.resize(region.volume());
   s.dead.assign(region.volume(), 0);
   s.queue.clear();
   // Per cell, a bit for each of its six neighbours that lies outside the region (Step's order), so
@@ -224,10 +217,11 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
     }
     return out;
   };
-  auto nearest = [&](std::uint32_t from, const std::array<Int3, 6>& order, bool nearby_will_do, auto&& through,
+  auto nearest = [&](std::uint32_t from, const std::array<Int3, 6>& order, bool nearby_will_do, std::uint8_t pass,
                      auto&& target) -> std::int64_t {
-    for (const std::uint32_t i : s.queue) s.parent[i] = kUnseen;  // the last search's marks
+    for (const std::uint32_t i : s.queue) s.cls[i] &= std::uint8_t(~kSeen);  // the last search's marks
     s.queue.assign(1, from);
+    s.cls[from] |= kSeen;
     s.parent[from] = from;
     if (s.dead[from]) return -1;
     const std::array<Step, 6> steps = steps_of(order);
@@ -237,7 +231,8 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
       for (const Step& step : steps) {
         if (s.edges[i] & step.edge) continue;
         const std::uint32_t j = std::uint32_t(std::int64_t(i) + step.delta);
-        if (s.parent[j] != kUnseen || !through(j)) continue;
+        if ((s.cls[j] & (pass | kSeen | kOnRoute)) != pass) continue;
+        s.cls[j] |= kSeen;
         s.parent[j] = i;
         s.queue.push_back(j);
         const Target t = target(j);
@@ -350,8 +345,6 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
       }
     };
     field();
-    s.on_route.assign(region.volume(), 0);
-    auto off_route = [&](std::uint32_t i) { return !s.on_route[i] && through(i); };
     auto void_found = [&](std::uint32_t i) { return s.cls[i] & kVoidOut ? kFar : kNot; };
     for (; next_push < s.push.size(); ++next_push) {
       const std::uint64_t g = shape[s.push[next_push]];
@@ -378,10 +371,10 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
         if (free_cell(at) || above == 0) break;
       }
       if (!free_cell(s.route.back())) {  // the distances led to a filled void, or nowhere: search on
-        for (const std::uint32_t i : s.route) s.on_route[i] = 1;
+        for (const std::uint32_t i : s.route) s.cls[i] |= kOnRoute;
         const std::uint32_t from = s.route.back();
-        const std::int64_t end = nearest(from, directions(lead, 0), true, off_route, void_found);
-        for (const std::uint32_t i : s.route) s.on_route[i] = 0;
+        const std::int64_t end = nearest(from, directions(lead, 0), true, kPass, void_found);
+        for (const std::uint32_t i : s.route) s.cls[i] &= std::uint8_t(~kOnRoute);
         const bool grown = s.queue.size() > kSearchBeforeRefresh;
         if (end < 0) {  // no void within reach
           ++result.blocked;
@@ -410,7 +403,6 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
   // Grains are left to topple into the wake by the rules: a furrow stays open as far as sand stands.
   if (!s.left.empty()) {
     std::sort(s.left.begin(), s.left.end());  // local indices: z, then y, then x
-    auto liquid = [&](std::uint32_t i) { return (s.cls[i] & kLiquidOut) != 0; };
     // The first cell over the highest layer that holds a surface (0: none): a wake cell at or over
     // that layer has none to fill it (a fill only lowers a surface), nor have the cells after it.
     std::uint32_t over_top = 0;
@@ -433,7 +425,7 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
       };
       const std::int64_t found =
           nearest(wake, directions({}, unsigned(mix64(salt ^ ~grid_index(grid, at.x, at.y, at.z)) & 3)), nearby_will_do,
-                  liquid, surface);
+                  kLiquidOut, surface);
       if (found < 0 || s.in_shape[std::uint32_t(found)] == kNear) nearby_will_do = true;
       if (found < 0) continue;
       ++result.filled[material(std::uint32_t(found))];

@@ -35,7 +35,7 @@ struct StampScratch {
   std::vector<std::pair<double, std::uint32_t>> ahead;  ///< the pushes with how far ahead they lie, to sort
   std::vector<std::uint64_t> taken;                     ///< grid indices of the cells the body holds after the stamp
   std::vector<std::uint32_t> left;                      ///< local indices of the cells the body left
-  std::vector<std::uint32_t> parent;                    ///< per cell: where the last search reached it from
+  std::vector<std::uint32_t> parent;                    ///< per cell the last search reached: where from
   std::vector<std::uint8_t> dead;                       ///< per cell: a search from it finds nothing
   std::vector<std::uint8_t> edges;                      ///< per cell: which of its neighbours lie outside the region
   std::vector<std::uint8_t> cls;             ///< per cell: what the searches ask of it (void, liquid, passable...)
@@ -46,7 +46,6 @@ struct StampScratch {
   std::vector<std::uint64_t> at_distance;    ///< the cells at the distance it is at
   std::vector<std::uint64_t> next_distance;  ///< the cells at the next one
   std::vector<std::uint32_t> route;          ///< one push's cells, from the shape to the void
-  std::vector<std::uint8_t> on_route;        ///< per cell: on the route being built
   std::vector<std::uint32_t> written;        ///< local indices of the cells the stamp wrote (some twice)
 };
 
