@@ -5,6 +5,7 @@
 #include <bit>
 #include <climits>
 #include <cmath>
+#include <type_traits>
 
 #include "bodies/body_forces.hpp"
 #include "bodies/body_region.hpp"
@@ -218,7 +219,7 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
     return out;
   };
   auto nearest = [&](std::uint32_t from, const std::array<Int3, 6>& order, bool nearby_will_do, std::uint8_t pass,
-                     auto&& target) -> std::int64_t {
+                     auto&& target, auto skip_dead) -> std::int64_t {
     for (const std::uint32_t i : s.queue) s.cls[i] &= std::uint8_t(~kSeen);  // the last search's marks
     s.queue.assign(1, from);
     s.cls[from] |= kSeen;
@@ -232,6 +233,8 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
         if (s.edges[i] & step.edge) continue;
         const std::uint32_t j = std::uint32_t(std::int64_t(i) + step.delta);
         if ((s.cls[j] & (pass | kSeen | kOnRoute)) != pass) continue;
+        if constexpr (decltype(skip_dead)::value)
+          if (s.dead[j]) continue;
         s.cls[j] |= kSeen;
         s.parent[j] = i;
         s.queue.push_back(j);
@@ -373,7 +376,7 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
       if (!free_cell(s.route.back())) {  // the distances led to a filled void, or nowhere: search on
         for (const std::uint32_t i : s.route) s.cls[i] |= kOnRoute;
         const std::uint32_t from = s.route.back();
-        const std::int64_t end = nearest(from, directions(lead, 0), true, kPass, void_found);
+        const std::int64_t end = nearest(from, directions(lead, 0), true, kPass, void_found, std::false_type{});
         for (const std::uint32_t i : s.route) s.cls[i] &= std::uint8_t(~kOnRoute);
         const bool grown = s.queue.size() > kSearchBeforeRefresh;
         if (end < 0) {  // no void within reach
@@ -411,6 +414,9 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
         over_top = std::uint32_t((std::int64_t(i) / layer + 1) * layer);
         break;
       }
+    // Liquid a search reached without finding a surface is marked s.dead, and later searches (from
+    // higher cells, wanting higher surfaces) pass it by: it holds none for them either, and no fill
+    // adds one to it, until a filled wake cell joins it to other liquid.
     std::fill(s.dead.begin(), s.dead.end(), std::uint8_t(0));
     bool nearby_will_do = false;
     for (const std::uint32_t wake : s.left) {
@@ -425,11 +431,17 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
       };
       const std::int64_t found =
           nearest(wake, directions({}, unsigned(mix64(salt ^ ~grid_index(grid, at.x, at.y, at.z)) & 3)), nearby_will_do,
-                  kLiquidOut, surface);
+                  kLiquidOut, surface, std::true_type{});
       if (found < 0 || s.in_shape[std::uint32_t(found)] == kNear) nearby_will_do = true;
       if (found < 0) continue;
       ++result.filled[material(std::uint32_t(found))];
       pull(wake, std::uint32_t(found));
+      // The wake cell, liquid now, may join liquid that reached no surface to some that does.
+      for (const Step& step : steps_of(directions({}, 0)))
+        if (!(s.edges[wake] & step.edge) && s.dead[std::size_t(std::int64_t(wake) + step.delta)]) {
+          std::fill(s.dead.begin(), s.dead.end(), std::uint8_t(0));
+          break;
+        }
     }
   }
   owned.swap(s.taken);
