@@ -4,9 +4,9 @@
 /// material exactly and stay deterministic (thread counts, sparse = dense); a box of half the bulk
 /// density of sand or water floats half submerged and one of twice sinks to the floor, moved by a
 /// game's own few lines of physics; a ball rolled over a bed leaves a groove and stops sooner in
-/// deeper sand; a capsule walked through a dune leaves it whole; bodies half out of the grid,
-/// leaving it, jumping far and overlapping keep every cell; bad input is refused by name; World::profile
-/// times the bodies' phases.
+/// deeper sand; water closes behind a crate pushed through a pool; a capsule walked through a dune
+/// leaves it whole; bodies half out of the grid, leaving it, jumping far and overlapping keep every
+/// cell; bad input is refused by name; World::profile times the bodies' phases.
 
 #include <doctest/doctest.h>
 
@@ -326,6 +326,41 @@ TEST_CASE("a ball rolled across a bed leaves a groove, and stops sooner in deepe
   CHECK(deep_groove >= 0.5);
 }
 
+TEST_CASE("water closes behind a crate pushed through a pool") {
+  // A crate half in a pool 12 cells deep is pushed 20 cells along x at half a cell a tick, then held.
+  // The trench it cuts (20 cells long, 8 wide, 4 deep: 640 cells) must close: the stamp fills the
+  // cells it leaves from the water's surface, and the rules level the surface. Counted: the cells
+  // below the water line, behind the crate, that hold no water.
+  World w(test_def({96, 32, 32}, kRules));
+  w.paint(Box{{0, 0, 0}, {96, 32, 12}}, Material::Liquid);
+  BodyDef def;
+  def.shape = BodyShape::Box;
+  def.half_extents = {4, 4, 4};
+  def.pose.position = {20, 16, 12};
+  def.pose.velocity = {0.5, 0, 0};
+  const BodyId crate = w.add_body(def);
+  const std::uint64_t water = cells_of(w, Material::Liquid);
+  auto missing_behind = [&] {
+    const int behind = int(w.body_pose(crate).position.x) - 5;
+    const std::vector<std::uint8_t> cells = w.read_region(Box{{0, 0, 0}, {behind, 32, 12}});
+    return std::count(cells.begin(), cells.end(), to_cell(Material::Void));
+  };
+  w.step(40);
+  BodyPose held = w.body_pose(crate);
+  held.velocity = {0, 0, 0};
+  w.set_body_pose(crate, held);
+  const auto stopped = missing_behind();
+  w.step(40);
+  const auto later = missing_behind();
+  std::printf(
+      "crate pushed 20 cells through water: %td cells of the 640-cell trench without water when it stops, "
+      "%td 40 ticks later\n",
+      stopped, later);
+  CHECK(cells_of(w, Material::Liquid) == water);
+  CHECK(later < stopped);
+  CHECK(later < 64);  // more than 90% of the trench closed
+}
+
 TEST_CASE("a capsule walked through a dune leaves it whole") {
   // An upright capsule (a character) walks at 0.3 m/s straight through a dune of sand and out.
   World w(test_def({96, 32, 40}, kRules));
@@ -383,8 +418,8 @@ TEST_CASE("bodies at the grid's edge, leaving it, jumping far and overlapping ke
   w.step(1);
   CHECK(w.body_sand(edge).cells == 4 * 6 * 6);  // the cells of x = 0 .. 3 only
   CHECK(w.body_sand(a).cells == 216);
-  CHECK(w.body_sand(b).cells == 216 - 108);    // b does not take a's cells...
-  CHECK(w.body_sand(b).blocked == 108);        // ...it reports them blocked
+  CHECK(w.body_sand(b).cells == 216 - 108);  // b does not take a's cells...
+  CHECK(w.body_sand(b).blocked == 108);      // ...it reports them blocked
   CHECK(cells_of(w, Material::State7) == std::uint64_t(144 + 216 + 108));
   // The edge body leaves the grid, a jumps far across it, b takes the cells a left.
   BodyPose pose = w.body_pose(edge);
