@@ -18,7 +18,14 @@ inline std::string number_text(double v) {
 
 /// `v` as "(x, y, z)" with number_text's numbers, for messages.
 inline std::string vec_text(const Vec3& v) {
-  return "(" + number_text(v.x) + ", " + number_text(v.y) + ", " + number_text(v.z) + ")";
+  // Appended in turn: a literal prefixed to a temporary string draws a false -Wrestrict from GCC 12.
+  std::string text = "(";
+  text += number_text(v.x);
+  text += ", ";
+  text += number_text(v.y);
+  text += ", ";
+  text += number_text(v.z);
+  return text += ")";
 }
 
 }  // namespace granular

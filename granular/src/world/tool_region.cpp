@@ -12,8 +12,12 @@
 namespace granular {
 
 std::string box_string(const Box& b) {
-  return "[" + std::to_string(b.min.x) + "," + std::to_string(b.min.y) + "," + std::to_string(b.min.z) + ")-[" +
-         std::to_string(b.max.x) + "," + std::to_string(b.max.y) + "," + std::to_string(b.max.z) + ")";
+  // Appended in turn: a literal prefixed to a temporary string draws a false -Wrestrict from GCC 12.
+  std::string text = "[";
+  text += std::to_string(b.min.x) + "," + std::to_string(b.min.y) + "," + std::to_string(b.min.z);
+  text += ")-[";
+  text += std::to_string(b.max.x) + "," + std::to_string(b.max.y) + "," + std::to_string(b.max.z);
+  return text += ")";
 }
 
 void check_tool_material(Material m, const char* tool) {
