@@ -110,7 +110,12 @@ std::uint64_t WorldSnapshot::hash() const {
   return finish_hash(size, hash_words(cells, 0, (cells.size() + 7) / 8) + side_hash_term(side) + faces_hash_term(faces));
 }
 
-std::uint64_t snapshot_file_hash(const WorldSnapshot& meta, std::uint64_t cells_hash, std::uint32_t version) {
+namespace {
+
+/// snapshot_file_hash, given the bytes_hash of the body section (version kBodiesSnapshotVersion), so
+/// that a caller holding the section's bytes does not encode it again.
+std::uint64_t file_hash(const WorldSnapshot& meta, std::uint64_t cells_hash, std::uint32_t version,
+                        std::uint64_t section_hash) {
   if (version < kSnapshotVersion) return cells_hash;
   std::uint64_t h = mix64(cells_hash ^ 0x47534E5048454144ull);  // "GSNPHEAD"
   for (const std::uint64_t field : {std::uint64_t(version), std::uint64_t(std::uint32_t(meta.size.x)),
@@ -120,10 +125,18 @@ std::uint64_t snapshot_file_hash(const WorldSnapshot& meta, std::uint64_t cells_
     h = mix64(h ^ field) + 0x9E3779B97F4A7C15ull;
   for (const char c : meta.rules) h = mix64(h ^ static_cast<unsigned char>(c)) + 0x9E3779B97F4A7C15ull;
   if (version == kBodiesSnapshotVersion)
-    for (const std::uint64_t field : {std::uint64_t(layout_of(meta)), std::uint64_t(meta.bodies.bodies.size()),
-                                      bytes_hash(encode_body_section(meta.bodies, "snapshot_file_hash"))})
+    for (const std::uint64_t field :
+         {std::uint64_t(layout_of(meta)), std::uint64_t(meta.bodies.bodies.size()), section_hash})
       h = mix64(h ^ field) + 0x9E3779B97F4A7C15ull;
   return mix64(h);
+}
+
+}  // namespace
+
+std::uint64_t snapshot_file_hash(const WorldSnapshot& meta, std::uint64_t cells_hash, std::uint32_t version) {
+  return file_hash(
+      meta, cells_hash, version,
+      version == kBodiesSnapshotVersion ? bytes_hash(encode_body_section(meta.bodies, "snapshot_file_hash")) : 0);
 }
 
 std::vector<std::uint8_t> encode_snapshot(const WorldSnapshot& s) {
@@ -170,8 +183,8 @@ std::vector<std::uint8_t> encode_snapshot(const WorldSnapshot& s) {
     body.insert(body.end(), section.begin(), section.end());
   }
   const std::vector<std::uint8_t> packed = zstd_compress(extra == 0 ? s.cells : body, 3, "encode_snapshot");
-  std::vector<std::uint8_t> out = snapshot_header_bytes(s, version, snapshot_file_hash(s, s.hash(), version),
-                                                        packed.size(), layout, section.size());
+  std::vector<std::uint8_t> out = snapshot_header_bytes(
+      s, version, file_hash(s, s.hash(), version, bytes_hash(section)), packed.size(), layout, section.size());
   try {
     out.insert(out.end(), packed.begin(), packed.end());
   } catch (const std::bad_alloc&) {
@@ -328,9 +341,12 @@ WorldSnapshot decode_body(SnapshotHeader h, std::span<const std::uint8_t> packed
   const std::uint64_t extra = plane + h.body_bytes;
   s.cells = zstd_decompress(packed, cells + extra, src + ": the compressed cells at byte " + std::to_string(h.body_at),
                             h.version != kOneFrameSnapshotVersion);
-  if (h.version == kBodiesSnapshotVersion)
-    s.bodies = decode_body_section(std::span<const std::uint8_t>(s.cells).subspan(std::size_t(cells + plane)),
-                                   h.body_count, cells, src);
+  std::uint64_t section_hash = 0;  // of the body section's bytes, for the file's hash
+  if (h.version == kBodiesSnapshotVersion) {
+    const auto section = std::span<const std::uint8_t>(s.cells).subspan(std::size_t(cells + plane));
+    s.bodies = decode_body_section(section, h.body_count, cells, src);
+    section_hash = bytes_hash(section);
+  }
   if (h.layout == kSideSnapshotVersion)
     s.side.assign(s.cells.begin() + std::ptrdiff_t(cells), s.cells.begin() + std::ptrdiff_t(cells + plane));
   if (h.layout == kFacesSnapshotVersion) {
@@ -342,7 +358,7 @@ WorldSnapshot decode_body(SnapshotHeader h, std::span<const std::uint8_t> packed
     s.cells.resize(std::size_t(cells));
     s.cells.shrink_to_fit();
   }
-  const std::uint64_t found = snapshot_file_hash(s, s.hash(), h.version);
+  const std::uint64_t found = file_hash(s, s.hash(), h.version, section_hash);
   if (found != h.hash) throw ParseError(src + ": " + snapshot_hash_problem(found, h.hash, h.version));
   return std::move(s);
 }
