@@ -418,6 +418,7 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
     // higher cells, wanting higher surfaces) pass it by: it holds none for them either, and no fill
     // adds one to it, until a filled wake cell joins it to other liquid.
     std::fill(s.dead.begin(), s.dead.end(), std::uint8_t(0));
+    const std::array<Step, 6> axes = steps_of(directions({}, 0));  // a wake cell's neighbours
     bool nearby_will_do = false;
     for (const std::uint32_t wake : s.left) {
       if (wake + std::uint32_t(layer) >= over_top) break;
@@ -437,7 +438,7 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
       ++result.filled[material(std::uint32_t(found))];
       pull(wake, std::uint32_t(found));
       // The wake cell, liquid now, may join liquid that reached no surface to some that does.
-      for (const Step& step : steps_of(directions({}, 0)))
+      for (const Step& step : axes)
         if (!(s.edges[wake] & step.edge) && s.dead[std::size_t(std::int64_t(wake) + step.delta)]) {
           std::fill(s.dead.begin(), s.dead.end(), std::uint8_t(0));
           break;
