@@ -3,9 +3,33 @@
 #include <string>
 #include <system_error>
 
+#if defined(__x86_64__) || defined(__i386__)
+#include <immintrin.h>
+#endif
+
 #include "granular/errors.hpp"
 
 namespace granular {
+
+namespace {
+
+/// Spins until `done()` or kThreadPoolSpin has passed; returns done().
+template <class Done>
+bool spin_until(Done&& done) {
+  const auto until = std::chrono::steady_clock::now() + kThreadPoolSpin;
+  for (;;) {
+    for (int k = 0; k < 16; ++k) {
+      if (done()) return true;
+#if defined(__x86_64__) || defined(__i386__)
+      _mm_pause();
+#endif
+    }
+    std::this_thread::yield();  // a thread with work on this core goes first
+    if (std::chrono::steady_clock::now() >= until) return done();
+  }
+}
+
+}  // namespace
 
 int hardware_threads() {
   const unsigned n = std::thread::hardware_concurrency();
@@ -73,16 +97,17 @@ void ThreadPool::run(int tasks, const std::function<void(int)>& fn) {
     job_ = &fn;
     tasks_ = tasks;
     next_.store(0, std::memory_order_relaxed);
-    busy_workers_ = int(workers_.size());
+    busy_workers_.store(int(workers_.size()), std::memory_order_relaxed);
     error_ = nullptr;
-    ++generation_;
+    generation_.fetch_add(1, std::memory_order_release);  // spinning workers start here
   }
-  start_cv_.notify_all();
+  start_cv_.notify_all();  // sleeping ones here
   drain();
   std::exception_ptr error;
+  spin_until([this] { return busy_workers_.load(std::memory_order_acquire) == 0; });
   {
     std::unique_lock lock(mutex_);
-    done_cv_.wait(lock, [this] { return busy_workers_ == 0; });
+    done_cv_.wait(lock, [this] { return busy_workers_.load(std::memory_order_acquire) == 0; });
     job_ = nullptr;
     error = error_;
   }
@@ -92,18 +117,20 @@ void ThreadPool::run(int tasks, const std::function<void(int)>& fn) {
 void ThreadPool::worker_loop() {
   std::uint64_t seen = 0;
   for (;;) {
-    {
+    auto job_or_stop = [&] {
+      return stopping_.load(std::memory_order_acquire) || generation_.load(std::memory_order_acquire) != seen;
+    };
+    if (!spin_until(job_or_stop)) {
       std::unique_lock lock(mutex_);
-      start_cv_.wait(lock, [&] { return stopping_ || generation_ != seen; });
-      if (stopping_) return;
-      seen = generation_;
+      start_cv_.wait(lock, job_or_stop);
     }
+    if (stopping_.load(std::memory_order_acquire)) return;
+    seen = generation_.load(std::memory_order_acquire);
     drain();
-    {
-      std::lock_guard lock(mutex_);
-      --busy_workers_;
+    if (busy_workers_.fetch_sub(1, std::memory_order_acq_rel) == 1) {
+      std::lock_guard lock(mutex_);  // the caller tests busy_workers_ under it before it sleeps
+      done_cv_.notify_one();
     }
-    done_cv_.notify_one();
   }
 }
 
