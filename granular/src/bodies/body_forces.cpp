@@ -50,7 +50,6 @@ void sand_forces(const Box& box, std::span<const std::uint8_t> bytes, Int3 grid,
   auto is_static = [&](std::uint8_t m) { return static_material[m]; };
 
   s.owned.assign(volume, 0);
-  s.ring.assign(volume, 0);
   cells_at(owned, grid, s.owned_at);
   for (const Int3 c : s.owned_at) s.owned[region.local(c)] = 1;
 
@@ -67,6 +66,16 @@ void sand_forces(const Box& box, std::span<const std::uint8_t> bytes, Int3 grid,
       1, -1, region.e.x, -region.e.x, std::int64_t(region.e.x) * region.e.y, -std::int64_t(region.e.x) * region.e.y};
 
   std::vector<Layer> layers(std::size_t(region.e.z));
+  // Each layer's surroundings: the cells of the layer within kRingWidth cells (in x and y) of a cell
+  // of it on its edge, so that a grain toppling beside the body changes them by little.
+  const std::uint32_t layer_cells = std::uint32_t(region.e.x) * std::uint32_t(region.e.y);
+  for_each_cell_beside(region, s.owned_at, kRingWidth, s.rows, [&](std::uint32_t i) {
+    const std::uint8_t m = std::uint8_t(bytes[i] & kMaterialMask);
+    if (is_static(m)) return;
+    Layer& layer = layers[i / layer_cells];
+    ++layer.beside[m];
+    ++layer.beside_total;
+  });
   sand.cells = std::int64_t(owned.size());
   sand.below = {};
   sand.submerged = {};
@@ -85,20 +94,6 @@ void sand_forces(const Box& box, std::span<const std::uint8_t> bytes, Int3 grid,
     auto material_at = [&](int k) {
       return in[k] ? std::uint8_t(bytes[std::size_t(at + face_step[k])] & kMaterialMask) : kOutside;
     };
-    // The layer's surroundings: the cells of the layer within kRingWidth cells (in x and y) of a
-    // cell of it on its edge, so that a grain toppling beside the body changes them by little.
-    const bool edge = !held(0) || !held(1) || !held(2) || !held(3);
-    if (edge)
-      region.for_each_row_beside(c, kRingWidth, [&](std::uint32_t first, int count) {
-        for (std::uint32_t i = first; i < first + std::uint32_t(count); ++i) {
-          if (s.owned[i] || s.ring[i]) continue;
-          s.ring[i] = 1;
-          const std::uint8_t m = std::uint8_t(bytes[i] & kMaterialMask);
-          if (is_static(m)) continue;
-          ++layer.beside[m];
-          ++layer.beside_total;
-        }
-      });
     if (!held(5)) ++sand.below[material_at(5)];
     for (int face = 0; face < 6; ++face) {  // the drag of the faces against a material
       if (held(face)) continue;

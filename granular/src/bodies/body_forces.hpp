@@ -25,7 +25,7 @@ struct BodyScale {
 /// The scratch of sand_forces, reused from body to body.
 struct ForceScratch {
   std::vector<std::uint8_t> owned;  ///< per cell of the region: held by the body
-  std::vector<std::uint8_t> ring;   ///< per cell: counted in its layer's surroundings
+  std::vector<std::uint64_t> rows;  ///< for_each_cell_beside's bit rows
   std::vector<Int3> owned_at;       ///< the held cells as coordinates
 };
 

@@ -123,18 +123,7 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
 
   s.in_shape.assign(region.volume(), 0);
   for (const Int3 c : s.shape_at) s.in_shape[region.local(c)] = kShape;
-  auto in_shape_at = [&](Int3 c) {
-    return region.inside(c) && s.in_shape[region.local(c)] != 0 && s.in_shape[region.local(c)] != kNear;
-  };
-  for (const Int3 c : s.shape_at) {
-    if (in_shape_at({c.x + 1, c.y, c.z}) && in_shape_at({c.x - 1, c.y, c.z}) && in_shape_at({c.x, c.y + 1, c.z}) &&
-        in_shape_at({c.x, c.y - 1, c.z}))
-      continue;  // inside its layer
-    region.for_each_row_beside(c, kRingWidth, [&](std::uint32_t first, int count) {
-      for (std::uint8_t *at = s.in_shape.data() + first, *end = at + count; at != end; ++at)
-        if (*at == 0) *at = kNear;
-    });
-  }
+  for_each_cell_beside(region, s.shape_at, kRingWidth, s.rows, [&](std::uint32_t i) { s.in_shape[i] = kNear; });
   auto outside = [&](std::uint32_t i) { return s.in_shape[i] == 0 || s.in_shape[i] == kNear; };
 
   // The cells the body left.

@@ -28,6 +28,7 @@ struct StampResult {
 /// The scratch of stamp_body, reused from body to body.
 struct StampScratch {
   std::vector<std::uint8_t> in_shape;  ///< per cell of the region: outside the shape, in it, or the body's
+  std::vector<std::uint64_t> rows;     ///< for_each_cell_beside's bit rows
   std::vector<std::uint32_t> queue;    ///< the last search's cells, in the order reached
   std::vector<Int3> shape_at;          ///< the shape's cells as coordinates
   std::vector<Int3> owned_at;          ///< the held cells as coordinates
