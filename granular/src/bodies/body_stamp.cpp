@@ -176,22 +176,33 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
   s.dead.assign(region.volume(), 0);
   s.queue.clear();
   // Per cell, a bit for each of its six neighbours that lies outside the region (Step's order), so
-  // that a search steps by index.
-  s.edges.assign(region.volume(), 0);
-  for (std::int64_t z = 0; z < region.e.z; ++z)
-    for (std::int64_t y = 0; y < region.e.y; ++y) {
-      const std::int64_t first = z * layer + y * row, last = first + row - 1;
-      s.edges[std::size_t(first)] |= 2;
-      s.edges[std::size_t(last)] |= 1;
-      if (y == 0 || y + 1 == region.e.y || z == 0 || z + 1 == region.e.z) {
-        const std::uint8_t bits =
-            std::uint8_t((y + 1 == region.e.y) << 2 | (y == 0) << 3 | (z + 1 == region.e.z) << 4 | (z == 0) << 5);
-        for (std::int64_t i = first; i <= last; ++i) s.edges[std::size_t(i)] |= bits;
+  // that a search steps by index. They depend on the extent only: most stamps reuse the last ones.
+  if (!(s.edges_extent == region.e) || s.edges.size() != region.volume()) {
+    s.edges_extent = region.e;
+    s.edges.assign(region.volume(), 0);
+    for (std::int64_t z = 0; z < region.e.z; ++z)
+      for (std::int64_t y = 0; y < region.e.y; ++y) {
+        const std::int64_t first = z * layer + y * row, last = first + row - 1;
+        s.edges[std::size_t(first)] |= 2;
+        s.edges[std::size_t(last)] |= 1;
+        if (y == 0 || y + 1 == region.e.y || z == 0 || z + 1 == region.e.z) {
+          const std::uint8_t bits =
+              std::uint8_t((y + 1 == region.e.y) << 2 | (y == 0) << 3 | (z + 1 == region.e.z) << 4 | (z == 0) << 5);
+          for (std::int64_t i = first; i <= last; ++i) s.edges[std::size_t(i)] |= bits;
+        }
       }
-    }
-  s.cls.assign(region.volume(), 0);
-  for (std::uint32_t i = 0; i < region.volume(); ++i) classify(i);
-  for (std::uint32_t i = 0; i < region.volume(); ++i) classify_surface(i);
+  }
+  // Every cell's class at once: a table lookup a cell, then the surfaces (kLiquidOut, bit 3, under
+  // kOpenOut, bit 4, gives kSurface, bit 5) without a branch; the top layer has none.
+  static_assert(kLiquidOut == 8 && kOpenOut == 16 && kSurface == 32 && kMaterialMask == kMaterialCount - 1);
+  std::array<std::uint8_t, 4 * kMaterialCount> class_flat{};  // by in_shape * kMaterialCount + material
+  for (std::size_t in = 0; in < 4; ++in)
+    for (std::size_t m = 0; m < kMaterialCount; ++m) class_flat[in * kMaterialCount + m] = class_of[in][m];
+  s.cls.resize(region.volume());
+  for (std::uint32_t i = 0; i < region.volume(); ++i)
+    s.cls[i] = class_flat[std::size_t(s.in_shape[i]) * kMaterialCount + (bytes[i] & kMaterialMask)];
+  for (std::uint32_t i = 0, below_top = std::uint32_t(region.volume() - std::size_t(layer)); i < below_top; ++i)
+    s.cls[i] |= std::uint8_t(((s.cls[i] >> 3) & (s.cls[i + std::uint32_t(layer)] >> 4) & 1) << 5);
   classed = true;
   // A direction as the search takes it: the edge bit that forbids it and the step of the index.
   struct Step {
@@ -277,26 +288,37 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
     const std::size_t row_step = words, layer_step = words * std::size_t(region.e.y);
     std::size_t next_push = 0;  // the pushes before it are done
     auto field = [&] {
-      s.distance.assign(region.volume(), -1);
+      s.distance.resize(region.volume());
       s.pending.assign(region.volume(), 0);
       for (std::size_t k = next_push; k < s.push.size(); ++k) s.pending[region.local(s.shape_at[s.push[k]])] = 1;
       std::size_t to_reach = s.push.size() - next_push;  // pushes to come whose start it has not reached
-      s.passable.assign(rows * words, 0);
+      s.passable.resize(rows * words);
       s.reached.assign(rows * words, 0);
-      s.at_distance.assign(rows * words, 0);
+      s.at_distance.resize(rows * words);
       s.next_distance.assign(rows * words, 0);
       int low = region.e.z, high = -1;  // the layers of the cells at the current distance
-      for (std::uint32_t i = 0, r = 0; r < rows; ++r)
-        for (int x = 0; x < region.e.x; ++x, ++i) {
-          const std::uint64_t bit = std::uint64_t(1) << (x & 63);
-          if (through(i)) s.passable[r * words + std::size_t(x >> 6)] |= bit;
-          if (free_cell(i)) {
-            s.at_distance[r * words + std::size_t(x >> 6)] |= bit;
-            s.distance[i] = 0;
-            low = std::min(low, int(r / std::uint32_t(region.e.y)));
-            high = std::max(high, int(r / std::uint32_t(region.e.y)));
+      // A row's bits, 64 cells at a time, from the class bits kPass (1) and kFree (2) without a branch.
+      static_assert(kPass == 1 && kFree == 2);
+      for (std::uint32_t i = 0, r = 0; r < rows; ++r) {
+        std::uint64_t any_free = 0;
+        for (std::size_t w = 0; w < words; ++w) {
+          std::uint64_t pass = 0, free = 0;
+          const int end = std::min(64, region.e.x - int(w * 64));
+          for (int x = 0; x < end; ++x, ++i) {
+            const std::uint8_t c = s.cls[i];
+            pass |= std::uint64_t(c & kPass) << x;
+            free |= std::uint64_t((c & kFree) >> 1) << x;
+            s.distance[i] = (c & kFree) ? 0 : -1;
           }
+          s.passable[r * words + w] = pass;
+          s.at_distance[r * words + w] = free;
+          any_free |= free;
         }
+        if (any_free != 0) {
+          low = std::min(low, int(r / std::uint32_t(region.e.y)));
+          high = std::max(high, int(r / std::uint32_t(region.e.y)));
+        }
+      }
       s.reached = s.at_distance;
       for (std::int32_t d = 1; to_reach > 0 && low <= high; ++d) {
         const int from = std::max(0, low - 1), to = std::min(region.e.z - 1, high + 1);

@@ -39,6 +39,7 @@ struct StampScratch {
   std::vector<std::uint32_t> parent;                    ///< per cell the last search reached: where from
   std::vector<std::uint8_t> dead;                       ///< per cell: a search from it finds nothing
   std::vector<std::uint8_t> edges;                      ///< per cell: which of its neighbours lie outside the region
+  Int3 edges_extent{};                                  ///< the extent of the region `edges` is for
   std::vector<std::uint8_t> cls;             ///< per cell: what the searches ask of it (void, liquid, passable...)
   std::vector<std::int32_t> distance;        ///< per cell: steps to the nearest void a push may end in
   std::vector<std::uint8_t> pending;         ///< per cell: the start of a push still to come
