@@ -323,8 +323,9 @@ class World {
   // The threads the bodies are written into the grid on: WorldDef::task_system, else the backend's
   // (Backend::host_tasks), else a pool of WorldDef::threads started at the first need.
   TaskSystem& body_tasks();
-  // A buffer for the cells of `boxes`, one after the other; OutOfMemory naming them when it cannot be had.
-  std::vector<std::uint8_t> boxes_buffer(std::span<const Box> boxes) const;
+  // Sizes `buffer` for the cells of `boxes`, one after the other; OutOfMemory naming them when it
+  // cannot be had.
+  void size_boxes_buffer(std::span<const Box> boxes, std::vector<std::uint8_t>& buffer) const;
   // The bodies (world_bodies.cpp).
   struct Bodies;
 

@@ -384,11 +384,11 @@ void copy_overlap(const RegionEdit& from, RegionEdit& to) {
 
 }  // namespace
 
-std::vector<std::uint8_t> World::boxes_buffer(std::span<const Box> boxes) const {
+void World::size_boxes_buffer(std::span<const Box> boxes, std::vector<std::uint8_t>& buffer) const {
   std::uint64_t cells = 0;
   for (const Box& box : boxes) cells += std::uint64_t(box.volume());
   try {
-    return std::vector<std::uint8_t>(std::size_t(cells));
+    buffer.resize(std::size_t(cells));
   } catch (const std::bad_alloc&) {
     throw OutOfMemory("World: could not allocate " + std::to_string(cells) + " bytes for the regions of " +
                       std::to_string(boxes.size()) + " bodies");
@@ -475,30 +475,29 @@ void World::stamp_bodies() {
   std::vector<std::uint8_t> group_moves(n, 0);  // per group's first body
   for (std::size_t i = 0; i < n; ++i)
     if (!all.work[i].region.empty() && !all.work[i].at_rest) group_moves[all.work[i].group] = 1;
-  // The regions of the groups that move, in one read (one round trip on a GPU).
+  // The regions of the groups that move, in one read (one round trip on a GPU); the task that
+  // stamps a body copies its region's bytes out of it.
   std::vector<std::size_t> moving;  // the bodies of those groups, in the order added
   std::vector<Box> boxes;
+  std::vector<std::size_t> read_at(n, 0);  // per body of `moving`: where its bytes start in all.packed
+  std::size_t bytes = 0;
   for (std::size_t i = 0; i < n; ++i)
     if (!all.work[i].region.empty() && group_moves[all.work[i].group]) {
       moving.push_back(i);
       boxes.push_back(all.work[i].region);
+      read_at[i] = bytes;
+      bytes += std::size_t(all.work[i].region.volume());
     }
-  std::vector<std::uint8_t> packed = boxes_buffer(boxes);
+  size_boxes_buffer(boxes, all.packed);
   profile_.bodies_shapes += watch.lap();
-  if (!boxes.empty()) live().read_boxes(boxes, packed);
-  for (std::size_t k = 0, at = 0; k < moving.size(); ++k) {
-    BodyStampWork& work = all.work[moving[k]];
-    work.edit.begin(work.region, size_, slab_tools_ ? slab_tools_->origin : Int3{});
-    std::copy_n(packed.data() + at, work.edit.cells().size(), work.edit.cells().data());
-    at += work.edit.cells().size();
-  }
+  if (!boxes.empty()) live().read_boxes(boxes, all.packed);
   profile_.bodies_read += watch.lap();
   const int task_count = int(std::min<std::size_t>(groups.size(), std::size_t(tasks.thread_count())));
   all.stamp.resize(std::size_t(task_count));
   all.forces.resize(std::size_t(task_count));
   const MaterialTable& materials = rules_->materials;
   const std::uint64_t seed = def_.seed, tick = tick_;
-  const Int3 grid = size_;
+  const Int3 grid = size_, origin = slab_tools_ ? slab_tools_->origin : Int3{};
   // The groups are taken one at a time by whichever task is free, the costliest first (by what
   // their bodies took last tick; a body new to the stamp first of all), so that a few costly groups
   // do not all fall to one thread. Groups touch disjoint cells and each task has its own scratch:
@@ -527,6 +526,8 @@ void World::stamp_bodies() {
           work.last_ms = took.lap();
           continue;
         }
+        work.edit.begin(work.region, grid, origin);
+        std::copy_n(all.packed.data() + read_at[members[k]], work.edit.cells().size(), work.edit.cells().data());
         for (std::size_t j = 0; j < k; ++j) copy_overlap(all.work[members[j]].edit, work.edit);
         const StampResult stamped =
             stamp_body(work.region, work.edit.cells(), grid, work.shape, body.owned, body_material, materials,
@@ -555,30 +556,35 @@ void World::stamp_bodies() {
     }
   });
   profile_.bodies_stamp += watch.lap();
-  // The regions the stamps wrote, in one write (one launch on a GPU), waking the bricks they wrote.
+  // The regions the stamps wrote, in one write (one launch on a GPU), waking the bricks they wrote;
+  // each region's bytes are copied into the write on the world's threads.
   boxes.clear();
   std::vector<std::size_t> written;  // the moving bodies whose stamp wrote a cell
+  std::vector<std::size_t> write_at;  // per body of `written`: where its bytes start in all.packed
   std::vector<std::uint32_t> woken;
-  std::size_t bytes = 0;
+  bytes = 0;
   for (const std::size_t i : moving) {
     const std::span<const std::uint32_t> bricks = all.work[i].edit.bricks();
     if (bricks.empty()) continue;
     written.push_back(i);
     boxes.push_back(all.work[i].region);
+    write_at.push_back(bytes);
     woken.insert(woken.end(), bricks.begin(), bricks.end());
     bytes += all.work[i].edit.cells().size();
   }
   if (!boxes.empty()) {
-    packed.resize(bytes);
-    std::size_t at = 0;
-    for (const std::size_t i : written) {
-      std::copy_n(all.work[i].edit.cells().data(), all.work[i].edit.cells().size(), packed.data() + at);
-      at += all.work[i].edit.cells().size();
-    }
+    all.packed.resize(bytes);  // no larger than the read's
+    const int copies = int(std::min<std::size_t>(written.size(), std::size_t(tasks.thread_count())));
+    tasks.run(copies, [&](int task) {
+      for (std::size_t k = std::size_t(task); k < written.size(); k += std::size_t(copies)) {
+        const RegionEdit& edit = all.work[written[k]].edit;
+        std::copy_n(edit.cells().data(), edit.cells().size(), all.packed.data() + write_at[k]);
+      }
+    });
     std::sort(woken.begin(), woken.end());
     woken.erase(std::unique(woken.begin(), woken.end()), woken.end());
     mark_bricks(woken);
-    live().write_boxes(boxes, packed, woken);
+    live().write_boxes(boxes, all.packed, woken);
   }
   for (const std::size_t i : moving) {
     all.work[i].edit.trim();

@@ -50,6 +50,7 @@ struct World::Bodies {
   std::vector<StampScratch> stamp;    ///< per task of the stamp
   std::vector<ForceScratch> forces;   ///< per task of the stamp
   std::shared_ptr<TaskSystem> tasks;  ///< the threads the groups are stamped on (null until the first stamp)
+  std::vector<std::uint8_t> packed;   ///< the moving regions' bytes, one after another, as read and as written
 };
 
 }  // namespace granular
