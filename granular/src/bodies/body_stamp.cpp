@@ -195,12 +195,8 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
   // Every cell's class at once: a table lookup a cell, then the surfaces (kLiquidOut, bit 3, under
   // kOpenOut, bit 4, gives kSurface, bit 5) without a branch; the top layer has none.
   static_assert(kLiquidOut == 8 && kOpenOut == 16 && kSurface == 32 && kMaterialMask == kMaterialCount - 1);
-  std::array<std::uint8_t, 4 * kMaterialCount> class_flat{};  // by in_shape * kMaterialCount + material
-  for (std::size_t in = 0; in < 4; ++in)
-    for (std::size_t m = 0; m < kMaterialCount; ++m) class_flat[in * kMaterialCount + m] = class_of[in][m];
   s.cls.resize(region.volume());
-  for (std::uint32_t i = 0; i < region.volume(); ++i)
-    s.cls[i] = class_flat[std::size_t(s.in_shape[i]) * kMaterialCount + (bytes[i] & kMaterialMask)];
+  for (std::uint32_t i = 0; i < region.volume(); ++i) s.cls[i] = class_of[s.in_shape[i]][bytes[i] & kMaterialMask];
   for (std::uint32_t i = 0, below_top = std::uint32_t(region.volume() - std::size_t(layer)); i < below_top; ++i)
     s.cls[i] |= std::uint8_t(((s.cls[i] >> 3) & (s.cls[i + std::uint32_t(layer)] >> 4) & 1) << 5);
   classed = true;
