@@ -55,7 +55,12 @@ TEST_CASE("a layer's surroundings from bit rows are the cells within reach of it
           }
         std::shuffle(cells.begin(), cells.end(), rng);  // the helper takes the cells in any order
         std::multiset<std::uint32_t> got;
-        for_each_cell_beside(region, cells, reach, rows, [&](std::uint32_t i) { got.insert(i); });
+        bool layers_right = true;
+        for_each_cell_beside(region, cells, reach, rows, [&](std::uint32_t i, int z) {
+          got.insert(i);
+          layers_right = layers_right && region.cell(i).z == region.box.min.z + z;
+        });
+        CHECK(layers_right);
         const std::set<std::uint32_t> want = beside_by_definition(region, in, reach);
         CAPTURE(width);
         CAPTURE(reach);
@@ -70,7 +75,7 @@ TEST_CASE("a set of no cells has no surroundings") {
   const BodyRegion region(Box{{0, 0, 0}, {8, 8, 8}});
   std::vector<std::uint64_t> rows;
   int calls = 0;
-  for_each_cell_beside(region, std::vector<Int3>{}, 2, rows, [&](std::uint32_t) { ++calls; });
+  for_each_cell_beside(region, std::vector<Int3>{}, 2, rows, [&](std::uint32_t, int) { ++calls; });
   CHECK(calls == 0);
 }
 

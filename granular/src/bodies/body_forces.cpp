@@ -68,11 +68,10 @@ void sand_forces(const Box& box, std::span<const std::uint8_t> bytes, Int3 grid,
   std::vector<Layer> layers(std::size_t(region.e.z));
   // Each layer's surroundings: the cells of the layer within kRingWidth cells (in x and y) of a cell
   // of it on its edge, so that a grain toppling beside the body changes them by little.
-  const std::uint32_t layer_cells = std::uint32_t(region.e.x) * std::uint32_t(region.e.y);
-  for_each_cell_beside(region, s.owned_at, kRingWidth, s.rows, [&](std::uint32_t i) {
+  for_each_cell_beside(region, s.owned_at, kRingWidth, s.rows, [&](std::uint32_t i, int z) {
     const std::uint8_t m = std::uint8_t(bytes[i] & kMaterialMask);
     if (is_static(m)) return;
-    Layer& layer = layers[i / layer_cells];
+    Layer& layer = layers[std::size_t(z)];
     ++layer.beside[m];
     ++layer.beside_total;
   });

@@ -43,8 +43,9 @@ struct BodyRegion {
   std::size_t volume() const { return std::size_t(e.x) * std::size_t(e.y) * std::size_t(e.z); }
 };
 
-/// The surroundings of a set of cells of `region`, layer by layer: calls fn(i) once for the local
-/// index i of each cell of the region not in the set that lies within `reach` cells in x and in y
+/// The surroundings of a set of cells of `region`, layer by layer: calls fn(i, z) once for the local
+/// index i, in layer z of the region (0 its first), of each cell of the region not in the set that
+/// lies within `reach` cells in x and in y
 /// of an edge cell of the set in the same layer (a cell of it with a side neighbour in its layer
 /// outside the set or the region). `cells` are the set's cells (each in the region); `rows` is
 /// scratch. Works on bit rows (a bit a cell along x): the edges, widened by `reach` along x, then
@@ -100,7 +101,8 @@ void for_each_cell_beside(const BodyRegion& region, std::span<const Int3> cells,
           near |= wide[from * words + w];
         near &= ~in[y * words + w] & (w + 1 == words ? last_word : ~std::uint64_t(0));
         for (; near != 0; near &= near - 1)
-          fn(first + std::uint32_t(y * std::size_t(region.e.x) + w * 64 + std::size_t(std::countr_zero(near))));
+          fn(first + std::uint32_t(y * std::size_t(region.e.x) + w * 64 + std::size_t(std::countr_zero(near))),
+             low - region.box.min.z + int(z));
       }
   }
 }

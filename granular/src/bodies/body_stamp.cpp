@@ -123,7 +123,7 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
 
   s.in_shape.assign(region.volume(), 0);
   for (const Int3 c : s.shape_at) s.in_shape[region.local(c)] = kShape;
-  for_each_cell_beside(region, s.shape_at, kRingWidth, s.rows, [&](std::uint32_t i) { s.in_shape[i] = kNear; });
+  for_each_cell_beside(region, s.shape_at, kRingWidth, s.rows, [&](std::uint32_t i, int) { s.in_shape[i] = kNear; });
   auto outside = [&](std::uint32_t i) { return s.in_shape[i] == 0 || s.in_shape[i] == kNear; };
 
   // The cells the body left.
