@@ -192,7 +192,8 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
         }
       }
   }
-  // Every cell's class at once: a table lookup a cell, then the surfaces (kLiquidOut, bit 3, under
+  // Every cell's class at once, what classify and classify_surface give a cell (they keep it as
+  // cells are written): a table lookup a cell, then the surfaces (kLiquidOut, bit 3, under
   // kOpenOut, bit 4, gives kSurface, bit 5) without a branch; the top layer has none.
   static_assert(kLiquidOut == 8 && kOpenOut == 16 && kSurface == 32 && kMaterialMask == kMaterialCount - 1);
   s.cls.resize(region.volume());
