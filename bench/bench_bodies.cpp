@@ -143,6 +143,7 @@ int main(int argc, char** argv) try {
     phases.bodies_read += p.bodies_read;
     phases.bodies_stamp += p.bodies_stamp;
     phases.bodies_write += p.bodies_write;
+    phases.bodies_forces += p.bodies_forces;
     awake += with.activity().brick_ticks;
     awake_without += without.activity().brick_ticks;
   }
@@ -153,11 +154,13 @@ int main(int argc, char** argv) try {
   std::printf("  with bodies %.3f ms/tick (%.2fx real time), without %.3f ms/tick, bodies add %.3f ms/tick\n", with_ms,
               tick_s * 1e3 / with_ms, without_ms, with_ms - without_ms);
   const double per_tick = 1.0 / o.ticks;
-  std::printf("  with bodies, per tick: step %.3f ms (%.0f bricks awake; %.0f without), bodies %.3f ms: shapes %.3f, "
-              "read %.3f, stamp and forces %.3f, write %.3f\n",
-              phases.step * per_tick, double(awake) * per_tick, double(awake_without) * per_tick,
-              phases.bodies * per_tick, phases.bodies_shapes * per_tick, phases.bodies_read * per_tick,
-              phases.bodies_stamp * per_tick, phases.bodies_write * per_tick);
+  std::printf(
+      "  with bodies, per tick: step %.3f ms (%.0f bricks awake; %.0f without), bodies %.3f ms: shapes %.3f, "
+      "read %.3f, stamps %.3f, write %.3f, forces %.3f%s\n",
+      phases.step * per_tick, double(awake) * per_tick, double(awake_without) * per_tick, phases.bodies * per_tick,
+      phases.bodies_shapes * per_tick, phases.bodies_read * per_tick, phases.bodies_stamp * per_tick,
+      phases.bodies_write * per_tick, phases.bodies_forces * per_tick,
+      o.backend == "cuda" ? " (found while the device steps: within the step, not the bodies)" : "");
   std::printf("  the world with bodies ends with hash %016llx\n", static_cast<unsigned long long>(with.hash()));
   return 0;
 } catch (const std::exception& e) {

@@ -300,8 +300,12 @@ class World {
   void gather_bricks(std::span<const std::uint32_t> bricks, std::span<std::uint8_t> out, const char* what,
                      Read&& read) const;
   void take_step_changes() const;
-  // Writes every body into the grid at its pose (stamp_body) and fills its BodySand.
+  // Writes every body into the grid at its pose (stamp_body), and fills what its BodySand says of that.
   void stamp_bodies();
+  // Steps the cells one tick, and fills each body's BodySand forces from its region as the stamps
+  // left it: at once where the backend steps on a device, the forces first where the step needs the
+  // host's threads.
+  void step_sensing_bodies();
   // Moves every body's pose on by its velocity: after a tick.
   void advance_bodies();
   // Turns the cells of `owned` (grid indices) that still hold WorldDef::body_material void, and

@@ -217,10 +217,8 @@ void World::step(int ticks) {
   Stopwatch whole, watch;
   if (bodies_ && !bodies_->list.empty()) {
     for (int t = 0; t < ticks; ++t) {
-      stamp_bodies();  // times its own phases
-      watch.lap();
-      live().step(tick_, 1);
-      profile_.step += watch.lap();
+      stamp_bodies();         // times its own phases
+      step_sensing_bodies();  // likewise
       ++tick_;
       advance_bodies();
     }

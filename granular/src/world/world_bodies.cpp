@@ -412,7 +412,6 @@ void World::stamp_bodies() {
   Bodies& all = *bodies_;
   Stopwatch whole, watch;
   const std::uint8_t body_material = to_cell(def_.body_material);
-  const BodyScale scale{def_.cell_metres, tick_seconds(*rules_, def_.cell_metres), kStandardGravity};
   take_step_changes();  // the bricks the last tick changed, for the bodies at rest below
   // True when no brick of `region` changed since `version` (brick_version_).
   auto unchanged = [&](const Box& region, std::uint64_t version) {
@@ -494,7 +493,6 @@ void World::stamp_bodies() {
   profile_.bodies_read += watch.lap();
   const int task_count = int(std::min<std::size_t>(groups.size(), std::size_t(tasks.thread_count())));
   all.stamp.resize(std::size_t(task_count));
-  all.forces.resize(std::size_t(task_count));
   const MaterialTable& materials = rules_->materials;
   const std::uint64_t seed = def_.seed, tick = tick_;
   const Int3 grid = size_, origin = slab_tools_ ? slab_tools_->origin : Int3{};
@@ -513,19 +511,14 @@ void World::stamp_bodies() {
   std::atomic<std::size_t> next_group{0};
   tasks.run(task_count, [&](int task) {
     StampScratch& stamp = all.stamp[std::size_t(task)];
-    ForceScratch& forces = all.forces[std::size_t(task)];
     for (std::size_t taken = next_group++; taken < groups.size(); taken = next_group++) {
       const std::vector<std::size_t>& members = groups[by_cost[taken]];
       for (std::size_t k = 0; k < members.size(); ++k) {
         BodyRecord& body = all.list[members[k]];
         BodyStampWork& work = all.work[members[k]];
+        work.stamped = group_moves[work.group] != 0;
+        if (!work.stamped) continue;
         Stopwatch took;
-        if (!group_moves[work.group]) {
-          sand_forces(work.region, body.region_bytes, grid, body.owned, materials, body.pose, body.mass, body.moment,
-                      scale, body.sand, forces);
-          work.last_ms = took.lap();
-          continue;
-        }
         work.edit.begin(work.region, grid, origin);
         std::copy_n(all.packed.data() + read_at[members[k]], work.edit.cells().size(), work.edit.cells().data());
         for (std::size_t j = 0; j < k; ++j) copy_overlap(all.work[members[j]].edit, work.edit);
@@ -535,8 +528,6 @@ void World::stamp_bodies() {
         work.edit.flag_written(stamp.written);  // their bricks wake and count as changed
         body.sand.blocked = stamped.blocked;
         body.sand.displaced = stamped.displaced;
-        sand_forces(work.region, work.edit.cells(), grid, body.owned, materials, body.pose, body.mass, body.moment,
-                    scale, body.sand, forces);
         work.last_ms = took.lap();
       }
       // Every region of the group takes the cells its later bodies wrote, so that where regions
@@ -586,12 +577,57 @@ void World::stamp_bodies() {
     mark_bricks(woken);
     live().write_boxes(boxes, all.packed, woken);
   }
-  for (const std::size_t i : moving) {
-    all.work[i].edit.trim();
-    all.list[i].version = change_version_;
-  }
+  for (const std::size_t i : moving) all.list[i].version = change_version_;
   profile_.bodies_write += watch.lap();
   profile_.bodies += whole.lap();
+}
+
+void World::step_sensing_bodies() {
+  Bodies& all = *bodies_;
+  const BodyScale scale{def_.cell_metres, tick_seconds(*rules_, def_.cell_metres), kStandardGravity};
+  const MaterialTable& materials = rules_->materials;
+  const std::size_t n = all.list.size();
+  TaskSystem& tasks = body_tasks();
+  const int task_count = int(std::min<std::size_t>(n, std::size_t(std::max(1, tasks.thread_count()))));
+  all.forces.resize(std::size_t(task_count));
+  // What the sand does to each body, from its region as its group's stamps left it (the grid the
+  // step starts from): the bytes of its edit where its group was stamped, else those it kept.
+  std::atomic<std::size_t> next_body{0};
+  std::vector<double> sensed_ms(std::size_t(task_count), 0);
+  auto sense = [&](int task) {
+    Stopwatch took;
+    for (std::size_t i = next_body++; i < n; i = next_body++) {
+      BodyRecord& body = all.list[i];
+      BodyStampWork& work = all.work[i];
+      if (work.region.empty()) continue;
+      const std::span<const std::uint8_t> bytes =
+          work.stamped ? std::span<const std::uint8_t>(work.edit.cells()) : body.region_bytes;
+      sand_forces(work.region, bytes, size_, body.owned, materials, body.pose, body.mass, body.moment, scale, body.sand,
+                  all.forces[std::size_t(task)]);
+    }
+    sensed_ms[std::size_t(task)] = took.lap();
+  };
+  Stopwatch watch;
+  if (live().host_tasks() == nullptr) {
+    // The backend steps on a device and the host only waits for it: the forces are found meanwhile,
+    // on the world's threads, one of which steps first.
+    tasks.run(task_count, [&](int task) {
+      if (task == 0) live().step(tick_, 1);
+      sense(task);
+    });
+    profile_.step += watch.lap();
+    profile_.bodies_forces += *std::max_element(sensed_ms.begin(), sensed_ms.end());
+  } else {
+    // The step needs the host's threads.
+    tasks.run(task_count, sense);
+    const double forces = watch.lap();
+    profile_.bodies_forces += forces;
+    profile_.bodies += forces;
+    live().step(tick_, 1);
+    profile_.step += watch.lap();
+  }
+  for (BodyStampWork& work : all.work)
+    if (work.stamped) work.edit.trim();
 }
 
 void World::advance_bodies() {

@@ -37,9 +37,10 @@ struct BodyStampWork {
   Box held;                          ///< the bounds of the cells it holds (empty: none)
   Box region;                        ///< the cells it reads and writes this tick (empty: none)
   bool at_rest = false;              ///< it holds its shape in a region nothing changed since its last stamp
+  bool stamped = false;              ///< its group was stamped this tick: edit holds its region as the group left it
   std::size_t group = 0;             ///< the first body of its group (bodies whose regions overlap)
   RegionEdit edit;                   ///< its region's cells and the bricks its stamp wrote
-  double last_ms = -1;               ///< host time its stamp and forces took last tick (-1: none yet), to schedule by
+  double last_ms = -1;               ///< host time its stamp took last tick (-1: none yet), to schedule by
 };
 
 /// The bodies of a World.
@@ -48,7 +49,7 @@ struct World::Bodies {
   BodyId next = 1;                    ///< the next handle
   std::vector<BodyStampWork> work;    ///< per body of `list`, this tick's stamp
   std::vector<StampScratch> stamp;    ///< per task of the stamp
-  std::vector<ForceScratch> forces;   ///< per task of the stamp
+  std::vector<ForceScratch> forces;   ///< per task of the forces
   std::shared_ptr<TaskSystem> tasks;  ///< the threads the groups are stamped on (null until the first stamp)
   std::vector<std::uint8_t> packed;   ///< the moving regions' bytes, one after another, as read and as written
 };
