@@ -435,6 +435,19 @@ void World::stamp_bodies() {
   // Each body's shape (its cells and their bounds), then its region: its old and new cells and the
   // reach of the pushes around them. A body that jumped farther than that leaves its old cells
   // first, so the region stays its size.
+  auto region_of = [&](const BodyRecord& body, const BodyStampWork& work) {
+    if (work.shape.empty() && body.owned.empty()) return Box{};  // wholly outside the grid
+    return intersect(grown(joined(work.held, work.bounds), kBodyReach), Box{{0, 0, 0}, size_});
+  };
+  // A body at rest holds its whole shape in a region nothing changed since its last stamp. A group
+  // of bodies whose regions overlap is stamped in the order the bodies were added, each seeing what
+  // the ones before it wrote; a group whose bodies all rest would change nothing, and its reports
+  // come from the bytes they kept. Groups touch disjoint cells, so they are stamped at once.
+  auto rests = [&](const BodyRecord& body, const BodyStampWork& work) {
+    return !work.region.empty() && work.shape == body.owned && work.region == body.region &&
+           !body.region_bytes.empty() && unchanged(work.region, body.version);
+  };
+  std::vector<std::uint8_t> jumped(n, 0);
   for_each_body([&](std::size_t i) {
     BodyRecord& body = all.list[i];
     BodyStampWork& work = all.work[i];
@@ -442,34 +455,32 @@ void World::stamp_bodies() {
     placed.cells(size_, work.shape);
     work.bounds = work.shape.empty() ? Box{} : placed.bounds(size_);
     work.held = bounds_of(body.owned, size_);
+    work.changes = 0;  // the cells its shape gains and loses, both lists ascending
+    for (auto a = work.shape.begin(), b = body.owned.begin(); a != work.shape.end() || b != body.owned.end();) {
+      const bool gained = b == body.owned.end() || (a != work.shape.end() && *a < *b);
+      const bool lost = !gained && (a == work.shape.end() || *b < *a);
+      work.changes += gained || lost;
+      if (!lost) ++a;
+      if (!gained) ++b;
+    }
+    jumped[i] = !work.held.empty() && !work.bounds.empty() &&
+                intersect(grown(work.held, kBodyReach), grown(work.bounds, kBodyReach)).empty();
+    work.region = jumped[i] ? Box{} : region_of(body, work);
+    work.at_rest = !jumped[i] && rests(body, work);
     body.sand = BodySand{};
     body.sand.tick = tick_;
     body.sand.mass = body.mass;
   });
-  for (std::size_t i = 0; i < n; ++i) {
-    BodyRecord& body = all.list[i];
-    BodyStampWork& work = all.work[i];
-    work.region = {};
-    if (work.shape.empty() && body.owned.empty()) continue;  // wholly outside the grid
-    const Box new_cells = work.bounds;
-    if (!work.held.empty() && !new_cells.empty() &&
-        intersect(grown(work.held, kBodyReach), grown(new_cells, kBodyReach)).empty()) {
-      release_body_cells(body.owned);
-      work.held = {};
+  bool released = false;
+  for (std::size_t i = 0; i < n; ++i)
+    if (jumped[i]) {
+      release_body_cells(all.list[i].owned);
+      all.work[i].held = {};
+      all.work[i].region = region_of(all.list[i], all.work[i]);
+      released = true;
     }
-    if (work.shape.empty() && body.owned.empty()) continue;
-    work.region = intersect(grown(joined(work.held, new_cells), kBodyReach), Box{{0, 0, 0}, size_});
-  }
-  // A body at rest holds its whole shape in a region nothing changed since its last stamp. A group
-  // of bodies whose regions overlap is stamped in the order the bodies were added, each seeing what
-  // the ones before it wrote; a group whose bodies all rest would change nothing, and its reports
-  // come from the bytes they kept. Groups touch disjoint cells, so they are stamped at once.
-  for_each_body([&](std::size_t i) {
-    const BodyRecord& body = all.list[i];
-    BodyStampWork& work = all.work[i];
-    work.at_rest = !work.region.empty() && work.shape == body.owned && work.region == body.region &&
-                   !body.region_bytes.empty() && unchanged(work.region, body.version);
-  });
+  if (released)  // the cells released changed bricks
+    for (std::size_t i = 0; i < n; ++i) all.work[i].at_rest = rests(all.list[i], all.work[i]);
   const std::vector<std::vector<std::size_t>> groups = group_bodies(all.work);
   std::vector<std::uint8_t> group_moves(n, 0);  // per group's first body
   for (std::size_t i = 0; i < n; ++i)
@@ -496,16 +507,22 @@ void World::stamp_bodies() {
   const MaterialTable& materials = rules_->materials;
   const std::uint64_t seed = def_.seed, tick = tick_;
   const Int3 grid = size_, origin = slab_tools_ ? slab_tools_->origin : Int3{};
-  // The groups are taken one at a time by whichever task is free, the costliest first (by what
-  // their bodies took last tick; a body new to the stamp first of all), so that a few costly groups
-  // do not all fall to one thread. Groups touch disjoint cells and each task has its own scratch:
-  // the cells do not depend on who takes what, nor on the times.
+  // The groups are taken one at a time by whichever task is free, the costliest first, so that a
+  // few costly groups do not all fall to one thread. A body's cost is the cells its shape gains and
+  // loses this tick at what a changed cell took in its last stamp that changed any (a body new to
+  // the stamp first of all): what it pushes and fills grows with them, and what a cell costs
+  // depends on what the body wades through. Groups touch disjoint cells and each task has its own
+  // scratch: the cells do not depend on who takes what, nor on the times.
   std::vector<std::size_t> by_cost(groups.size());
   std::vector<double> cost(groups.size(), 0);
   for (std::size_t g = 0; g < groups.size(); ++g) {
     by_cost[g] = g;
-    for (const std::size_t i : groups[g])
-      cost[g] += all.work[i].last_ms >= 0 ? all.work[i].last_ms : std::numeric_limits<double>::infinity();
+    for (const std::size_t i : groups[g]) {
+      const BodyStampWork& work = all.work[i];
+      if (work.changes > 0)
+        cost[g] += work.ms_per_change >= 0 ? double(work.changes) * work.ms_per_change
+                                           : std::numeric_limits<double>::infinity();
+    }
   }
   std::stable_sort(by_cost.begin(), by_cost.end(), [&](std::size_t a, std::size_t b) { return cost[a] > cost[b]; });
   std::atomic<std::size_t> next_group{0};
@@ -528,7 +545,8 @@ void World::stamp_bodies() {
         work.edit.flag_written(stamp.written);  // their bricks wake and count as changed
         body.sand.blocked = stamped.blocked;
         body.sand.displaced = stamped.displaced;
-        work.last_ms = took.lap();
+        const double took_ms = took.lap();
+        if (work.changes > 0) work.ms_per_change = took_ms / double(work.changes);
       }
       // Every region of the group takes the cells its later bodies wrote, so that where regions
       // overlap they agree (the grid after the group), and can be written in any order.

@@ -40,7 +40,8 @@ struct BodyStampWork {
   bool stamped = false;              ///< its group was stamped this tick: edit holds its region as the group left it
   std::size_t group = 0;             ///< the first body of its group (bodies whose regions overlap)
   RegionEdit edit;                   ///< its region's cells and the bricks its stamp wrote
-  double last_ms = -1;               ///< host time its stamp took last tick (-1: none yet), to schedule by
+  std::size_t changes = 0;           ///< cells its shape gains and loses this tick
+  double ms_per_change = -1;  ///< host time its last stamp with changes took per change (-1: none yet), to schedule by
 };
 
 /// The bodies of a World.
