@@ -41,21 +41,6 @@ PlacedShape::PlacedShape(const BodyDef& def, const BodyPose& pose)
       centre_(pose.position),
       rotation_(Rotation::of(pose.orientation)) {}
 
-bool PlacedShape::contains(const Vec3& p) const {
-  const Vec3 q = rotation_.inverse({p.x - centre_.x, p.y - centre_.y, p.z - centre_.z});
-  switch (shape_) {
-    case BodyShape::Box:
-      return std::abs(q.x) <= half_.x && std::abs(q.y) <= half_.y && std::abs(q.z) <= half_.z;
-    case BodyShape::Sphere:
-      return q.x * q.x + q.y * q.y + q.z * q.z <= radius_ * radius_;
-    case BodyShape::Capsule: {
-      const double z = std::clamp(q.z, -half_length_, half_length_);
-      return q.x * q.x + q.y * q.y + (q.z - z) * (q.z - z) <= radius_ * radius_;
-    }
-  }
-  return false;
-}
-
 Box PlacedShape::bounds(Int3 size) const {
   Vec3 reach{radius_, radius_, radius_};
   if (shape_ == BodyShape::Box) {
@@ -80,14 +65,60 @@ Box PlacedShape::bounds(Int3 size) const {
   return box;
 }
 
+namespace {
+
+/// Appends to `out` the grid indices of the cells of `box` (in a grid of `size`) whose centres are
+/// `inside` (a test on the body's axes, for a shape turned by `rotation` about `centre`). A row's
+/// centres step by one rotated x axis from its first, and its cells inside are one run (the shape
+/// is convex), so a row ends at its first cell outside after one inside.
+template <class Inside>
+void append_cells(const Rotation& rotation, const Vec3& centre, Int3 size, const Box& box, Inside&& inside,
+                  std::vector<std::uint64_t>& out) {
+  const Vec3 step = rotation.inverse({1, 0, 0});
+  for (int z = box.min.z; z < box.max.z; ++z)
+    for (int y = box.min.y; y < box.max.y; ++y) {
+      Vec3 q = rotation.inverse({box.min.x + 0.5 - centre.x, y + 0.5 - centre.y, z + 0.5 - centre.z});
+      const std::uint64_t row = grid_index(size, 0, y, z);
+      bool entered = false;
+      for (int x = box.min.x; x < box.max.x; ++x, q = {q.x + step.x, q.y + step.y, q.z + step.z}) {
+        if (inside(q)) {
+          out.push_back(row + std::uint64_t(x));
+          entered = true;
+        } else if (entered) {
+          break;
+        }
+      }
+    }
+}
+
+}  // namespace
+
 void PlacedShape::cells(Int3 size, std::vector<std::uint64_t>& out) const {
   out.clear();
   const Box b = bounds(size);
   if (b.empty()) return;
-  for (int z = b.min.z; z < b.max.z; ++z)
-    for (int y = b.min.y; y < b.max.y; ++y)
-      for (int x = b.min.x; x < b.max.x; ++x)
-        if (contains({x + 0.5, y + 0.5, z + 0.5})) out.push_back(grid_index(size, x, y, z));
+  switch (shape_) {
+    case BodyShape::Box:
+      append_cells(
+          rotation_, centre_, size, b,
+          [h = half_](const Vec3& q) { return std::abs(q.x) <= h.x && std::abs(q.y) <= h.y && std::abs(q.z) <= h.z; },
+          out);
+      return;
+    case BodyShape::Sphere:
+      append_cells(
+          rotation_, centre_, size, b,
+          [r2 = radius_ * radius_](const Vec3& q) { return q.x * q.x + q.y * q.y + q.z * q.z <= r2; }, out);
+      return;
+    case BodyShape::Capsule:
+      append_cells(
+          rotation_, centre_, size, b,
+          [r2 = radius_ * radius_, l = half_length_](const Vec3& q) {
+            const double z = q.z - std::clamp(q.z, -l, l);
+            return q.x * q.x + q.y * q.y + z * z <= r2;
+          },
+          out);
+      return;
+  }
 }
 
 double shape_volume(const BodyDef& def) {

@@ -21,17 +21,15 @@ struct Rotation {
   Vec3 inverse(const Vec3& v) const;
 };
 
-/// A body's shape placed at a pose: what is inside it, its bounds and its volume.
+/// A body's shape placed at a pose: its cells and their bounds.
 class PlacedShape {
  public:
   /// `def`'s shape at `pose` (def.pose is not read).
   PlacedShape(const BodyDef& def, const BodyPose& pose);
-  /// True when the point `p` (cells) lies inside the shape (its surface included).
-  bool contains(const Vec3& p) const;
   /// The cells whose centres may lie inside, clipped to a grid of `size` (empty when it misses it).
   Box bounds(Int3 size) const;
   /// The grid indices (x + size.x * (y + size.y * z)), ascending, of the cells of a grid of `size`
-  /// whose centres lie inside, into `out` (cleared first).
+  /// whose centres lie inside (its surface included), into `out` (cleared first).
   void cells(Int3 size, std::vector<std::uint64_t>& out) const;
 
  private:
