@@ -107,18 +107,25 @@ void for_each_cell_beside(const BodyRegion& region, std::span<const Int3> cells,
   }
 }
 
-/// The cells `cells` (ascending grid indices of a grid of `grid`) as coordinates, into `out`: one
-/// division per run of cells along x, not one per cell.
-inline void cells_at(const std::vector<std::uint64_t>& cells, Int3 grid, std::vector<Int3>& out) {
-  out.resize(cells.size());
+/// Calls fn(c) with the cell c of each grid index of `cells` (ascending, of a grid of `grid`) in
+/// turn, stepping along a row where the next index lies in it rather than dividing.
+template <class Fn>
+void for_each_cell_at(const std::vector<std::uint64_t>& cells, Int3 grid, Fn&& fn) {
   Int3 c{};
   for (std::size_t k = 0; k < cells.size(); ++k) {
     if (k > 0 && cells[k] - cells[k - 1] < std::uint64_t(grid.x - c.x))
       c.x += int(cells[k] - cells[k - 1]);
     else
       c = grid_cell(grid, cells[k]);
-    out[k] = c;
+    fn(c);
   }
+}
+
+/// The cells of the grid indices `cells` (ascending, of a grid of `grid`), into `out`.
+inline void cells_at(const std::vector<std::uint64_t>& cells, Int3 grid, std::vector<Int3>& out) {
+  out.resize(cells.size());
+  std::size_t k = 0;
+  for_each_cell_at(cells, grid, [&](Int3 c) { out[k++] = c; });
 }
 
 }  // namespace granular

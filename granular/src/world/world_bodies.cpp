@@ -10,6 +10,7 @@
 #include <string>
 
 #include "world/world_body_set.hpp"
+#include "bodies/body_region.hpp"
 #include "bodies/body_shape.hpp"
 #include "granular/bricks.hpp"
 #include "granular/errors.hpp"
@@ -167,11 +168,10 @@ namespace {
 Box bounds_of(const std::vector<std::uint64_t>& cells, Int3 size) {
   if (cells.empty()) return {};
   Box b{grid_cell(size, cells.front()), grid_cell(size, cells.front())};
-  for (const std::uint64_t g : cells) {
-    const Int3 c = grid_cell(size, g);
+  for_each_cell_at(cells, size, [&](Int3 c) {
     b.min = {std::min(b.min.x, c.x), std::min(b.min.y, c.y), std::min(b.min.z, c.z)};
     b.max = {std::max(b.max.x, c.x), std::max(b.max.y, c.y), std::max(b.max.z, c.z)};
-  }
+  });
   b.max = {b.max.x + 1, b.max.y + 1, b.max.z + 1};
   return b;
 }
