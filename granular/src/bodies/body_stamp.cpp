@@ -43,6 +43,11 @@ Int3 lead_of(const Vec3& motion) {
   return {0, 0, motion.z > 0 ? 1 : -1};
 }
 
+/// Layers below a wake cell that the path of its fill may go down to: water does not come up a
+/// deeper bend to fill a wake in one tick (the rules close such a wake), and the searches stay near
+/// the wake's own layers.
+constexpr int kFillDepth = 2;
+
 /// Cells a push's search from a filled void may reach before the distances are searched anew.
 constexpr std::size_t kSearchBeforeRefresh = 512;
 
@@ -216,7 +221,7 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
     return out;
   };
   auto nearest = [&](std::uint32_t from, const std::array<Int3, 6>& order, bool nearby_will_do, std::uint8_t pass,
-                     auto&& target, auto skip_dead) -> std::int64_t {
+                     auto&& target, auto skip_dead, std::uint32_t lowest) -> std::int64_t {
     for (const std::uint32_t i : s.queue) s.cls[i] &= std::uint8_t(~kSeen);  // the last search's marks
     s.queue.assign(1, from);
     s.cls[from] |= kSeen;
@@ -229,7 +234,7 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
       for (const Step& step : steps) {
         if (s.edges[i] & step.edge) continue;
         const std::uint32_t j = std::uint32_t(std::int64_t(i) + step.delta);
-        if ((s.cls[j] & (pass | kSeen | kOnRoute)) != pass) continue;
+        if ((s.cls[j] & (pass | kSeen | kOnRoute)) != pass || j < lowest) continue;
         if constexpr (decltype(skip_dead)::value)
           if (s.dead[j]) continue;
         s.cls[j] |= kSeen;
@@ -384,7 +389,7 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
       if (!free_cell(s.route.back())) {  // the distances led to a filled void, or nowhere: search on
         for (const std::uint32_t i : s.route) s.cls[i] |= kOnRoute;
         const std::uint32_t from = s.route.back();
-        const std::int64_t end = nearest(from, directions(lead, 0), true, kPass, void_found, std::false_type{});
+        const std::int64_t end = nearest(from, directions(lead, 0), true, kPass, void_found, std::false_type{}, 0);
         for (const std::uint32_t i : s.route) s.cls[i] &= std::uint8_t(~kOnRoute);
         const bool grown = s.queue.size() > kSearchBeforeRefresh;
         if (end < 0) {  // no void within reach
@@ -438,9 +443,10 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
         if (j < above_wake || !(s.cls[j] & kSurface)) return kNot;
         return s.in_shape[j] == 0 ? kFar : kNearby;
       };
+      const std::uint32_t lowest = std::uint32_t(std::max(0, at.z - region.box.min.z - kFillDepth) * layer);
       const std::int64_t found =
           nearest(wake, directions({}, unsigned(mix64(salt ^ ~grid_index(grid, at.x, at.y, at.z)) & 3)), nearby_will_do,
-                  kLiquidOut, surface, std::true_type{});
+                  kLiquidOut, surface, std::true_type{}, lowest);
       if (found < 0 || s.in_shape[std::uint32_t(found)] == kNear) nearby_will_do = true;
       if (found < 0) continue;
       ++result.filled[material(std::uint32_t(found))];
