@@ -5,6 +5,7 @@
 #include <bit>
 #include <climits>
 #include <cmath>
+#include <cstring>
 #include <type_traits>
 
 #include "bodies/body_forces.hpp"
@@ -289,32 +290,59 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
     const std::size_t words = (std::size_t(region.e.x) + 63) / 64, rows = std::size_t(region.e.y) * region.e.z;
     const std::size_t row_step = words, layer_step = words * std::size_t(region.e.y);
     std::size_t next_push = 0;  // the pushes before it are done
+    // s.distance holds, per cell the last search reached, that search's number (s.searched, the top
+    // 8 bits) and the cell's distance, so that no search clears it; a cell holding another number
+    // has no distance.
+    auto distance = [&](std::uint32_t i) {
+      const std::uint32_t v = s.distance[i];
+      return v >> 24 == s.searched ? std::int32_t(v & 0xFFFFFF) : -1;
+    };
     auto field = [&] {
+      static_assert(kMaxBodyHalfSize <= 64, "a region's distances fit in 24 bits");
       s.distance.resize(region.volume());
-      s.pending.assign(region.volume(), 0);
-      for (std::size_t k = next_push; k < s.push.size(); ++k) s.pending[region.local(s.shape_at[s.push[k]])] = 1;
-      std::size_t to_reach = s.push.size() - next_push;  // pushes to come whose start it has not reached
+      if (++s.searched == 256) {  // the numbers wrap: none may be left over
+        s.searched = 1;
+        std::fill(s.distance.begin(), s.distance.end(), 0u);
+      }
+      const std::uint32_t numbered = s.searched << 24;
       s.passable.resize(rows * words);
       s.reached.assign(rows * words, 0);
       s.at_distance.resize(rows * words);
       s.next_distance.assign(rows * words, 0);
+      s.pending.assign(rows * words, 0);  // the starts of the pushes still to come, as bits
+      for (std::size_t k = next_push; k < s.push.size(); ++k) {
+        const Int3 c = s.shape_at[s.push[k]];
+        const int x = c.x - region.box.min.x;
+        s.pending[(std::size_t(c.z - region.box.min.z) * region.e.y + std::size_t(c.y - region.box.min.y)) * words +
+                  std::size_t(x / 64)] |= std::uint64_t(1) << (x % 64);
+      }
+      std::size_t to_reach = s.push.size() - next_push;  // pushes to come whose start it has not reached
       int low = region.e.z, high = -1;  // the layers of the cells at the current distance
-      // A row's bits, 64 cells at a time, from the class bits kPass (1) and kFree (2) without a branch.
-      static_assert(kPass == 1 && kFree == 2);
+      // A row's bits, 64 cells at a time, from the class bits kPass (1) and kFree (2): eight cells'
+      // bytes at once, the multiply gathering bit 0 of byte k into bit 56 + k.
+      static_assert(kPass == 1 && kFree == 2 && std::endian::native == std::endian::little);
+      constexpr std::uint64_t kLow = 0x0101010101010101ull, kGather = 0x0102040810204080ull;
       for (std::uint32_t i = 0, r = 0; r < rows; ++r) {
         std::uint64_t any_free = 0;
         for (std::size_t w = 0; w < words; ++w) {
           std::uint64_t pass = 0, free = 0;
           const int end = std::min(64, region.e.x - int(w * 64));
-          for (int x = 0; x < end; ++x, ++i) {
-            const std::uint8_t c = s.cls[i];
-            pass |= std::uint64_t(c & kPass) << x;
-            free |= std::uint64_t((c & kFree) >> 1) << x;
-            s.distance[i] = (c & kFree) ? 0 : -1;
+          int x = 0;
+          for (; x + 8 <= end; x += 8, i += 8) {
+            std::uint64_t eight;
+            std::memcpy(&eight, s.cls.data() + i, 8);
+            pass |= (((eight & kLow) * kGather) >> 56) << x;
+            free |= ((((eight >> 1) & kLow) * kGather) >> 56) << x;
+          }
+          for (; x < end; ++x, ++i) {
+            pass |= std::uint64_t(s.cls[i] & kPass) << x;
+            free |= std::uint64_t((s.cls[i] & kFree) >> 1) << x;
           }
           s.passable[r * words + w] = pass;
           s.at_distance[r * words + w] = free;
           any_free |= free;
+          for (std::uint64_t bits = free; bits != 0; bits &= bits - 1)
+            s.distance[r * std::size_t(region.e.x) + w * 64 + std::size_t(std::countr_zero(bits))] = numbered;
         }
         if (any_free != 0) {
           low = std::min(low, int(r / std::uint32_t(region.e.y)));
@@ -345,11 +373,9 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
               next_high = std::max(next_high, z);
               const std::uint32_t first =
                   std::uint32_t((std::size_t(z) * region.e.y + std::size_t(y)) * region.e.x + w * 64);
-              for (; fresh != 0; fresh &= fresh - 1) {
-                const std::uint32_t i = first + std::uint32_t(std::countr_zero(fresh));
-                s.distance[i] = d;
-                if (s.pending[i]) --to_reach;
-              }
+              to_reach -= std::size_t(std::popcount(fresh & s.pending[at]));
+              for (; fresh != 0; fresh &= fresh - 1)
+                s.distance[first + std::uint32_t(std::countr_zero(fresh))] = numbered | std::uint32_t(d);
             }
         // The cells at this distance are done with: their rows are cleared, the next distance's kept.
         for (int z = std::max(0, low); z <= high; ++z)
@@ -376,9 +402,10 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
         for (const Step& step : steps) {
           if (s.edges[at] & step.edge) continue;
           const std::uint32_t j = std::uint32_t(std::int64_t(at) + step.delta);
-          if (s.distance[j] >= 0 && s.distance[j] < above && through(j)) {
+          const std::int32_t d = distance(j);
+          if (d >= 0 && d < above && through(j)) {
             best = j;
-            above = s.distance[j];
+            above = d;
           }
         }
         if (best < 0) break;

@@ -41,8 +41,10 @@ struct StampScratch {
   std::vector<std::uint8_t> edges;                      ///< per cell: which of its neighbours lie outside the region
   Int3 edges_extent{};                                  ///< the extent of the region `edges` is for
   std::vector<std::uint8_t> cls;             ///< per cell: what the searches ask of it (void, liquid, passable...)
-  std::vector<std::int32_t> distance;        ///< per cell: steps to the nearest void a push may end in
-  std::vector<std::uint8_t> pending;         ///< per cell: the start of a push still to come
+  std::vector<std::uint32_t> distance;       ///< per cell: the number of the search that reached it, and its steps to
+                                             ///< the nearest void a push may end in
+  std::uint32_t searched = 0;                ///< the number of the last search of the distances (1..255)
+  std::vector<std::uint64_t> pending;        ///< bit rows: the starts of the pushes still to come
   std::vector<std::uint64_t> passable;       ///< that search's bit rows: the cells a push may pass
   std::vector<std::uint64_t> reached;        ///< the cells it has reached
   std::vector<std::uint64_t> at_distance;    ///< the cells at the distance it is at
