@@ -412,7 +412,6 @@ void World::stamp_bodies() {
   Bodies& all = *bodies_;
   Stopwatch whole, watch;
   const std::uint8_t body_material = to_cell(def_.body_material);
-  take_step_changes();  // the bricks the last tick changed, for the bodies at rest below
   // True when no brick of `region` changed since `version` (brick_version_).
   auto unchanged = [&](const Box& region, std::uint64_t version) {
     const Int3 bricks = brick_counts();
@@ -425,13 +424,6 @@ void World::stamp_bodies() {
   const std::size_t n = all.list.size();
   all.work.resize(n);
   TaskSystem& tasks = body_tasks();
-  // Runs fn(i) for every body i, on the world's threads.
-  auto for_each_body = [&](auto&& fn) {
-    const int count = int(std::min<std::size_t>(n, std::size_t(tasks.thread_count())));
-    tasks.run(count, [&](int task) {
-      for (std::size_t i = std::size_t(task); i < n; i += std::size_t(count)) fn(i);
-    });
-  };
   // Each body's shape (its cells and their bounds), then its region: its old and new cells and the
   // reach of the pushes around them. A body that jumped farther than that leaves its old cells
   // first, so the region stays its size.
@@ -448,7 +440,7 @@ void World::stamp_bodies() {
            !body.region_bytes.empty() && unchanged(work.region, body.version);
   };
   std::vector<std::uint8_t> jumped(n, 0);
-  for_each_body([&](std::size_t i) {
+  auto shape = [&](std::size_t i) {
     BodyRecord& body = all.list[i];
     BodyStampWork& work = all.work[i];
     const PlacedShape placed(body.def, body.pose);
@@ -466,21 +458,24 @@ void World::stamp_bodies() {
     jumped[i] = !work.held.empty() && !work.bounds.empty() &&
                 intersect(grown(work.held, kBodyReach), grown(work.bounds, kBodyReach)).empty();
     work.region = jumped[i] ? Box{} : region_of(body, work);
-    work.at_rest = !jumped[i] && rests(body, work);
     body.sand = BodySand{};
     body.sand.tick = tick_;
     body.sand.mass = body.mass;
+  };
+  // The shapes on the world's threads, a body at a time to whichever is free; one of them first
+  // takes the bricks the last tick changed (from the device, on a GPU), for the rest check.
+  std::atomic<std::size_t> next_body{0};
+  tasks.run(int(std::min<std::size_t>(n, std::size_t(tasks.thread_count()))), [&](int task) {
+    if (task == 0) take_step_changes();
+    for (std::size_t i = next_body++; i < n; i = next_body++) shape(i);
   });
-  bool released = false;
   for (std::size_t i = 0; i < n; ++i)
     if (jumped[i]) {
       release_body_cells(all.list[i].owned);
       all.work[i].held = {};
       all.work[i].region = region_of(all.list[i], all.work[i]);
-      released = true;
     }
-  if (released)  // the cells released changed bricks
-    for (std::size_t i = 0; i < n; ++i) all.work[i].at_rest = rests(all.list[i], all.work[i]);
+  for (std::size_t i = 0; i < n; ++i) all.work[i].at_rest = rests(all.list[i], all.work[i]);
   const std::vector<std::vector<std::size_t>> groups = group_bodies(all.work);
   std::vector<std::uint8_t> group_moves(n, 0);  // per group's first body
   for (std::size_t i = 0; i < n; ++i)

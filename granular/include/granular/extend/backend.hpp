@@ -23,6 +23,9 @@ namespace granular {
 /// A compute backend holding the world's cells. Boxes passed in always lie inside the grid and hold
 /// cells at least one wide; spans are exactly box.volume() bytes (or one flag per brick). Cell bytes
 /// are a material (material.hpp) in the low bits and a grain's motion state (motion.hpp) above.
+/// World calls a backend from one thread at a time, but not always the same one: while it holds
+/// bodies, a backend without host_tasks() is stepped and asked for its changed bricks from one of
+/// the world's task system's threads, so that the bodies' host work goes on beside it.
 class Backend {
  public:
   virtual ~Backend() = default;
