@@ -72,17 +72,42 @@ void ThreadPool::stop_workers() noexcept {
   workers_.clear();
 }
 
-void ThreadPool::drain() {
+void ThreadPool::finish(int count) {
+  const int tasks = tasks_.load(std::memory_order_relaxed);  // this job's: it has a task unfinished
+  if (finished_.fetch_add(count, std::memory_order_acq_rel) + count == tasks) {
+    std::lock_guard lock(mutex_);  // the caller tests finished_ under it before it sleeps
+    done_cv_.notify_one();
+  }
+}
+
+void ThreadPool::drain(std::uint32_t number) {
+  constexpr std::uint64_t kTaskBits = 0xFFFFFFFFull;
   for (;;) {
-    const int task = next_.fetch_add(1, std::memory_order_relaxed);
-    if (task >= tasks_) return;
+    std::uint64_t next = next_.load(std::memory_order_acquire);
+    do {
+      // tasks_ is read with acquire: once it is the next job's, the close of this one that run()
+      // stored before it is seen, and the exchange below fails.
+      if (next >> 32 != number || (next & kTaskBits) >= std::uint64_t(tasks_.load(std::memory_order_acquire))) return;
+    } while (!next_.compare_exchange_weak(next, next + 1, std::memory_order_acq_rel, std::memory_order_acquire));
+    // The job cannot end before this task does, so job_ and tasks_ are this job's until then.
+    const int task = int(next & kTaskBits), tasks = tasks_.load(std::memory_order_relaxed);
     try {
       (*job_)(task);
     } catch (...) {
-      std::lock_guard lock(mutex_);
-      if (!error_) error_ = std::current_exception();
-      next_.store(tasks_, std::memory_order_relaxed);  // stop handing out tasks
+      {
+        std::lock_guard lock(mutex_);
+        if (!error_) error_ = std::current_exception();
+      }
+      // No task is handed out after it: those left count as finished.
+      std::uint64_t left = next_.load(std::memory_order_acquire);
+      while (left >> 32 == number && int(left & kTaskBits) < tasks)
+        if (next_.compare_exchange_weak(left, (left & ~kTaskBits) | std::uint64_t(tasks), std::memory_order_acq_rel,
+                                        std::memory_order_acquire)) {
+          finish(tasks - int(left & kTaskBits));
+          break;
+        }
     }
+    finish(1);
   }
 }
 
@@ -92,22 +117,28 @@ void ThreadPool::run(int tasks, const std::function<void(int)>& fn) {
     for (int t = 0; t < tasks; ++t) fn(t);
     return;
   }
+  std::uint32_t number = 0;
   {
     std::lock_guard lock(mutex_);
+    number = std::uint32_t(generation_.load(std::memory_order_relaxed) + 1);
+    // Closed first, so that a thread still in drain() for the last job takes nothing once it sees
+    // this job's count; opened once the job is set.
+    next_.store(std::uint64_t(number) << 32 | 0xFFFFFFFFull, std::memory_order_release);
     job_ = &fn;
-    tasks_ = tasks;
-    next_.store(0, std::memory_order_relaxed);
-    busy_workers_.store(int(workers_.size()), std::memory_order_relaxed);
+    tasks_.store(tasks, std::memory_order_release);
+    finished_.store(0, std::memory_order_relaxed);
     error_ = nullptr;
-    generation_.fetch_add(1, std::memory_order_release);  // spinning workers start here
+    next_.store(std::uint64_t(number) << 32, std::memory_order_release);  // its tasks can be taken from here
+    generation_.fetch_add(1, std::memory_order_release);                  // spinning workers start here
   }
   start_cv_.notify_all();  // sleeping ones here
-  drain();
+  drain(number);
+  auto done = [this, tasks] { return finished_.load(std::memory_order_acquire) == tasks; };
+  spin_until(done);
   std::exception_ptr error;
-  spin_until([this] { return busy_workers_.load(std::memory_order_acquire) == 0; });
   {
     std::unique_lock lock(mutex_);
-    done_cv_.wait(lock, [this] { return busy_workers_.load(std::memory_order_acquire) == 0; });
+    done_cv_.wait(lock, done);
     job_ = nullptr;
     error = error_;
   }
@@ -126,11 +157,7 @@ void ThreadPool::worker_loop() {
     }
     if (stopping_.load(std::memory_order_acquire)) return;
     seen = generation_.load(std::memory_order_acquire);
-    drain();
-    if (busy_workers_.fetch_sub(1, std::memory_order_acq_rel) == 1) {
-      std::lock_guard lock(mutex_);  // the caller tests busy_workers_ under it before it sleeps
-      done_cv_.notify_one();
-    }
+    drain(std::uint32_t(seen));
   }
 }
 

@@ -3,7 +3,8 @@
 /// granular's own task system (task_system.hpp): a fixed set of worker threads that run
 /// index-parallel jobs, the calling thread taking part. Between jobs a worker spins for
 /// kThreadPoolSpin before it sleeps, so that the jobs of one tick, a few to a few hundred
-/// microseconds apart, do not each pay for waking the workers.
+/// microseconds apart, do not each pay for waking the workers. A job is done when its tasks are:
+/// the caller does not wait for workers still waking, which take what tasks are left, if any.
 
 #include <atomic>
 #include <chrono>
@@ -19,7 +20,7 @@
 
 namespace granular {
 
-/// How long a worker that finished a job, and a caller waiting for the workers, spin before they
+/// How long a worker that finished a job, and a caller waiting for its tasks, spin before they
 /// sleep: longer than the gaps between the jobs of one tick, short against a tick's frame.
 inline constexpr std::chrono::microseconds kThreadPoolSpin{200};
 
@@ -43,7 +44,10 @@ class ThreadPool final : public TaskSystem {
 
  private:
   void worker_loop();
-  void drain();
+  // Runs tasks of job `number` (the low 32 bits of generation_) until none is left to take.
+  void drain(std::uint32_t number);
+  // Counts `count` tasks of the job finished; the last wakes the caller.
+  void finish(int count);
   void stop_workers() noexcept;
 
   std::vector<std::thread> workers_;
@@ -52,11 +56,13 @@ class ThreadPool final : public TaskSystem {
   std::condition_variable done_cv_;
   std::atomic<std::uint64_t> generation_{0};  ///< the job's number; written under mutex_
   std::atomic<bool> stopping_{false};         ///< written under mutex_
-  const std::function<void(int)>* job_ = nullptr;
-  int tasks_ = 0;
-  std::atomic<int> next_{0};
-  std::atomic<int> busy_workers_{0};  ///< workers not yet done with the job
-  std::exception_ptr error_;
+  /// The job's number (high 32 bits) and its next task to take (low 32): a thread takes a task by
+  /// raising it while the number is still its job's, so it never takes one of a later job.
+  std::atomic<std::uint64_t> next_{0};
+  const std::function<void(int)>* job_ = nullptr;  ///< read only by a thread that took a task
+  std::atomic<int> tasks_{0};
+  std::atomic<int> finished_{0};  ///< tasks of the job finished, or skipped after an exception
+  std::exception_ptr error_;      ///< written under mutex_
 };
 
 }  // namespace granular
