@@ -16,8 +16,8 @@
 
 namespace granular {
 
-/// One body of the world.
-struct BodyRecord {
+/// One body of the world; a task that stamps it writes it, so it starts a cache line of its own.
+struct alignas(64) BodyRecord {
   BodyId id = 0;
   BodyDef def;
   BodyPose pose;                           ///< where it is written at the next tick
@@ -30,8 +30,9 @@ struct BodyRecord {
   std::uint64_t version = 0;               ///< World::change_version() after the stamp
 };
 
-/// One body's part of a tick's stamp (World::stamp_bodies), kept from tick to tick for its buffers.
-struct BodyStampWork {
+/// One body's part of a tick's stamp (World::stamp_bodies), kept from tick to tick for its buffers;
+/// a cache line of its own, like BodyRecord.
+struct alignas(64) BodyStampWork {
   std::vector<std::uint64_t> shape;  ///< the cells of its shape this tick
   Box bounds;                        ///< their bounds (empty: none in the grid)
   Box held;                          ///< the bounds of the cells it holds (empty: none)
