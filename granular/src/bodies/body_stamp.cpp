@@ -167,7 +167,8 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
   }
 
   // The breadth-first search both the pushes and the wake's fill make: from `from`, through cells of
-  // the class `pass` (not on the push's route), trying neighbours in `order`, to the nearest cell
+  // the class `pass` (not on the push's route, and none before local index `lowest`: no layer below
+  // its layer), trying neighbours in `order`, to the nearest cell
   // `target` calls kFar (away from the body's surroundings), else the nearest it calls kNearby, or
   // with `nearby_will_do` the nearest of either; s.parent then leads back from the cell found to
   // `from`. Returns the cell, or -1 for none within the region. A search that finds none marks the
