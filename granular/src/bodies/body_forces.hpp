@@ -22,8 +22,8 @@ struct BodyScale {
   double gravity = 9.81;   ///< m/s^2
 };
 
-/// The scratch of sand_forces, reused from body to body. Each task has its own, a cache line apart from the next
-/// task's, so that tasks do not share lines they write.
+/// The scratch of sand_forces, reused from body to body. Each task has its own, a cache line apart
+/// from the next task's, so that tasks do not share lines they write.
 struct alignas(64) ForceScratch {
   std::vector<std::uint8_t> owned;  ///< per cell of the region: held by the body
   std::vector<std::uint64_t> rows;  ///< for_each_cell_beside's bit rows

@@ -25,8 +25,8 @@ struct StampResult {
   MaterialCounts filled{};     ///< cells of the wake filled, per material
 };
 
-/// The scratch of stamp_body, reused from body to body. Each task has its own, a cache line apart from the next
-/// task's, so that tasks do not share lines they write.
+/// The scratch of stamp_body, reused from body to body. Each task has its own, a cache line apart
+/// from the next task's, so that tasks do not share lines they write.
 struct alignas(64) StampScratch {
   std::vector<std::uint8_t> in_shape;  ///< per cell of the region: outside the shape, in it, or the body's
   std::vector<std::uint64_t> rows;     ///< for_each_cell_beside's bit rows
