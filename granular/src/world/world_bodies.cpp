@@ -458,6 +458,7 @@ void World::stamp_bodies() {
     jumped[i] = !work.held.empty() && !work.bounds.empty() &&
                 intersect(grown(work.held, kBodyReach), grown(work.bounds, kBodyReach)).empty();
     work.region = jumped[i] ? Box{} : region_of(body, work);
+    work.stamped = false;
     body.sand = BodySand{};
     body.sand.tick = tick_;
     body.sand.mass = body.mass;
