@@ -382,6 +382,23 @@ void copy_overlap(const RegionEdit& from, RegionEdit& to) {
                   to.cells().data() + to.row(y, z).cell(o.min.x));
 }
 
+/// Tasks for `items` items on `tasks`: one a thread, and no more than the items.
+int tasks_for(const TaskSystem& tasks, std::size_t items) {
+  return int(std::min<std::size_t>(items, std::size_t(std::max(1, tasks.thread_count()))));
+}
+
+/// Runs `count` tasks on `tasks`: task t calls first(t), then takes the items 0 .. items - 1 one at a
+/// time, whichever task is free, calling fn(item, t). Which task takes an item depends on the times,
+/// so what fn computes must not.
+template <class First, class Fn>
+void share_out(TaskSystem& tasks, int count, std::size_t items, First&& first, Fn&& fn) {
+  std::atomic<std::size_t> next{0};
+  tasks.run(count, [&](int task) {
+    first(task);
+    for (std::size_t item = next++; item < items; item = next++) fn(item, task);
+  });
+}
+
 }  // namespace
 
 void World::size_boxes_buffer(std::span<const Box> boxes, std::vector<std::uint8_t>& buffer) const {
@@ -465,11 +482,12 @@ void World::stamp_bodies() {
   };
   // The shapes on the world's threads, a body at a time to whichever is free; one of them first
   // takes the bricks the last tick changed (from the device, on a GPU), for the rest check.
-  std::atomic<std::size_t> next_body{0};
-  tasks.run(int(std::min<std::size_t>(n, std::size_t(tasks.thread_count()))), [&](int task) {
-    if (task == 0) take_step_changes();
-    for (std::size_t i = next_body++; i < n; i = next_body++) shape(i);
-  });
+  share_out(
+      tasks, tasks_for(tasks, n), n,
+      [&](int task) {
+        if (task == 0) take_step_changes();
+      },
+      [&](std::size_t i, int) { shape(i); });
   for (std::size_t i = 0; i < n; ++i)
     if (jumped[i]) {
       release_body_cells(all.list[i].owned);
@@ -498,7 +516,7 @@ void World::stamp_bodies() {
   profile_.bodies_shapes += watch.lap();
   if (!boxes.empty()) live().read_boxes(boxes, all.packed);
   profile_.bodies_read += watch.lap();
-  const int task_count = int(std::min<std::size_t>(groups.size(), std::size_t(tasks.thread_count())));
+  const int task_count = tasks_for(tasks, groups.size());
   all.stamp.resize(std::size_t(task_count));
   const MaterialTable& materials = rules_->materials;
   const std::uint64_t seed = def_.seed, tick = tick_;
@@ -521,45 +539,44 @@ void World::stamp_bodies() {
     }
   }
   std::stable_sort(by_cost.begin(), by_cost.end(), [&](std::size_t a, std::size_t b) { return cost[a] > cost[b]; });
-  std::atomic<std::size_t> next_group{0};
-  tasks.run(task_count, [&](int task) {
-    StampScratch& stamp = all.stamp[std::size_t(task)];
-    for (std::size_t taken = next_group++; taken < groups.size(); taken = next_group++) {
-      const std::vector<std::size_t>& members = groups[by_cost[taken]];
-      for (std::size_t k = 0; k < members.size(); ++k) {
-        BodyRecord& body = all.list[members[k]];
-        BodyStampWork& work = all.work[members[k]];
-        work.stamped = group_moves[work.group] != 0;
-        if (!work.stamped) continue;
-        Stopwatch took;
-        work.edit.begin(work.region, grid, origin);
-        std::copy_n(all.packed.data() + read_at[members[k]], work.edit.cells().size(), work.edit.cells().data());
-        for (std::size_t j = 0; j < k; ++j) copy_overlap(all.work[members[j]].edit, work.edit);
-        const StampResult stamped =
-            stamp_body(work.region, work.edit.cells(), grid, work.shape, body.owned, body_material, materials,
-                       body.pose.velocity, mix64(seed ^ mix64(tick * 0x9E3779B97F4A7C15ull + body.id)), stamp);
-        work.edit.flag_written(stamp.written);  // their bricks wake and count as changed
-        body.sand.blocked = stamped.blocked;
-        body.sand.displaced = stamped.displaced;
-        const double took_ms = took.lap();
-        if (work.changes > 0) work.ms_per_change = took_ms / double(work.changes);
-      }
-      // Every region of the group takes the cells its later bodies wrote, so that where regions
-      // overlap they agree (the grid after the group), and can be written in any order.
-      for (std::size_t k = members.size(); k-- > 0;) {
-        if (!group_moves[all.work[members[k]].group]) continue;
-        BodyStampWork& work = all.work[members[k]];
-        for (std::size_t j = k + 1; j < members.size(); ++j) copy_overlap(all.work[members[j]].edit, work.edit);
-        // The bytes it keeps for a tick at rest: its region as the group leaves it.
-        BodyRecord& body = all.list[members[k]];
-        body.region = work.region;
-        if (work.edit.cells().size() <= kMaxKeptRegion)
-          body.region_bytes.assign(work.edit.cells().begin(), work.edit.cells().end());
-        else
-          body.region_bytes.clear();
-      }
-    }
-  });
+  share_out(
+      tasks, task_count, groups.size(), [](int) {},
+      [&](std::size_t taken, int task) {
+        StampScratch& stamp = all.stamp[std::size_t(task)];
+        const std::vector<std::size_t>& members = groups[by_cost[taken]];
+        for (std::size_t k = 0; k < members.size(); ++k) {
+          BodyRecord& body = all.list[members[k]];
+          BodyStampWork& work = all.work[members[k]];
+          work.stamped = group_moves[work.group] != 0;
+          if (!work.stamped) continue;
+          Stopwatch took;
+          work.edit.begin(work.region, grid, origin);
+          std::copy_n(all.packed.data() + read_at[members[k]], work.edit.cells().size(), work.edit.cells().data());
+          for (std::size_t j = 0; j < k; ++j) copy_overlap(all.work[members[j]].edit, work.edit);
+          const StampResult stamped =
+              stamp_body(work.region, work.edit.cells(), grid, work.shape, body.owned, body_material, materials,
+                         body.pose.velocity, mix64(seed ^ mix64(tick * 0x9E3779B97F4A7C15ull + body.id)), stamp);
+          work.edit.flag_written(stamp.written);  // their bricks wake and count as changed
+          body.sand.blocked = stamped.blocked;
+          body.sand.displaced = stamped.displaced;
+          const double took_ms = took.lap();
+          if (work.changes > 0) work.ms_per_change = took_ms / double(work.changes);
+        }
+        // Every region of the group takes the cells its later bodies wrote, so that where regions
+        // overlap they agree (the grid after the group), and can be written in any order.
+        for (std::size_t k = members.size(); k-- > 0;) {
+          if (!group_moves[all.work[members[k]].group]) continue;
+          BodyStampWork& work = all.work[members[k]];
+          for (std::size_t j = k + 1; j < members.size(); ++j) copy_overlap(all.work[members[j]].edit, work.edit);
+          // The bytes it keeps for a tick at rest: its region as the group leaves it.
+          BodyRecord& body = all.list[members[k]];
+          body.region = work.region;
+          if (work.edit.cells().size() <= kMaxKeptRegion)
+            body.region_bytes.assign(work.edit.cells().begin(), work.edit.cells().end());
+          else
+            body.region_bytes.clear();
+        }
+      });
   profile_.bodies_stamp += watch.lap();
   // The regions the stamps wrote, in one write (one launch on a GPU), waking the bricks they wrote;
   // each region's bytes are copied into the write on the world's threads.
@@ -579,13 +596,12 @@ void World::stamp_bodies() {
   }
   if (!boxes.empty()) {
     all.packed.resize(bytes);  // no larger than the read's
-    const int copies = int(std::min<std::size_t>(written.size(), std::size_t(tasks.thread_count())));
-    tasks.run(copies, [&](int task) {
-      for (std::size_t k = std::size_t(task); k < written.size(); k += std::size_t(copies)) {
-        const RegionEdit& edit = all.work[written[k]].edit;
-        std::copy_n(edit.cells().data(), edit.cells().size(), all.packed.data() + write_at[k]);
-      }
-    });
+    share_out(
+        tasks, tasks_for(tasks, written.size()), written.size(), [](int) {},
+        [&](std::size_t k, int) {
+          const RegionEdit& edit = all.work[written[k]].edit;
+          std::copy_n(edit.cells().data(), edit.cells().size(), all.packed.data() + write_at[k]);
+        });
     std::sort(woken.begin(), woken.end());
     woken.erase(std::unique(woken.begin(), woken.end()), woken.end());
     mark_bricks(woken);
@@ -602,38 +618,38 @@ void World::step_sensing_bodies() {
   const MaterialTable& materials = rules_->materials;
   const std::size_t n = all.list.size();
   TaskSystem& tasks = body_tasks();
-  const int task_count = int(std::min<std::size_t>(n, std::size_t(std::max(1, tasks.thread_count()))));
+  const int task_count = tasks_for(tasks, n);
   all.forces.resize(std::size_t(task_count));
   // What the sand does to each body, from its region as its group's stamps left it (the grid the
   // step starts from): the bytes of its edit where its group was stamped, else those it kept.
-  std::atomic<std::size_t> next_body{0};
-  std::vector<double> sensed_ms(std::size_t(task_count), 0);
-  auto sense = [&](int task) {
+  std::vector<double> sensed_ms(std::size_t(task_count), 0);  // per task
+  auto sense = [&](std::size_t i, int task) {
     Stopwatch took;
-    for (std::size_t i = next_body++; i < n; i = next_body++) {
-      BodyRecord& body = all.list[i];
-      BodyStampWork& work = all.work[i];
-      if (work.region.empty()) continue;
-      const std::span<const std::uint8_t> bytes =
-          work.stamped ? std::span<const std::uint8_t>(work.edit.cells()) : body.region_bytes;
-      sand_forces(work.region, bytes, size_, body.owned, materials, body.pose, body.mass, body.moment, scale, body.sand,
-                  all.forces[std::size_t(task)]);
-    }
-    sensed_ms[std::size_t(task)] = took.lap();
+    BodyRecord& body = all.list[i];
+    const BodyStampWork& work = all.work[i];
+    if (work.region.empty()) return;
+    const std::span<const std::uint8_t> bytes =
+        work.stamped ? std::span<const std::uint8_t>(work.edit.cells()) : body.region_bytes;
+    sand_forces(work.region, bytes, size_, body.owned, materials, body.pose, body.mass, body.moment, scale, body.sand,
+                all.forces[std::size_t(task)]);
+    sensed_ms[std::size_t(task)] += took.lap();
   };
   Stopwatch watch;
   if (live().host_tasks() == nullptr) {
     // The backend steps on a device and the host only waits for it: the forces are found meanwhile,
     // on the world's threads, one of which steps first.
-    tasks.run(task_count, [&](int task) {
-      if (task == 0) live().step(tick_, 1);
-      sense(task);
-    });
+    share_out(
+        tasks, task_count, n,
+        [&](int task) {
+          if (task == 0) live().step(tick_, 1);
+        },
+        sense);
     profile_.step += watch.lap();
     profile_.bodies_forces += *std::max_element(sensed_ms.begin(), sensed_ms.end());
   } else {
     // The step needs the host's threads.
-    tasks.run(task_count, sense);
+    share_out(
+        tasks, task_count, n, [](int) {}, sense);
     const double forces = watch.lap();
     profile_.bodies_forces += forces;
     profile_.bodies += forces;
