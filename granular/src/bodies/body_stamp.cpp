@@ -11,6 +11,7 @@
 #include "bodies/body_forces.hpp"
 #include "bodies/body_region.hpp"
 #include "bodies/body_shape.hpp"
+#include "bodies/cell_classes.hpp"
 #include "granular/grid.hpp"
 #include "granular/motion.hpp"
 
@@ -97,7 +98,7 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
   // Once the searches begin, each cell's class (s.cls, Class bits) is kept with its byte and
   // s.in_shape, so that a search tests one byte a cell.
   // class_of[in_shape][material]: the class bits a cell's byte and mark give.
-  std::array<std::array<std::uint8_t, kMaterialCount>, 4> class_of{};
+  CellClassTable class_of{};
   for (std::uint8_t in = 0; in < 4; ++in)
     for (std::uint8_t m = 0; m < kMaterialCount; ++m) {
       const std::uint8_t bits = behaviour_bits[m];
@@ -200,11 +201,11 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
       }
   }
   // Every cell's class at once, what classify and classify_surface give a cell (they keep it as
-  // cells are written): a table lookup a cell, then the surfaces (kLiquidOut, bit 3, under
-  // kOpenOut, bit 4, gives kSurface, bit 5) without a branch; the top layer has none.
+  // cells are written): a table lookup a cell (classify_cells), then the surfaces (kLiquidOut, bit
+  // 3, under kOpenOut, bit 4, gives kSurface, bit 5) without a branch; the top layer has none.
   static_assert(kLiquidOut == 8 && kOpenOut == 16 && kSurface == 32 && kMaterialMask == kMaterialCount - 1);
   s.cls.resize(region.volume());
-  for (std::uint32_t i = 0; i < region.volume(); ++i) s.cls[i] = class_of[s.in_shape[i]][bytes[i] & kMaterialMask];
+  classify_cells(class_of, s.in_shape, bytes, s.cls);
   for (std::uint32_t i = 0, below_top = std::uint32_t(region.volume() - std::size_t(layer)); i < below_top; ++i)
     s.cls[i] |= std::uint8_t(((s.cls[i] >> 3) & (s.cls[i + std::uint32_t(layer)] >> 4) & 1) << 5);
   classed = true;
