@@ -355,30 +355,52 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
       for (std::int32_t d = 1; to_reach > 0 && low <= high; ++d) {
         const int from = std::max(0, low - 1), to = std::min(region.e.z - 1, high + 1);
         int next_low = region.e.z, next_high = -1;
-        for (int z = from; z <= to; ++z)
-          for (int y = 0; y < region.e.y; ++y)
-            for (std::size_t w = 0; w < words; ++w) {
-              const std::size_t at = (std::size_t(z) * region.e.y + std::size_t(y)) * words + w;
-              const std::uint64_t* f = s.at_distance.data();
-              std::uint64_t grown = f[at] << 1 | f[at] >> 1;
-              if (w > 0) grown |= f[at - 1] >> 63;
-              if (w + 1 < words) grown |= f[at + 1] << 63;
-              if (y > 0) grown |= f[at - row_step];
-              if (y + 1 < region.e.y) grown |= f[at + row_step];
-              if (z > 0) grown |= f[at - layer_step];
-              if (z + 1 < region.e.z) grown |= f[at + layer_step];
-              std::uint64_t fresh = grown & s.passable[at] & ~s.reached[at];
-              s.next_distance[at] = fresh;
-              if (fresh == 0) continue;
-              s.reached[at] |= fresh;
-              next_low = std::min(next_low, z);
-              next_high = std::max(next_high, z);
-              const std::uint32_t first =
-                  std::uint32_t((std::size_t(z) * region.e.y + std::size_t(y)) * region.e.x + w * 64);
-              to_reach -= std::size_t(std::popcount(fresh & s.pending[at]));
-              for (; fresh != 0; fresh &= fresh - 1)
-                s.distance[first + std::uint32_t(std::countr_zero(fresh))] = numbered | std::uint32_t(d);
+        // Row `at` (layer z, row y, word w) takes the cells of `grown` that it may pass and no
+        // distance has reached: they are at distance d.
+        auto take = [&](std::size_t at, int z, int y, std::size_t w, std::uint64_t grown) {
+          std::uint64_t fresh = grown & s.passable[at] & ~s.reached[at];
+          s.next_distance[at] = fresh;
+          if (fresh == 0) return;
+          s.reached[at] |= fresh;
+          next_low = std::min(next_low, z);
+          next_high = std::max(next_high, z);
+          const std::uint32_t first =
+              std::uint32_t((std::size_t(z) * region.e.y + std::size_t(y)) * region.e.x + w * 64);
+          if (const std::uint64_t starts = fresh & s.pending[at]; starts != 0)
+            to_reach -= std::size_t(std::popcount(starts));
+          for (; fresh != 0; fresh &= fresh - 1)
+            s.distance[first + std::uint32_t(std::countr_zero(fresh))] = numbered | std::uint32_t(d);
+        };
+        const std::uint64_t* f = s.at_distance.data();
+        if (words == 1) {  // most regions: a row a word, its neighbours' rows carried along
+          s.no_rows.assign(std::size_t(region.e.y), 0);
+          for (int z = from; z <= to; ++z) {
+            const std::size_t row0 = std::size_t(z) * region.e.y;
+            const std::uint64_t* below = z > 0 ? f + row0 - layer_step : s.no_rows.data();
+            const std::uint64_t* above = z + 1 < region.e.z ? f + row0 + layer_step : s.no_rows.data();
+            std::uint64_t previous = 0, here = f[row0];
+            for (int y = 0; y < region.e.y; ++y) {
+              const std::uint64_t next = y + 1 < region.e.y ? f[row0 + std::size_t(y) + 1] : 0;
+              take(row0 + std::size_t(y), z, y, 0, here << 1 | here >> 1 | previous | next | below[y] | above[y]);
+              previous = here;
+              here = next;
             }
+          }
+        } else {
+          for (int z = from; z <= to; ++z)
+            for (int y = 0; y < region.e.y; ++y)
+              for (std::size_t w = 0; w < words; ++w) {
+                const std::size_t at = (std::size_t(z) * region.e.y + std::size_t(y)) * words + w;
+                std::uint64_t grown = f[at] << 1 | f[at] >> 1;
+                if (w > 0) grown |= f[at - 1] >> 63;
+                if (w + 1 < words) grown |= f[at + 1] << 63;
+                if (y > 0) grown |= f[at - row_step];
+                if (y + 1 < region.e.y) grown |= f[at + row_step];
+                if (z > 0) grown |= f[at - layer_step];
+                if (z + 1 < region.e.z) grown |= f[at + layer_step];
+                take(at, z, y, w, grown);
+              }
+        }
         // The cells at this distance are done with: their rows are cleared, the next distance's kept.
         for (int z = std::max(0, low); z <= high; ++z)
           std::fill_n(s.at_distance.begin() + std::ptrdiff_t(std::size_t(z) * layer_step), layer_step,

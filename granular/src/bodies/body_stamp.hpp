@@ -50,6 +50,7 @@ struct alignas(64) StampScratch {
   std::vector<std::uint64_t> reached;        ///< the cells it has reached
   std::vector<std::uint64_t> at_distance;    ///< the cells at the distance it is at
   std::vector<std::uint64_t> next_distance;  ///< the cells at the next one
+  std::vector<std::uint64_t> no_rows;        ///< a layer's rows of no cells: beyond the region's
   std::vector<std::uint32_t> route;          ///< one push's cells, from the shape to the void
   std::vector<std::uint32_t> written;        ///< local indices of the cells the stamp wrote (some twice)
 };
