@@ -50,8 +50,11 @@ Int3 lead_of(const Vec3& motion) {
 /// the wake's own layers.
 constexpr int kFillDepth = 2;
 
-/// Cells a push's search from a filled void may reach before the distances are searched anew.
+/// Cells a push's search from a filled void may reach before the distances are searched anew, if
+/// the searches since they were last searched have reached a kRegionPerRefresh-th of the region (a
+/// search of the distances works the whole region: so it costs no more than 16 times the searches).
 constexpr std::size_t kSearchBeforeRefresh = 512;
+constexpr std::size_t kRegionPerRefresh = 16;
 
 /// A cell's class (StampScratch::cls): what the searches ask of it.
 enum Class : std::uint8_t {
@@ -291,7 +294,8 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
     // push still to come: a push follows distances below its start's only, all known by then.
     const std::size_t words = (std::size_t(region.e.x) + 63) / 64, rows = std::size_t(region.e.y) * region.e.z;
     const std::size_t row_step = words, layer_step = words * std::size_t(region.e.y);
-    std::size_t next_push = 0;  // the pushes before it are done
+    std::size_t next_push = 0;            // the pushes before it are done
+    std::size_t searched_since_field = 0;  // cells the searches have reached since the distances were searched
     // s.distance holds, per cell the last search reached, that search's number (s.searched, the top
     // 8 bits) and the cell's distance, so that no search clears it; a cell holding another number
     // has no distance.
@@ -301,6 +305,7 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
     };
     auto field = [&] {
       static_assert(kMaxBodyHalfSize <= 64, "a region's distances fit in 24 bits");
+      searched_since_field = 0;
       s.distance.resize(region.volume());
       if (++s.searched == 256) {  // the numbers wrap: none may be left over
         s.searched = 1;
@@ -442,7 +447,9 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
         const std::uint32_t from = s.route.back();
         const std::int64_t end = nearest(from, directions(lead, 0), true, kPass, void_found, std::false_type{}, 0);
         for (const std::uint32_t i : s.route) s.cls[i] &= std::uint8_t(~kOnRoute);
-        const bool grown = s.queue.size() > kSearchBeforeRefresh;
+        searched_since_field += s.queue.size();
+        const bool grown =
+            s.queue.size() > kSearchBeforeRefresh && searched_since_field >= region.volume() / kRegionPerRefresh;
         if (end < 0) {  // no void within reach
           ++result.blocked;
           if (grown) field();
