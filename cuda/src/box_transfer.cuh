@@ -7,7 +7,9 @@
 /// grid and the staging. Reading a chunk waits for the device once; writing one waits for nothing
 /// but the staging being free of the last write. Many small boxes (Backend::read_boxes and
 /// write_boxes) move as one batch: a table of their chunks, then their cells, in the staging, and
-/// one kernel whose block rows each copy one chunk.
+/// one kernel whose block rows each copy one chunk; where the caller's cells lie in the backend's
+/// transfer buffer (Backend::transfer_buffer, mapped as the staging is), the kernel copies them
+/// there in place and the staging holds the table only.
 
 #include <cuda_runtime.h>
 
@@ -204,6 +206,8 @@ class TransferStaging {
     device_ = static_cast<std::uint8_t*>(device);
     capacity_ = capacity;
   }
+  /// Bytes it holds.
+  std::uint64_t capacity() const { return capacity_; }
   /// The staging's host address (reserve first).
   std::uint8_t* host() const { return host_.get(); }
   /// The staging's device address, for kernels (reserve first).

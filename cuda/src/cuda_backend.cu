@@ -250,12 +250,13 @@ class CudaBackend final : public Backend {
     cudaStream_t s = stream_.get();
     cuda::for_each_batch(boxes, [&](std::span<const cuda::BoxChunk> chunks, std::uint64_t bytes) {
       staging_.wait_free();  // the host writes the chunk table into it
-      const cuda::ChunkCopy* table = fill_batch_table(chunks, bytes, nullptr);
+      const cuda::ChunkCopy* table = fill_batch_table(chunks, bytes, nullptr, direct_cells(out));
       cuda::gather_chunks_kernel<<<dim3(batch_blocks(chunks), unsigned(chunks.size())), cuda::kChunkThreads, 0, s>>>(
           table);
       cuda::check_launch("gather kernel launch (reading boxes)");
       stream_.synchronize("read_boxes");
       staging_.mark_free();
+      if (direct_cells(out) != nullptr) return;  // the kernel wrote them in place
       std::uint64_t at = cuda::batch_table_bytes(chunks.size());
       for (const cuda::BoxChunk& chunk : chunks) {
         std::memcpy(out.data() + chunk.offset, staging_.host() + at, chunk.cells());
@@ -275,19 +276,30 @@ class CudaBackend final : public Backend {
     cudaStream_t s = stream_.get();
     cuda::for_each_batch(boxes, [&](std::span<const cuda::BoxChunk> chunks, std::uint64_t bytes) {
       staging_.wait_free();
-      const cuda::ChunkCopy* table = fill_batch_table(chunks, bytes, side_.data());
+      std::uint8_t* direct = direct_cells(in);
+      const cuda::ChunkCopy* table = fill_batch_table(chunks, bytes, side_.data(), direct);
       std::uint64_t at = cuda::batch_table_bytes(chunks.size());
-      for (const cuda::BoxChunk& chunk : chunks) {
-        std::memcpy(staging_.host() + at, in.data() + chunk.offset, chunk.cells());
-        at += chunk.cells();
-      }
+      if (direct == nullptr)
+        for (const cuda::BoxChunk& chunk : chunks) {
+          std::memcpy(staging_.host() + at, in.data() + chunk.offset, chunk.cells());
+          at += chunk.cells();
+        }
       cuda::scatter_chunks_kernel<<<dim3(batch_blocks(chunks), unsigned(chunks.size())), cuda::kChunkThreads, 0, s>>>(
           table);
       cuda::check_launch("scatter kernel launch (writing boxes)");
       staging_.read_until(s);
+      if (direct != nullptr) transfer_.read_until(s);
     });
     after_write();
     note_wake(wake_bricks);
+  }
+
+  /// Page-locked, mapped: the kernels of read_boxes and write_boxes reach spans of it in place.
+  std::span<std::uint8_t> transfer_buffer(std::uint64_t bytes) override {
+    activate();
+    transfer_.reserve(bytes, stream_.get());
+    transfer_.wait_free();  // the last write_boxes' kernel may still read it
+    return {transfer_.host(), std::size_t(bytes)};
   }
 
   /// Notes that a write woke `wake_bricks` (already checked): they wake before the next step.
@@ -693,17 +705,28 @@ class CudaBackend final : public Backend {
                               to_string(size_) + " grid");
   }
 
+  /// The device address of `cells` where they lie in the transfer buffer (transfer_buffer), so that a
+  /// batch's kernel reaches them in place; else null.
+  std::uint8_t* direct_cells(std::span<const std::uint8_t> cells) const {
+    const std::uint8_t* base = transfer_.host();
+    if (base == nullptr || cells.data() < base || cells.data() + cells.size() > base + transfer_.capacity())
+      return nullptr;
+    return transfer_.device() + (cells.data() - base);
+  }
+
   /// Makes the staging hold a batch of `chunks` (`bytes` cells) and writes its table: each chunk's
   /// copy of the grid (with `side`, the side plane a scatter clears, or null), its cells following
-  /// the table in order. Returns the table's device address. The staging must be free.
+  /// the table in order, or with `direct` (direct_cells) in the transfer buffer, each at its offset
+  /// from there. Returns the table's device address. The staging must be free.
   const cuda::ChunkCopy* fill_batch_table(std::span<const cuda::BoxChunk> chunks, std::uint64_t bytes,
-                                          std::uint8_t* side) const {
+                                          std::uint8_t* side, std::uint8_t* direct) const {
     const std::uint64_t table = cuda::batch_table_bytes(chunks.size());
-    staging_.reserve(table + bytes, stream_.get());
+    staging_.reserve(direct != nullptr ? table : table + bytes, stream_.get());
     auto* copies = reinterpret_cast<cuda::ChunkCopy*>(staging_.host());
     std::uint64_t at = table;
     for (std::size_t k = 0; k < chunks.size(); ++k) {
-      copies[k] = cuda::chunk_copy(cells_, size_, chunks[k], staging_.device() + at);
+      copies[k] = cuda::chunk_copy(cells_, size_, chunks[k],
+                                   direct != nullptr ? direct + chunks[k].offset : staging_.device() + at);
       copies[k].side = side;
       at += chunks[k].cells();
     }
@@ -840,6 +863,7 @@ class CudaBackend final : public Backend {
   mutable ActivityStats last_{};
   mutable bool asleep_ = false;  ///< no brick awake and none dirty: ticks need no device work until a wake
   mutable cuda::TransferStaging staging_;  ///< reused by every read and write of a box (box_transfer.cuh)
+  cuda::TransferStaging transfer_;  ///< transfer_buffer: boxes' cells the batch kernels reach in place
   std::vector<std::uint32_t> pending_wake_;  ///< bricks that writes asked to wake, woken before the next step
 };
 

@@ -327,9 +327,9 @@ class World {
   // The threads the bodies are written into the grid on: WorldDef::task_system, else the backend's
   // (Backend::host_tasks), else a pool of WorldDef::threads started at the first need.
   TaskSystem& body_tasks();
-  // Sizes `buffer` for the cells of `boxes`, one after the other; OutOfMemory naming them when it
-  // cannot be had.
-  void size_boxes_buffer(std::span<const Box> boxes, std::vector<std::uint8_t>& buffer) const;
+  // Memory for the cells of `boxes`, one after the other: the backend's transfer buffer where it has
+  // one (Backend::transfer_buffer), else `own`, sized; OutOfMemory naming them when it cannot be had.
+  std::span<std::uint8_t> boxes_buffer(std::span<const Box> boxes, std::vector<std::uint8_t>& own);
   // The bodies (world_bodies.cpp).
   struct Bodies;
 

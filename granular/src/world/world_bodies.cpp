@@ -401,15 +401,17 @@ void share_out(TaskSystem& tasks, int count, std::size_t items, First&& first, F
 
 }  // namespace
 
-void World::size_boxes_buffer(std::span<const Box> boxes, std::vector<std::uint8_t>& buffer) const {
+std::span<std::uint8_t> World::boxes_buffer(std::span<const Box> boxes, std::vector<std::uint8_t>& own) {
   std::uint64_t cells = 0;
   for (const Box& box : boxes) cells += std::uint64_t(box.volume());
+  if (const std::span<std::uint8_t> backend = live().transfer_buffer(cells); !backend.empty()) return backend;
   try {
-    buffer.resize(std::size_t(cells));
+    own.resize(std::size_t(cells));
   } catch (const std::bad_alloc&) {
     throw OutOfMemory("World: could not allocate " + std::to_string(cells) + " bytes for the regions of " +
                       std::to_string(boxes.size()) + " bodies");
   }
+  return own;
 }
 
 TaskSystem& World::body_tasks() {
@@ -503,7 +505,7 @@ void World::stamp_bodies() {
   // stamps a body copies its region's bytes out of it.
   std::vector<std::size_t> moving;  // the bodies of those groups, in the order added
   std::vector<Box> boxes;
-  std::vector<std::size_t> read_at(n, 0);  // per body of `moving`: where its bytes start in all.packed
+  std::vector<std::size_t> read_at(n, 0);  // per body of `moving`: where its bytes start in `packed`
   std::size_t bytes = 0;
   for (std::size_t i = 0; i < n; ++i)
     if (!all.work[i].region.empty() && group_moves[all.work[i].group]) {
@@ -512,9 +514,9 @@ void World::stamp_bodies() {
       read_at[i] = bytes;
       bytes += std::size_t(all.work[i].region.volume());
     }
-  size_boxes_buffer(boxes, all.packed);
+  const std::span<std::uint8_t> packed = boxes_buffer(boxes, all.packed);
   profile_.bodies_shapes += watch.lap();
-  if (!boxes.empty()) live().read_boxes(boxes, all.packed);
+  if (!boxes.empty()) live().read_boxes(boxes, packed);
   profile_.bodies_read += watch.lap();
   const int task_count = tasks_for(tasks, groups.size());
   all.stamp.resize(std::size_t(task_count));
@@ -551,7 +553,7 @@ void World::stamp_bodies() {
           if (!work.stamped) continue;
           Stopwatch took;
           work.edit.begin(work.region, grid, origin);
-          std::copy_n(all.packed.data() + read_at[members[k]], work.edit.cells().size(), work.edit.cells().data());
+          std::copy_n(packed.data() + read_at[members[k]], work.edit.cells().size(), work.edit.cells().data());
           for (std::size_t j = 0; j < k; ++j) copy_overlap(all.work[members[j]].edit, work.edit);
           const StampResult stamped =
               stamp_body(work.region, work.edit.cells(), grid, work.shape, body.owned, body_material, materials,
@@ -582,7 +584,7 @@ void World::stamp_bodies() {
   // each region's bytes are copied into the write on the world's threads.
   boxes.clear();
   std::vector<std::size_t> written;  // the moving bodies whose stamp wrote a cell
-  std::vector<std::size_t> write_at;  // per body of `written`: where its bytes start in all.packed
+  std::vector<std::size_t> write_at;  // per body of `written`: where its bytes start in `out`
   std::vector<std::uint32_t> woken;
   bytes = 0;
   for (const std::size_t i : moving) {
@@ -595,17 +597,17 @@ void World::stamp_bodies() {
     bytes += all.work[i].edit.cells().size();
   }
   if (!boxes.empty()) {
-    all.packed.resize(bytes);  // no larger than the read's
+    const std::span<std::uint8_t> out = boxes_buffer(boxes, all.packed);  // no larger than the read's
     share_out(
         tasks, tasks_for(tasks, written.size()), written.size(), [](int) {},
         [&](std::size_t k, int) {
           const RegionEdit& edit = all.work[written[k]].edit;
-          std::copy_n(edit.cells().data(), edit.cells().size(), all.packed.data() + write_at[k]);
+          std::copy_n(edit.cells().data(), edit.cells().size(), out.data() + write_at[k]);
         });
     std::sort(woken.begin(), woken.end());
     woken.erase(std::unique(woken.begin(), woken.end()), woken.end());
     mark_bricks(woken);
-    live().write_boxes(boxes, all.packed, woken);
+    live().write_boxes(boxes, out, woken);
   }
   for (const std::size_t i : moving) all.list[i].version = change_version_;
   profile_.bodies_write += watch.lap();

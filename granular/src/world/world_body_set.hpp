@@ -53,7 +53,8 @@ struct World::Bodies {
   std::vector<StampScratch> stamp;    ///< per task of the stamp
   std::vector<ForceScratch> forces;   ///< per task of the forces
   std::shared_ptr<TaskSystem> tasks;  ///< the threads the groups are stamped on (null until the first stamp)
-  std::vector<std::uint8_t> packed;   ///< the moving regions' bytes, one after another, as read and as written
+  std::vector<std::uint8_t> packed;   ///< the moving regions' bytes, one after another, as read and as written,
+                                      ///< where the backend has no transfer buffer
 };
 
 }  // namespace granular

@@ -110,6 +110,15 @@ class Backend {
       at += std::size_t(box.volume());
     }
   }
+  /// A host buffer of `bytes` that read_boxes and write_boxes move cells through with no copy of
+  /// their own (page-locked memory a GPU reads and writes directly), or an empty span where the
+  /// backend has none (the default). It holds until the next call, which may move it; the caller
+  /// passes spans of it as read_boxes' `out` and write_boxes' `in`, and writes into it only after
+  /// this call (which waits for the device to finish reading it).
+  virtual std::span<std::uint8_t> transfer_buffer(std::uint64_t bytes) {
+    (void)bytes;
+    return {};
+  }
   /// Writes `in`, laid out as read_boxes gives it, into the boxes, waking `wake_bricks` as write()
   /// does. Where boxes overlap their bytes agree, so the order of the writes does not matter. The
   /// default writes them one by one.
