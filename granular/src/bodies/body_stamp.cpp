@@ -212,26 +212,30 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
   for (std::uint32_t i = 0, below_top = std::uint32_t(region.volume() - std::size_t(layer)); i < below_top; ++i)
     s.cls[i] |= std::uint8_t(((s.cls[i] >> 3) & (s.cls[i + std::uint32_t(layer)] >> 4) & 1) << 5);
   classed = true;
-  // A direction as the search takes it: the edge bit that forbids it and the step of the index.
+  // A direction as the search takes it: the edge bit that forbids it, that bit's number (the
+  // direction a search notes in s.parent), and the step of the index.
   struct Step {
     std::uint8_t edge;
+    std::uint8_t code;
     std::int64_t delta;
   };
+  const std::array<std::int64_t, 6> step_of_code{1, -1, row, -row, layer, -layer};
   auto steps_of = [&](const std::array<Int3, 6>& order) {
     std::array<Step, 6> out{};
     for (std::size_t k = 0; k < 6; ++k) {
       const Int3 d = order[k];
       const int bit = d.x == 1 ? 0 : d.x == -1 ? 1 : d.y == 1 ? 2 : d.y == -1 ? 3 : d.z == 1 ? 4 : 5;
-      out[k] = {std::uint8_t(1 << bit), d.x + d.y * row + d.z * layer};
+      out[k] = {std::uint8_t(1 << bit), std::uint8_t(bit), d.x + d.y * row + d.z * layer};
     }
     return out;
   };
+  // The cell the last search reached `i` from.
+  auto parent = [&](std::uint32_t i) { return std::uint32_t(std::int64_t(i) - step_of_code[s.parent[i]]); };
   auto nearest = [&](std::uint32_t from, const std::array<Int3, 6>& order, bool nearby_will_do, std::uint8_t pass,
                      auto&& target, auto skip_dead, std::uint32_t lowest) -> std::int64_t {
     for (const std::uint32_t i : s.queue) s.cls[i] &= std::uint8_t(~kSeen);  // the last search's marks
     s.queue.assign(1, from);
     s.cls[from] |= kSeen;
-    s.parent[from] = from;
     if (s.dead[from]) return -1;
     const std::array<Step, 6> steps = steps_of(order);
     std::int64_t nearby = -1;
@@ -244,7 +248,7 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
         if constexpr (decltype(skip_dead)::value)
           if (s.dead[j]) continue;
         s.cls[j] |= kSeen;
-        s.parent[j] = i;
+        s.parent[j] = step.code;
         s.queue.push_back(j);
         const Target t = target(j);
         if (t == kFar || (t == kNearby && nearby_will_do)) return j;
@@ -259,7 +263,7 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
   // takes the material of the one after it, `end` becomes void.
   auto pull = [&](std::uint32_t from, std::uint32_t end) {
     std::uint8_t carried = 0;
-    for (std::uint32_t at = end;; at = s.parent[at]) {
+    for (std::uint32_t at = end;; at = parent(at)) {
       const std::uint8_t here = material(at);
       put(at, carried);
       carried = here;
@@ -456,7 +460,7 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
           continue;
         }
         const std::size_t joined = s.route.size();
-        for (std::uint32_t at = std::uint32_t(end); at != from; at = s.parent[at]) s.route.push_back(at);
+        for (std::uint32_t at = std::uint32_t(end); at != from; at = parent(at)) s.route.push_back(at);
         std::reverse(s.route.begin() + std::ptrdiff_t(joined), s.route.end());
         if (grown) field();
       }

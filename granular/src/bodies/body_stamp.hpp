@@ -37,7 +37,7 @@ struct alignas(64) StampScratch {
   std::vector<std::pair<double, std::uint32_t>> ahead;  ///< the pushes with how far ahead they lie, to sort
   std::vector<std::uint64_t> taken;                     ///< grid indices of the cells the body holds after the stamp
   std::vector<std::uint32_t> left;                      ///< local indices of the cells the body left
-  std::vector<std::uint32_t> parent;                    ///< per cell the last search reached: where from
+  std::vector<std::uint8_t> parent;                     ///< per cell the last search reached: the direction it came in
   std::vector<std::uint8_t> dead;                       ///< per cell: a search from it finds nothing
   std::vector<std::uint8_t> edges;                      ///< per cell: which of its neighbours lie outside the region
   Int3 edges_extent{};                                  ///< the extent of the region `edges` is for
