@@ -361,6 +361,7 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
         }
       }
       s.reached = s.at_distance;
+      if (words == 1) s.no_rows.assign(std::size_t(region.e.y), 0);  // beyond the region's layers
       for (std::int32_t d = 1; to_reach > 0 && low <= high; ++d) {
         const int from = std::max(0, low - 1), to = std::min(region.e.z - 1, high + 1);
         int next_low = region.e.z, next_high = -1;
@@ -382,7 +383,6 @@ StampResult stamp_body(const Box& box, std::span<std::uint8_t> bytes, Int3 grid,
         };
         const std::uint64_t* f = s.at_distance.data();
         if (words == 1) {  // most regions: a row a word, its neighbours' rows carried along
-          s.no_rows.assign(std::size_t(region.e.y), 0);
           for (int z = from; z <= to; ++z) {
             const std::size_t row0 = std::size_t(z) * region.e.y;
             const std::uint64_t* below = z > 0 ? f + row0 - layer_step : s.no_rows.data();
