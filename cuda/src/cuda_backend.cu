@@ -248,15 +248,16 @@ class CudaBackend final : public Backend {
     check_boxes(boxes, out.size(), "read_boxes");
     activate();
     cudaStream_t s = stream_.get();
+    std::uint8_t* direct = direct_cells(out);
     cuda::for_each_batch(boxes, [&](std::span<const cuda::BoxChunk> chunks, std::uint64_t bytes) {
       staging_.wait_free();  // the host writes the chunk table into it
-      const cuda::ChunkCopy* table = fill_batch_table(chunks, bytes, nullptr, direct_cells(out));
+      const cuda::ChunkCopy* table = fill_batch_table(chunks, bytes, nullptr, direct);
       cuda::gather_chunks_kernel<<<dim3(batch_blocks(chunks), unsigned(chunks.size())), cuda::kChunkThreads, 0, s>>>(
           table);
       cuda::check_launch("gather kernel launch (reading boxes)");
       stream_.synchronize("read_boxes");
       staging_.mark_free();
-      if (direct_cells(out) != nullptr) return;  // the kernel wrote them in place
+      if (direct != nullptr) return;  // the kernel wrote them in place
       std::uint64_t at = cuda::batch_table_bytes(chunks.size());
       for (const cuda::BoxChunk& chunk : chunks) {
         std::memcpy(out.data() + chunk.offset, staging_.host() + at, chunk.cells());
@@ -274,9 +275,9 @@ class CudaBackend final : public Backend {
     activate();
     before_write();
     cudaStream_t s = stream_.get();
+    std::uint8_t* direct = direct_cells(in);
     cuda::for_each_batch(boxes, [&](std::span<const cuda::BoxChunk> chunks, std::uint64_t bytes) {
       staging_.wait_free();
-      std::uint8_t* direct = direct_cells(in);
       const cuda::ChunkCopy* table = fill_batch_table(chunks, bytes, side_.data(), direct);
       std::uint64_t at = cuda::batch_table_bytes(chunks.size());
       if (direct == nullptr)
